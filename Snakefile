@@ -1,0 +1,28 @@
+# leopod: precise orbit determination of LEO satellites from onboard GNSS.
+#   snakemake --cores 2                                   # default campaign (config/config.yaml)
+#   snakemake --cores 2 --configfile config/<campaign>.yaml
+# Results: results/<step>/<sat>/<YYYY-DDD>.*, logs/<step>/..., benchmarks/<step>/...
+from snakemake.utils import min_version
+
+min_version("8.20")
+
+
+# --configfile replaces the default campaign instead of being merged into it
+if not config:
+
+    configfile: "config/config.yaml"
+
+
+report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/simulate.smk"
+include: "workflow/rules/ingest.smk"
+include: "workflow/rules/quality.smk"
+
+
+rule all:
+    input:
+        all_targets(),
+    default_target: True

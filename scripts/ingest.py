@@ -1,0 +1,50 @@
+"""Snakemake script of rule ingest: see leopod.ingest."""
+
+import numpy as np
+
+from leopod.ingest import apriori_from_sp3, apriori_from_spp, canonical_observations, gnss_at_epochs
+from leopod.io.clock import read_rinex_clock
+from leopod.io.rinex_obs import read_rinex_obs
+from leopod.io.sp3 import read_sp3
+from leopod.netcdf import write_netcdf
+from leopod.orbit.products import GnssProducts
+from leopod.workflow import configure_logging
+
+
+def main(obs_path, orbit_path, clock_path, apriori_path, out_obs, out_gnss, out_leo,
+         signal_cfg, pco_body_m, sp3_id, log):
+    raw = read_rinex_obs(obs_path, systems=list(signal_cfg))
+    obs = canonical_observations(raw, signal_cfg)
+    log.info("%s: %d epochs, %d satellites, signals %s", obs_path, obs.sizes["time"],
+             obs.sizes["sv"], " ".join(k for k in obs.data_vars if "_" not in k))
+    day_start = obs.time.values[0].astype("datetime64[D]")
+    orbit = read_sp3(orbit_path)
+    products = GnssProducts.from_datasets(orbit, read_rinex_clock(clock_path),
+                                          day_start, systems=list(signal_cfg),
+                                          max_extrapolation_s=900.0)
+    gnss = gnss_at_epochs(products, obs.time.values)
+    n_extra = int(gnss.extrapolated.values.any(axis=1).sum())
+    if n_extra:
+        log.warning("GNSS orbits extrapolated beyond the product at %d epochs (flagged)", n_extra)
+    if apriori_path:
+        leo = apriori_from_sp3(read_sp3(apriori_path), sp3_id, obs.time.values)
+    else:
+        leo = apriori_from_spp(obs, products, signal_cfg, pco_body_m)
+        log.info("code-only orbit: %d of %d epochs, median residual RMS %.2f m, median PDOP %.2f",
+                 np.isfinite(leo.pos_m.values[:, 0]).sum(), leo.sizes["time"],
+                 float(np.nanmedian(leo.rms_m)), float(np.nanmedian(leo.pdop)))
+    inputs = [p for p in (obs_path, orbit_path, clock_path, apriori_path) if p]
+    write_netcdf(obs, out_obs, step="ingest", inputs=inputs, time_system="GPS",
+                 title="canonical GNSS observations")
+    write_netcdf(gnss, out_gnss, step="ingest", inputs=inputs, time_system="GPS",
+                 reference_frame=str(orbit.attrs.get("coordinate_system", "ITRF")), title="GNSS orbits and clocks at observation epochs")
+    write_netcdf(leo, out_leo, step="ingest", inputs=inputs, time_system="GPS",
+                 reference_frame="ITRF", title="a-priori LEO orbit")
+
+
+if __name__ == "__main__":
+    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
+    main(snakemake.input.obs, snakemake.input.orbit, snakemake.input.clock,  # noqa: F821
+         snakemake.input.get("apriori"), snakemake.output.obs, snakemake.output.gnss,  # noqa: F821
+         snakemake.output.leo, snakemake.params.signals, snakemake.params.pco_body_m,  # noqa: F821
+         snakemake.params.sp3_id, log)  # noqa: F821

@@ -1,0 +1,1 @@
+"""Reference frames: satellite attitude and antenna frames (ITRF<->GCRF comes with the dynamics engine)."""

@@ -1,0 +1,1 @@
+"""GNSS signals, combinations, cycle slips and data quality."""

@@ -1,0 +1,1 @@
+"""Orbit tables: interpolation of tabulated orbits and clocks."""

@@ -1,0 +1,1 @@
+"""Figures of the workflow steps (matplotlib, Agg backend)."""

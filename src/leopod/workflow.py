@@ -1,0 +1,37 @@
+"""Glue between Snakemake scripts and the library: logging set-up for every step."""
+
+from __future__ import annotations
+
+import logging
+import sys
+
+__all__ = ["configure_logging"]
+
+
+def configure_logging(snakemake) -> logging.Logger:
+    """Send ``logging`` to the rule's log file and stderr; log uncaught exceptions there too.
+
+    Parameters
+    ----------
+    snakemake : snakemake.script.Snakemake
+        The object Snakemake passes to ``script:`` rules.
+
+    Returns
+    -------
+    logging.Logger
+        The root logger, configured.
+    """
+    handlers: list[logging.Handler] = [logging.StreamHandler(sys.stderr)]
+    if snakemake.log:
+        handlers.append(logging.FileHandler(str(snakemake.log[0]), mode="w"))
+    logging.basicConfig(level=logging.INFO, handlers=handlers, force=True,
+                        format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    logging.captureWarnings(True)
+    logger = logging.getLogger()
+
+    def _hook(exc_type, exc, tb):
+        logger.error("step %s failed", snakemake.rule, exc_info=(exc_type, exc, tb))
+
+    sys.excepthook = _hook
+    logger.info("rule %s, wildcards %s", snakemake.rule, dict(snakemake.wildcards))
+    return logger

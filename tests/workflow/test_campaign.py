@@ -1,0 +1,34 @@
+"""Campaign helpers: day lists and file-name templates.
+
+Authority for GPS week/day: GPS week 1419 day 3 is 2007-03-21 (data/MANIFEST.md: CODE product
+cod14193 for GRACE-A DOY 080); GPS week 1500 day 0 is 2008-10-05 (products_2008-279_whu).
+"""
+
+import pytest
+
+from leopod.campaign import expand_template, library_files
+from leopod.time import days_between, gps_week_dow, parse_date_id
+
+
+def test_gps_week_and_templates():
+    assert gps_week_dow(parse_date_id("2007-080")) == (1419, 3)
+    assert gps_week_dow(parse_date_id("2008-10-05")) == (1500, 0)
+    assert expand_template("cod{gpsweek}{dow}.sp3.gz", "2007-080") == "cod14193.sp3.gz"
+    assert expand_template("graa{doy}0.{yy}o.gz", "2007-080") == "graa0800.07o.gz"
+    assert expand_template("x/{sat}/{date}", "2007-080", "grace-a") == "x/grace-a/2007-080"
+
+
+def test_days_between_crosses_year_end():
+    assert days_between("2007-12-30", "2008-01-02") == ["2007-364", "2007-365", "2008-001",
+                                                        "2008-002"]
+
+
+def test_bad_inputs_name_the_problem():
+    with pytest.raises(ValueError, match="unknown placeholder {doyy}"):
+        expand_template("x{doyy}", "2007-080")
+    with pytest.raises(ValueError, match="'2007-400'"):
+        parse_date_id("2007-400")
+    with pytest.raises(ValueError, match="before start"):
+        days_between("2007-03-02", "2007-03-01")
+    with pytest.raises(FileNotFoundError, match="nosuch"):
+        library_files("nosuch")

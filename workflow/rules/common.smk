@@ -1,0 +1,70 @@
+# Configuration check and small input helpers; the logic lives in leopod.campaign (tested).
+from snakemake.utils import validate
+
+from leopod.campaign import (
+    campaign_days,
+    expand_template,
+    library_files,
+    satellite_ids,
+)
+
+
+validate(config, "../schemas/config.schema.yaml", set_default=True)
+
+DAYS = campaign_days(config)
+SATS = satellite_ids(config)
+
+
+wildcard_constraints:
+    sat="|".join(SATS),
+    date=r"\d{4}-\d{3}",
+
+
+def sat_config(wildcards):
+    """The config block of the satellite of a job."""
+    return config["satellites"][wildcards.sat]
+
+
+def ingest_inputs(wildcards):
+    """Observation, GNSS product and optional a-priori orbit files of one satellite-day."""
+    sat = sat_config(wildcards)
+    files = {
+        "obs": expand_template(sat["observations"], wildcards.date, wildcards.sat),
+        "orbit": expand_template(config["products"]["gnss_orbit"], wildcards.date, wildcards.sat),
+        "clock": expand_template(config["products"]["gnss_clock"], wildcards.date, wildcards.sat),
+    }
+    if sat.get("apriori_orbit"):
+        files["apriori"] = expand_template(sat["apriori_orbit"], wildcards.date, wildcards.sat)
+    return files
+
+
+def simulated(wildcards):
+    """True if the satellite's files are written by the simulate rule."""
+    return sat_config(wildcards).get("source", "files") == "simulate"
+
+
+def all_targets():
+    """Final products of every satellite-day of the campaign."""
+    return expand(
+        [
+            "results/quality/{sat}/{date}.nc",
+            "results/quality/{sat}/{date}_summary.html",
+        ],
+        sat=SATS,
+        date=DAYS,
+    )
+
+
+def sat_pco(wildcards):
+    """Antenna phase-centre offsets in the body frame [m] per band of the satellite."""
+    return sat_config(wildcards).get("antenna_pco_body_m", {})
+
+
+def sat_sp3_id(wildcards):
+    """Id of the LEO inside its a-priori SP3 file (None: the only one)."""
+    return sat_config(wildcards).get("sp3_id")
+
+
+def sat_title(wildcards):
+    """Title of a satellite-day for figures."""
+    return f"{sat_config(wildcards).get('name', wildcards.sat)} {wildcards.date}"

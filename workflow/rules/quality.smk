@@ -1,0 +1,56 @@
+# quality: data-quality indicators of one satellite-day (seed 001 Table 2, seed 000 II-B),
+# with the antenna-frame geometry of every observation and figures for the report.
+rule quality:
+    params:
+        signals=config["signals"],
+        settings=config["quality"],
+        title=sat_title,
+    input:
+        obs=rules.ingest.output.obs,
+        gnss=rules.ingest.output.gnss,
+        leo=rules.ingest.output.leo,
+        code=library_files("gnss", "frames", "plots"),
+    output:
+        nc="results/quality/{sat}/{date}.nc",
+        summary=report(
+            "results/quality/{sat}/{date}_summary.html",
+            caption="../report/quality_summary.rst",
+            category="Data quality",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "indicators"},
+        ),
+        mp_elevation=report(
+            "results/quality/{sat}/{date}_mp_elevation.png",
+            caption="../report/quality_mp_elevation.rst",
+            category="Data quality",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "MP vs elevation"},
+        ),
+        skyplot=report(
+            "results/quality/{sat}/{date}_skyplot.png",
+            caption="../report/quality_skyplot.rst",
+            category="Data quality",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "sky plot"},
+        ),
+        noise=report(
+            "results/quality/{sat}/{date}_code_noise.png",
+            caption="../report/quality_code_noise.rst",
+            category="Data quality",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "code noise"},
+        ),
+        visibility=report(
+            "results/quality/{sat}/{date}_visibility.png",
+            caption="../report/quality_visibility.rst",
+            category="Data quality",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "visibility and IOD"},
+        ),
+    log:
+        "logs/quality/{sat}/{date}.log",
+    benchmark:
+        "benchmarks/quality/{sat}/{date}.tsv"
+    threads: 1
+    resources:
+        mem_mb=3000,
+        runtime=15,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/quality.py"
