@@ -13,7 +13,9 @@ TurboEdit idea of Blewitt 1990, GRL 17:3):
   confirmed by the next epoch (a single deviating epoch is an outlier, not a slip);
 * the geometry-free phase ``Φ1 − Φ2`` deviating from a linear prediction from the two previous
   epochs by more than ``gf_threshold_m`` (sensitive to the small slips MW misses, e.g. equal
-  slips on both frequencies).
+  slips on both frequencies), again confirmed by the next epoch: a step is a slip, a spike
+  that returns to the prediction is an outlier (on GRACE-A 2007-080 most single-epoch GF
+  deviations of low-elevation L2 were such spikes).
 
 The flags are bit masks so that the quality report can say why a pass ended.
 """
@@ -34,7 +36,7 @@ FLAG_GAP = 2       #: first epoch after a gap longer than max_gap_s
 FLAG_LLI = 4       #: loss-of-lock indicator set by the receiver
 FLAG_MW = 8        #: Melbourne–Wübbena jump
 FLAG_GF = 16       #: geometry-free phase jump
-FLAG_OUTLIER = 32  #: single-epoch outlier in MW (epoch excluded, pass continues)
+FLAG_OUTLIER = 32  #: single-epoch outlier in MW or GF (epoch excluded, pass continues)
 
 _SLIP_FLAGS = FLAG_LLI | FLAG_MW | FLAG_GF
 _MW_SIGMA0_CYC = 0.5    # a-priori MW standard deviation until a pass has 10 epochs [cycles]
@@ -121,6 +123,25 @@ def detect_passes(t_s, phase_1_m, phase_2_m, code_1_m, code_2_m, lli_1, lli_2, f
     return PassResult(pass_id=pass_id, flags=flags, mw_cyc=mw)
 
 
+_SLIP, _OUTLIER = 1, 2
+
+
+def _jump(value, value_next, pred, pred_next, limit) -> int:
+    """Classify a deviation from a prediction: 0 none, _SLIP (a step), _OUTLIER (a spike).
+
+    A deviation larger than ``limit`` is a slip when the next epoch also deviates from its
+    prediction by more than ``limit`` and stays within ``limit`` of the new level (or when
+    there is no next epoch); otherwise the epoch is a single outlier.
+    """
+    if abs(value - pred) <= limit:
+        return 0
+    if value_next is None:
+        return _SLIP
+    if abs(value_next - pred_next) > limit and abs((value_next - pred_next) - (value - pred)) <= limit:
+        return _SLIP
+    return _OUTLIER
+
+
 def _passes_of_column(rows, t_s, mw, gf, lli, pass_col, flag_col, next_id, max_gap_s, mw_k,
                       gf_thr):
     """Walk the valid epochs of one satellite, writing pass ids and flags in place."""
@@ -138,22 +159,25 @@ def _passes_of_column(rows, t_s, mw, gf, lli, pass_col, flag_col, next_id, max_g
         if lli[r] and current >= 0:
             flag |= FLAG_LLI
         if not flag and count > 0:
+            nxt = rows[pos + 1] if pos + 1 < rows.size else None
             sigma = np.sqrt(var / count) if count >= _MW_MIN_EPOCHS else _MW_SIGMA0_CYC
             limit = max(mw_k * sigma, _MW_MIN_LIMIT_CYC)
-            if abs(mw[r] - mean) > limit:
-                nxt = rows[pos + 1] if pos + 1 < rows.size else None
-                confirmed = nxt is not None and abs(mw[nxt] - mean) > limit and \
-                    abs(mw[nxt] - mw[r]) <= limit
-                if confirmed or nxt is None:
-                    flag |= FLAG_MW
-                else:
-                    flag_col[r] = FLAG_OUTLIER
-                    continue
+            verdict = _jump(mw[r], None if nxt is None else mw[nxt], mean, mean, limit)
             if len(gf_hist) == 2:
                 (t0, g0), (t1, g1) = gf_hist
-                pred = g1 + (g1 - g0) * (t_s[r] - t1) / (t1 - t0)
-                if abs(gf[r] - pred) > gf_thr:
-                    flag |= FLAG_GF
+                slope = (g1 - g0) / (t1 - t0)
+                pred_next = None if nxt is None else g1 + slope * (t_s[nxt] - t1)
+                gf_verdict = _jump(gf[r], None if nxt is None else gf[nxt],
+                                   g1 + slope * (t_s[r] - t1), pred_next, gf_thr)
+            else:
+                gf_verdict = 0
+            if verdict == _SLIP:
+                flag |= FLAG_MW
+            if gf_verdict == _SLIP:
+                flag |= FLAG_GF
+            if not flag and _OUTLIER in (verdict, gf_verdict):
+                flag_col[r] = FLAG_OUTLIER
+                continue
         if flag:
             current = next_id
             next_id += 1

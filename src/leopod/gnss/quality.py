@@ -184,7 +184,7 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
     data["pass_id"] = (("time", "sv"), pid, {"units": "1", "long_name": "pass number (-1: none)"})
     data["pass_flag"] = (("time", "sv"), passes.flags, {
         "units": "1", "long_name": "why a pass starts: bit mask 1 new, 2 gap, 4 LLI, 8 MW, "
-        "16 GF, 32 MW outlier"})
+        "16 GF, 32 MW or GF outlier"})
     data["mw_cyc"] = (("time", "sv"), passes.mw_cyc, {
         "units": "1", "long_name": f"Melbourne-Wuebbena {phase[0]}/{phase[1]}/{pod_code[0]}/"
         f"{pod_code[1]} in wide-lane cycles"})
@@ -224,7 +224,7 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
     for bit, name in ((4, "lli"), (8, "mw"), (16, "gf")):
         brk = ((passes.flags & bit) != 0) & ((passes.flags & (FLAG_NEW | FLAG_GAP)) == 0)
         stats[f"n_slips_{name}"] = (int(brk.sum()), "1", f"slips flagged by the {name.upper()} test")
-    stats["n_outliers_mw"] = (int(((passes.flags & 32) != 0).sum()), "1", "single-epoch MW outliers")
+    stats["n_outliers"] = (int(((passes.flags & 32) != 0).sum()), "1", "single-epoch MW or GF outliers")
 
     # code multipath MP_i per code, minus the pass mean
     sv_stats = {}

@@ -128,8 +128,7 @@ def solve_spp(t_s: np.ndarray, sv: np.ndarray, code_if_m: np.ndarray, products: 
     res = np.where(use, res, np.nan)
     n_used = use.sum(axis=1)
     solved = n_used >= min_sv
-    with np.errstate(invalid="ignore"):
-        rms = np.sqrt(np.nanmean(res**2, axis=1))
+    rms = np.sqrt(np.nansum(res**2, axis=1) / np.maximum(n_used, 1))
     pdop = _pdop(sat, use, x)
     pos = np.where(solved[:, None], x[:, :3], np.nan)
     clk = np.where(solved, x[:, 3], np.nan)

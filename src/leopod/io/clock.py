@@ -1,0 +1,408 @@
+"""Read and write RINEX clock files (versions 2.00 and 3.00 to 3.04).
+
+Specification: J. Ray, W. Gurtner, M. Coleman, "RINEX Extensions to Handle Clock Information",
+version 3.04 (8 July 2017, files.igs.org/pub/data/format/rinex_clock304.txt), which also
+documents 2.00 and 3.00-3.02. Up to 3.02 the header label sits in columns 61-80 and the clock
+name of a data record is A4 (columns 4-7); from 3.04 on the label sits in columns 66-85 and the
+name is A9 (columns 4-12), shifting the rest of the record by five columns. The epoch, the
+number of values and the values of a record are read as blank-separated fields after the name.
+
+Dataset returned by :func:`read_rinex_clock`
+--------------------------------------------
+One ``time`` axis, the union of the epochs of the requested record types (so satellite ``AS``
+and station ``AR`` clocks of one file share it; missing combinations are NaN).
+
+Coordinates
+    ``time`` (time,) datetime64[ns] -- epochs in the file's time system (``attrs["time_system"]``)
+    ``sv`` (sv,) str -- satellites with ``AS`` records, sorted ("G01", ...); only with "AS"
+    ``station`` (station,) str -- receivers with ``AR`` records, sorted; only with "AR"
+Data variables (only for the requested kinds)
+    ``clk_s`` (time, sv) float64 [s] -- satellite clock bias (AS)
+    ``clk_sigma_s`` (time, sv) float64 [s] -- its standard deviation, NaN when absent
+    ``clk_station_s`` (time, station) float64 [s] -- receiver clock bias (AR)
+    ``clk_station_sigma_s`` (time, station) float64 [s] -- its standard deviation, NaN if absent
+    Rates and accelerations (values 3 to 6 of a record) are checked but not returned.
+Attributes
+    ``rinex_version`` (float), ``time_system`` ("GPS" when the header has no TIME SYSTEM ID),
+    ``analysis_center`` (3-character id, e.g. "COD"), ``analysis_center_name``, ``data_types``
+    (e.g. "AR AS"), ``pcv_applied`` / ``dcb_applied`` (text of the SYS / PCVS / DCBS APPLIED
+    records, "; "-joined; only when present), ``leap_seconds`` (int, when present),
+    ``interval_s`` (median spacing of the AS epochs, else of all epochs; 0.0 for one epoch),
+    ``filename``.
+
+Errors
+------
+:class:`leopod.io.FormatError` (file, line, field) for a missing ``RINEX VERSION / TYPE``,
+``# / TYPES OF DATA`` or ``END OF HEADER`` record, a file that is not a clock file, a bad
+epoch, a bad or non-finite value (field ``"<name> clock bias"`` / ``"<name> clock sigma"``),
+a record whose number of values disagrees with the values present (e.g. truncated), and two
+records of one clock at one epoch.
+"""
+
+from __future__ import annotations
+
+import gzip
+import re
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from leopod.io._text import FormatError, parse_float, parse_int, read_lines
+
+__all__ = ["read_rinex_clock", "write_rinex_clock"]
+
+_UNIX0 = datetime(1970, 1, 1)
+_NS = 1_000_000_000
+_KINDS = ("AS", "AR")
+_RECORD_TYPES = ("AR", "AS", "CR", "DR", "MS")
+# a complete E19.12 value (a value cut by truncation loses exponent digits)
+_E_VALUE = re.compile(r"[+-]?\d*\.\d*[EeDd][+-]?\d{2,3}")
+_VAR_NAMES = {"AS": ("sv", "clk_s", "clk_sigma_s", "satellite clock"),
+              "AR": ("station", "clk_station_s", "clk_station_sigma_s", "receiver clock")}
+
+
+def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Path
+              ) -> np.ndarray:
+    """Convert E19.12 value texts to float64; fast numpy path, exact FormatError otherwise.
+
+    Blank texts become NaN (an absent optional value). A text without a complete exponent
+    (e.g. cut by truncation) is an error, as it would otherwise give a wrong number.
+    """
+    if not texts:
+        return np.empty(0)
+    match = _E_VALUE.fullmatch
+    for k, text in enumerate(texts):
+        if text and not match(text):
+            parse_float(text, path, line_nos[k], fields[k])  # raises if not a number at all
+            raise FormatError(path, line_nos[k], fields[k], f"'{text}' is not an E19.12 "
+                              "value (incomplete exponent: truncated?)")
+    try:
+        values = np.asarray(texts, dtype=str).astype(np.float64)
+        if np.isfinite(values).all():
+            return values
+    except ValueError:
+        pass
+    return np.array([parse_float(t, path, n, f, allow_blank=True)
+                     for t, n, f in zip(texts, line_nos, fields)], dtype=np.float64)
+
+
+def _epoch_ns(text: str, path: Path, line_no: int) -> int:
+    """ns since 1970-01-01 of a "yyyy mm dd hh mm ss.ssssss" epoch text."""
+    parts = text.split()
+    if len(parts) != 6:
+        raise FormatError(path, line_no, "epoch", f"'{text.strip()}' is not an epoch "
+                          "(year month day hour minute second)")
+    names = ("year", "month", "day", "hour", "minute")
+    ints = [parse_int(p, path, line_no, n) for p, n in zip(parts, names)]
+    seconds = parse_float(parts[5], path, line_no, "second")
+    try:
+        dt = datetime(*ints)
+    except ValueError as err:
+        raise FormatError(path, line_no, "epoch", f"invalid date or time ({err})") from None
+    if not 0.0 <= seconds < 60.0:
+        raise FormatError(path, line_no, "second", f"seconds {seconds} outside [0, 60)")
+    delta = dt - _UNIX0
+    return (delta.days * 86_400 + delta.seconds) * _NS + round(seconds * 1e9)
+
+
+def _parse_header(lines: list[str], path: Path) -> tuple[dict, int, bool]:
+    """Header attributes, the index of the first data line and whether the layout is 3.04+."""
+    first = lines[0]
+    if "RINEX VERSION / TYPE" not in first:
+        raise FormatError(path, 1, "RINEX VERSION / TYPE", "the first line must be the "
+                          "'RINEX VERSION / TYPE' record")
+    version = parse_float(first[:9], path, 1, "format version")
+    wide = version >= 3.04
+    label_col = first.index("RINEX VERSION / TYPE")  # 60 up to 3.02, 65 from 3.04
+    kind = first[9:label_col].split()
+    if not kind or not kind[0].upper().startswith("C"):
+        raise FormatError(path, 1, "file type", "not a RINEX clock file (file type "
+                          f"'{kind[0] if kind else ''}', expected 'C')")
+    attrs: dict = {"rinex_version": version, "time_system": "GPS"}
+    applied: dict[str, list[str]] = {"pcv_applied": [], "dcb_applied": []}
+    for i in range(1, len(lines)):
+        text = lines[i]
+        label = text[label_col:].strip()
+        content = text[:label_col]
+        if label == "END OF HEADER":
+            if "data_types" not in attrs:
+                raise FormatError(path, None, "# / TYPES OF DATA",
+                                  "the mandatory header record is missing")
+            for key, values in applied.items():
+                if values:
+                    attrs[key] = "; ".join(values)
+            return attrs, i + 1, wide
+        if label == "TIME SYSTEM ID" and content.strip():
+            attrs["time_system"] = content.split()[0]
+        elif label == "LEAP SECONDS":
+            attrs["leap_seconds"] = parse_int(content[:6], path, i + 1, "LEAP SECONDS")
+        elif label == "ANALYSIS CENTER":
+            attrs["analysis_center"] = content[:3].strip()
+            attrs["analysis_center_name"] = content[5:].strip()
+        elif label == "# / TYPES OF DATA":
+            n = parse_int(content[:6], path, i + 1, "# / TYPES OF DATA")
+            types = content[6:].split()
+            if len(types) != n:
+                raise FormatError(path, i + 1, "# / TYPES OF DATA", f"{n} types declared, "
+                                  f"{len(types)} listed")
+            attrs["data_types"] = " ".join(types)
+        elif label in ("SYS / PCVS APPLIED", "PCVS APPLIED"):
+            applied["pcv_applied"].append(" ".join(content.split()))
+        elif label in ("SYS / DCBS APPLIED", "DCBS APPLIED"):
+            applied["dcb_applied"].append(" ".join(content.split()))
+    raise FormatError(path, None, "END OF HEADER", "the mandatory header record is missing")
+
+
+class _Collected:
+    """Raw fields of the records of one kind (AS or AR)."""
+
+    def __init__(self):
+        self.names: list[str] = []
+        self.epoch_texts: list[str] = []
+        self.line_nos: list[int] = []
+        self.bias: list[str] = []
+        self.sigma: list[str] = []
+
+
+def _scan(lines: list[str], first: int, wide: bool, kinds: tuple[str, ...], path: Path
+          ) -> dict[str, _Collected]:
+    """Collect the records of the requested kinds, checking each record's value count."""
+    name_stop, epoch_stop = (12, 39) if wide else (7, 34)
+    out = {k: _Collected() for k in kinds}
+    i = first
+    n_lines = len(lines)
+    while i < n_lines:
+        text = lines[i]
+        kind = text[:2]
+        if kind not in _RECORD_TYPES:
+            if text.strip():
+                raise FormatError(path, i + 1, "record type", f"unexpected line "
+                                  f"'{text[:20]}' (expected one of {', '.join(_RECORD_TYPES)})")
+            i += 1
+            continue
+        rest = text[epoch_stop:].split()
+        if not rest:
+            raise FormatError(path, i + 1, "number of values", "the record is truncated")
+        n_values = parse_int(rest[0], path, i + 1, "number of values")
+        if not 1 <= n_values <= 6:
+            raise FormatError(path, i + 1, "number of values", f"{n_values} is not in 1..6")
+        values = rest[1:]
+        n_cont = 0 if n_values <= 2 else (n_values - 2 + 3) // 4
+        if i + n_cont >= n_lines:
+            raise FormatError(path, n_lines, "continuation line", f"the record of line {i + 1} "
+                              f"announces {n_values} values but the file ends: truncated")
+        for j in range(1, n_cont + 1):
+            values = values + lines[i + j].split()
+        if len(values) != n_values:
+            raise FormatError(path, i + 1 + n_cont, "number of values", f"the record announces "
+                              f"{n_values} values but has {len(values)}")
+        if kind in out:
+            rec = out[kind]
+            rec.names.append(text[3:name_stop].strip())
+            rec.epoch_texts.append(text[name_stop:epoch_stop])
+            rec.line_nos.append(i + 1)
+            rec.bias.append(values[0])
+            rec.sigma.append(values[1] if n_values > 1 else "")
+        i += 1 + n_cont
+    return out
+
+
+def _epochs(recs: dict[str, _Collected], path: Path) -> dict[str, np.ndarray]:
+    """ns epochs of every collected record, parsing each distinct epoch text once."""
+    cache: dict[str, int] = {}
+    out = {}
+    for kind, rec in recs.items():
+        ns = np.empty(len(rec.epoch_texts), dtype=np.int64)
+        for k, (text, line_no) in enumerate(zip(rec.epoch_texts, rec.line_nos)):
+            value = cache.get(text)
+            if value is None:
+                value = cache[text] = _epoch_ns(text, path, line_no)
+            ns[k] = value
+        out[kind] = ns
+    return out
+
+
+def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",)) -> xr.Dataset:
+    """Read a RINEX clock file (2.00, 3.00-3.04; plain, .gz or .Z).
+
+    Parameters
+    ----------
+    path : str or Path
+        The clock file.
+    kinds : tuple of str
+        Record types to return: "AS" (satellite clocks) and/or "AR" (receiver clocks).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``clk_s``/``clk_sigma_s`` (time, sv) [s] for "AS", ``clk_station_s`` /
+        ``clk_station_sigma_s`` (time, station) [s] for "AR"; see the module docstring.
+
+    Raises
+    ------
+    FormatError
+        If the file does not follow the format (see the module docstring).
+    ValueError
+        If ``kinds`` is empty or names a type other than "AS" and "AR".
+    """
+    kinds = tuple(dict.fromkeys(kinds))
+    if not kinds or any(k not in _KINDS for k in kinds):
+        raise ValueError(f"kinds must be a non-empty subset of {_KINDS}, got {kinds}")
+    path = Path(path)
+    lines = read_lines(path)
+    attrs, first, wide = _parse_header(lines, path)
+    recs = _scan(lines, first, wide, kinds, path)
+    epochs = _epochs(recs, path)
+    all_ns = np.unique(np.concatenate([epochs[k] for k in kinds]))
+    data, coords = {}, {"time": all_ns.astype("datetime64[ns]")}
+    for kind in kinds:
+        rec = recs[kind]
+        dim, var, sigma_var, what = _VAR_NAMES[kind]
+        names, name_idx = np.unique(np.asarray(rec.names, dtype=str), return_inverse=True)
+        t_idx = np.searchsorted(all_ns, epochs[kind])
+        key = t_idx.astype(np.int64) * max(len(names), 1) + name_idx
+        order = np.argsort(key, kind="stable")
+        dup = np.nonzero(np.diff(key[order]) == 0)[0]
+        if dup.size:
+            k = order[dup[0] + 1]
+            raise FormatError(path, rec.line_nos[k], "clock name", f"second {kind} record of "
+                              f"'{rec.names[k]}' at the same epoch")
+        bias = _to_float(rec.bias, rec.line_nos, [f"{n} clock bias" for n in rec.names], path)
+        blank = np.isnan(bias)
+        if blank.any():
+            k = int(np.argmax(blank))
+            raise FormatError(path, rec.line_nos[k], f"{rec.names[k]} clock bias",
+                              "value is missing")
+        sigma = _to_float(rec.sigma, rec.line_nos, [f"{n} clock sigma" for n in rec.names],
+                          path)
+        grids = []
+        for values in (bias, sigma):
+            grid = np.full((all_ns.size, names.size), np.nan)
+            grid[t_idx, name_idx] = values
+            grids.append(grid)
+        coords[dim] = names
+        data[var] = (("time", dim), grids[0], {"units": "s", "long_name": f"{what} bias"})
+        data[sigma_var] = (("time", dim), grids[1],
+                           {"units": "s", "long_name": f"{what} bias standard deviation"})
+    main = epochs["AS"] if "AS" in kinds and epochs["AS"].size else all_ns
+    steps = np.diff(np.unique(main))
+    attrs["interval_s"] = float(np.median(steps)) / 1e9 if steps.size else 0.0
+    attrs["filename"] = path.name
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+# --------------------------------------------------------------------------------------------
+# writer
+
+
+def _fortran_e(value: float) -> str:
+    """``value`` as Fortran E19.12 ("-0.123456789012E-03"), 12 significant digits."""
+    mantissa, exponent = f"{value:.11E}".split("E")
+    sign = "-" if mantissa.startswith("-") else " "
+    digits = mantissa.lstrip("-").replace(".", "")
+    exp = int(exponent) + 1 if value != 0.0 else 0
+    return f"{sign}0.{digits}E{'-' if exp < 0 else '+'}{abs(exp):02d}"
+
+
+def _label(content: str, label: str) -> str:
+    """A header line: content in columns 1-60, label in 61-80."""
+    if len(content) > 60:
+        raise ValueError(f"header content longer than 60 characters: '{content}'")
+    return f"{content:<60s}{label}"
+
+
+def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00",
+                      analysis_center: str = "LEO", analysis_center_name: str = "leopod",
+                      program: str = "leopod", comments: tuple[str, ...] = ()) -> None:
+    """Write the satellite clocks of ``ds`` as AS records of a RINEX clock 3.00 or 2.00 file.
+
+    Values are written as E19.12 (12 significant digits, far below 1e-12 s for clocks under
+    1 s); epochs with F10.6 seconds (1 µs resolution). Each (time, sv) with a finite
+    ``clk_s`` gives one record, with 2 values when ``clk_sigma_s`` is present and finite, else 1.
+    A name ending in ``.gz`` is gzip-compressed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        ``clk_s`` (time, sv) [s], optional ``clk_sigma_s`` (time, sv) [s];
+        ``attrs["time_system"]`` (default "GPS"); satellite ids of 3 characters.
+    path : str or Path
+        Output file.
+    version : {"3.00", "2.00"}
+        Format version to write.
+    analysis_center : str
+        3-character analysis centre id.
+    analysis_center_name : str
+        Analysis centre name (at most 55 characters).
+    program : str
+        Program name for "PGM / RUN BY / DATE" (at most 20 characters).
+    comments : tuple of str
+        COMMENT lines (at most 60 characters each).
+
+    Raises
+    ------
+    ValueError
+        If ``ds`` lacks ``clk_s``, a satellite id is not 3 characters, the version is not
+        supported, or a header text is too long.
+    """
+    if version not in ("3.00", "2.00"):
+        raise ValueError(f"version must be '3.00' or '2.00', got '{version}'")
+    if "clk_s" not in ds:
+        raise ValueError("the Dataset has no 'clk_s' variable")
+    clk = ds["clk_s"].transpose("time", "sv").values
+    sigma = (ds["clk_sigma_s"].transpose("time", "sv").values if "clk_sigma_s" in ds
+             else np.full(clk.shape, np.nan))
+    sats = [str(s) for s in ds["sv"].values]
+    if any(len(s) != 3 for s in sats):
+        raise ValueError(f"satellite ids must have 3 characters, got {sats}")
+    for text, width, what in ((analysis_center, 3, "analysis_center"),
+                              (analysis_center_name, 55, "analysis_center_name"),
+                              (program, 20, "program")):
+        if len(text) > width:
+            raise ValueError(f"{what} '{text}' is longer than {width} characters")
+    time_system = str(ds.attrs.get("time_system", "GPS"))
+    systems = {s[0] for s in sats}
+    system = systems.pop() if len(systems) == 1 else "M"
+    kind_text = "C" if version == "3.00" else "CLOCK DATA"
+    now = datetime.now(timezone.utc).strftime("%Y%m%d %H%M%S UTC")
+    system_text = system if version == "3.00" else ""
+    out = [_label(f"{version:>9s}{'':11s}{kind_text:<20s}{system_text:<20s}",
+                  "RINEX VERSION / TYPE"),
+           _label(f"{program:<20s}{analysis_center:<20s}{now:<20s}", "PGM / RUN BY / DATE")]
+    out += [_label(c, "COMMENT") for c in comments]
+    if version == "3.00":
+        out.append(_label(f"   {time_system:<3s}", "TIME SYSTEM ID"))
+    out.append(_label(f"{1:6d}    AS", "# / TYPES OF DATA"))
+    out.append(_label(f"{analysis_center:<3s}  {analysis_center_name}", "ANALYSIS CENTER"))
+    out.append(_label(f"{len(sats):6d}", "# OF SOLN SATS"))
+    for k in range(0, len(sats), 15):
+        out.append(_label(" ".join(sats[k:k + 15]), "PRN LIST"))
+    out.append(_label("", "END OF HEADER"))
+
+    times = ds["time"].values.astype("datetime64[ns]").astype(np.int64)
+    for i, t_ns in enumerate(times):
+        us = (int(t_ns) + 500) // 1000
+        whole, frac_us = divmod(us, 1_000_000)
+        days, sec_of_day = divmod(whole, 86_400)
+        day = datetime.fromordinal(_UNIX0.toordinal() + days)
+        hour, rest = divmod(sec_of_day, 3600)
+        minute, sec = divmod(rest, 60)
+        epoch = (f"{day.year:4d} {day.month:2d} {day.day:2d} {hour:2d} {minute:2d} "
+                 f"{sec:2d}.{frac_us:06d}")
+        for k, sv in enumerate(sats):
+            if not np.isfinite(clk[i, k]):
+                continue
+            if np.isfinite(sigma[i, k]):
+                values = f"  2   {_fortran_e(clk[i, k])} {_fortran_e(sigma[i, k])}"
+            else:
+                values = f"  1   {_fortran_e(clk[i, k])}"
+            out.append(f"AS {sv:<4s} {epoch}{values}")
+    text = "\n".join(out) + "\n"
+    path = Path(path)
+    if path.suffix == ".gz":
+        with gzip.open(path, "wt", encoding="ascii") as f:
+            f.write(text)
+    else:
+        path.write_text(text, encoding="ascii")

@@ -1,0 +1,899 @@
+"""RINEX observation files: reading (versions 2.xx, 3.00-3.05, 4.00), writing (2.11, 3.04).
+
+Specifications: "RINEX: The Receiver Independent Exchange Format Version 2.11" (Gurtner and
+Estey, 2007/2012, with the 2.20 spaceborne-receiver extension for types such as ``LA``/``SA``),
+"RINEX Version 3.04" (IGS/RTCM-SC104, 2018) and 3.05 / 4.00 (whose observation records are
+those of 3.04). Compressed files (gzip, ``.Z``, Hatanaka/Compact RINEX) are opened by
+:func:`leopod.io._text.read_lines`.
+
+Dataset returned by :func:`read_rinex_obs` (and accepted by :func:`write_rinex_obs`)
+------------------------------------------------------------------------------------
+Coordinates
+    ``time`` (time) datetime64[ns]: epoch readings as written, in the file's time system
+    (``attrs["time_system"]``); file order, epochs of flag 0 or 1 only.
+    ``sv`` (sv) str: satellite ``"G05"``, ``"C21"``, ... sorted. RINEX 2 blank system = GPS.
+Observations, one float64 variable per observation code as written in the file
+(RINEX 2: ``C1 P1 P2 L1 L2 LA SA S1 ...``; RINEX 3: ``C1C L1C C5P ...``), dims (time, sv),
+NaN where the observation is absent:
+    code/pseudorange ``C*``/``P*`` [m], units "m"; carrier phase ``L*`` [cycles], units "1";
+    Doppler ``D*`` [Hz], units "Hz"; signal strength ``S*`` as written: units "dB-Hz" for
+    RINEX 3/4, "1" (receiver-dependent) for RINEX 2; other types (``X`` channel ...) units "1".
+    In mixed RINEX 3 files a code missing from one system's list is NaN for its satellites.
+Indicators, for every observation code, int8, dims (time, sv):
+    ``<code>_lli`` loss-of-lock indicator (0-7; 0 where blank), ``<code>_ssi`` signal strength
+    indicator (1-9; 0 where blank). Both are -1 where the observation itself is absent
+    (indicators written beside a blank observation are dropped).
+Per epoch:
+    ``epoch_flag`` (time) int8: 0 = OK, 1 = power failure since the previous epoch.
+    ``rx_clock_offset_s`` (time) float64 [s]: receiver clock offset of the epoch record, NaN
+    where not written.
+Attributes
+    ``rinex_version`` (float), ``file_system`` (header system letter, "M" = mixed),
+    ``marker_name``, ``marker_number``, ``marker_type``, ``observer``, ``agency``,
+    ``receiver_number``, ``receiver_type``, ``receiver_version``, ``antenna_number``,
+    ``antenna_type`` (str, "" when absent), ``approx_position_xyz_m`` and
+    ``antenna_delta_hen_m`` (str of three numbers in m, "" when absent), ``interval_s`` (float:
+    INTERVAL record, else median epoch spacing, NaN for fewer than two epochs),
+    ``time_system`` (TIME OF FIRST OBS, else the file system's own: GPS for G and M files),
+    ``obs_types_<sys>`` (space-joined header codes per system; in RINEX 2 the one list repeated
+    for every system present), ``n_events`` (epochs with flags 2-5, skipped with their special
+    records), ``n_cycle_slip_epochs`` (flag-6 epochs, skipped), ``filename``.
+
+Epoch flag 4 records that redefine the observation types (``# / TYPES OF OBSERV`` or
+``SYS / # / OBS TYPES``) are applied to the following epochs. Observation scale factors other
+than 1 are refused (FormatError) rather than silently applied or ignored.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import gzip
+import logging
+import math
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from leopod.io._text import FormatError, fixed_float, parse_int, read_lines
+
+__all__ = ["read_rinex_obs", "write_rinex_obs"]
+
+log = logging.getLogger(__name__)
+
+_W = 16  # width of one observation field: F14.3 value, I1 LLI, I1 SSI
+_V2_OBS_PER_LINE = 5
+_V2_SATS_PER_LINE = 12
+_SAT_SYSTEMS = "GRECJIS"
+_OWN_TIME_SYSTEM = {"G": "GPS", "R": "GLO", "E": "GAL", "C": "BDT", "J": "QZS", "I": "IRN",
+                    "S": "GPS", "M": "GPS"}
+_TYPES_V2 = "# / TYPES OF OBSERV"
+_TYPES_V3 = "SYS / # / OBS TYPES"
+_SCALE_LABELS = ("OBS SCALE FACTOR", "SYS / SCALE FACTOR")
+_XYZ_RECORDS = {"APPROX POSITION XYZ": "approx_position_xyz_m",
+                "ANTENNA: DELTA H/E/N": "antenna_delta_hen_m"}
+
+#: Character classes of an observation value field (F14.3): digits, blank, sign, point.
+_VALUE_CHARS = np.zeros(256, dtype=bool)
+_VALUE_CHARS[[ord(c) for c in "0123456789 .-+"]] = True
+#: Indicator characters: blank (0) or one digit.
+_INDICATOR_CHARS = np.zeros(256, dtype=bool)
+_INDICATOR_CHARS[[ord(c) for c in "0123456789 "]] = True
+
+
+# --------------------------------------------------------------------------------- header
+
+
+@dataclass
+class _Header:
+    """What the data section needs from the header."""
+
+    version: float
+    system: str
+    types: dict[str, tuple[str, ...]]  # RINEX 2: one key "" for every system
+    attrs: dict
+    end: int  # 0-based index of the first line after END OF HEADER
+
+
+def _text_attrs(line: str, label: str) -> dict:
+    """Free-text header records -> attributes (empty dict for other labels)."""
+    if label == "MARKER NAME":
+        return {"marker_name": line[:60].strip()}
+    if label == "MARKER NUMBER":
+        return {"marker_number": line[:20].strip()}
+    if label == "MARKER TYPE":
+        return {"marker_type": line[:20].strip()}
+    if label == "OBSERVER / AGENCY":
+        return {"observer": line[:20].strip(), "agency": line[20:60].strip()}
+    if label == "REC # / TYPE / VERS":
+        return {"receiver_number": line[:20].strip(), "receiver_type": line[20:40].strip(),
+                "receiver_version": line[40:60].strip()}
+    if label == "ANT # / TYPE":
+        return {"antenna_number": line[:20].strip(), "antenna_type": line[20:40].strip()}
+    return {}
+
+
+def _three_floats(line: str, path, lineno: int, label: str) -> str:
+    """Three F14.4 fields of a header record -> "x y z" string [m]."""
+    values = [fixed_float(line, 14 * k, 14 * (k + 1), path, lineno, label) for k in range(3)]
+    return " ".join(f"{v:.4f}" for v in values)
+
+
+def _check_scale_factor(line: str, path, lineno: int, label: str) -> None:
+    """Refuse scale factors other than 1 (the reader does not apply them)."""
+    text = line[:6] if label == "OBS SCALE FACTOR" else line[2:6]
+    if parse_int(text, path, lineno, label) != 1:
+        raise FormatError(path, lineno, label, "observation scale factors other than 1 are "
+                          "not supported")
+
+
+def _parse_obs_types(records: list[tuple[int, str]], path) -> dict[str, tuple[str, ...]]:
+    """Parse '# / TYPES OF OBSERV' (RINEX 2) or 'SYS / # / OBS TYPES' (RINEX 3) records.
+
+    Parameters
+    ----------
+    records : list of (int, str)
+        (1-based line number, line) of the records, continuation lines included, in order.
+
+    Returns
+    -------
+    dict
+        System letter (``""`` for RINEX 2) -> tuple of observation codes.
+    """
+    groups: list[list] = []  # [key, announced count, codes, line number]
+    for lineno, line in records:
+        label = line[60:].strip()
+        if label == _TYPES_V2:
+            start, key, count_text, codes_text = line[:6].strip(), "", line[:6], line[6:60]
+        else:
+            start, key, count_text, codes_text = line[:1].strip(), line[:1], line[3:6], line[7:60]
+        if start:
+            count = parse_int(count_text, path, lineno, label)
+            groups.append([key, count, [], lineno])
+        elif not groups:
+            raise FormatError(path, lineno, label, "continuation line without a preceding "
+                              "record giving the number of observation types")
+        groups[-1][2].extend(codes_text.split())
+    label = records[0][1][60:].strip() if records else _TYPES_V3
+    width = 2 if label == _TYPES_V2 else 3
+    types = {}
+    for key, count, codes, lineno in groups:
+        if len(codes) != count:
+            raise FormatError(path, lineno, label, f"announces {count} observation types "
+                              f"but lists {len(codes)}")
+        bad = [c for c in codes if len(c) != width or not c.isalnum()]
+        if bad:
+            raise FormatError(path, lineno, label, f"'{bad[0]}' is not an observation code")
+        if width == 3 and key not in _SAT_SYSTEMS:
+            raise FormatError(path, lineno, label, f"unknown satellite system '{key}'")
+        types[key] = tuple(codes)
+    return types
+
+
+def _parse_header(lines: list[str], path) -> _Header:
+    """Read the header section (up to END OF HEADER)."""
+    first = lines[0] if lines else ""
+    if first[60:].strip() != "RINEX VERSION / TYPE":
+        raise FormatError(path, 1, "RINEX VERSION / TYPE", "the first line is not the "
+                          "'RINEX VERSION / TYPE' record: not a RINEX file")
+    version = fixed_float(first, 0, 9, path, 1, "RINEX VERSION / TYPE")
+    if not 2.0 <= version < 5.0:
+        raise FormatError(path, 1, "RINEX VERSION / TYPE", f"unsupported version {version}")
+    if first[20:21] != "O":
+        raise FormatError(path, 1, "RINEX VERSION / TYPE", f"file type '{first[20:21]}' is "
+                          "not an observation file ('O')")
+    system = first[40:41].strip() or "G"
+    types_label = _TYPES_V2 if version < 3 else _TYPES_V3
+    attrs = {key: "" for key in ("marker_name", "marker_number", "marker_type", "observer",
+                                 "agency", "receiver_number", "receiver_type",
+                                 "receiver_version", "antenna_number", "antenna_type",
+                                 "approx_position_xyz_m", "antenna_delta_hen_m")}
+    attrs.update(rinex_version=float(version), file_system=system)
+    type_records = []
+    for i in range(1, len(lines)):
+        line, lineno = lines[i], i + 1
+        label = line[60:].strip()
+        if label == "END OF HEADER":
+            break
+        if label == types_label:
+            type_records.append((lineno, line))
+        elif label in _XYZ_RECORDS:
+            attrs[_XYZ_RECORDS[label]] = _three_floats(line, path, lineno, label)
+        elif label == "INTERVAL":
+            attrs["interval_s"] = fixed_float(line, 0, 10, path, lineno, label)
+        elif label == "TIME OF FIRST OBS":
+            if line[48:51].strip():
+                attrs["time_system"] = line[48:51].strip()
+        elif label in _SCALE_LABELS:
+            _check_scale_factor(line, path, lineno, label)
+        else:
+            attrs.update(_text_attrs(line, label))
+    else:
+        raise FormatError(path, None, "END OF HEADER", "the header has no 'END OF HEADER' "
+                          "record (file truncated or not RINEX)")
+    if not type_records:
+        raise FormatError(path, None, types_label, f"the header has no '{types_label}' record")
+    attrs.setdefault("time_system", _OWN_TIME_SYSTEM.get(system, "GPS"))
+    types = _parse_obs_types(type_records, path)
+    return _Header(float(version), system, types, attrs, i + 1)
+
+
+# ------------------------------------------------------------------------------ data section
+
+
+@dataclass
+class _Scan:
+    """Everything collected while walking through the data section."""
+
+    base: list  # datetime of each epoch, whole minutes
+    sec_ns: list  # seconds of the minute [ns]
+    flag: list
+    clock: list
+    rec_epoch: list  # per kept satellite record: epoch index
+    rec_sv: list  # satellite id
+    rec_line: list  # 0-based index of the record's first line
+    rec_group: list  # index into groups
+    groups: dict  # observation-code tuple -> group index
+    texts: list  # per group: list of fixed-width record texts
+    n_events: int = 0
+    n_slip_epochs: int = 0
+
+
+def _epoch_time(line: str, lineno: int, path, v2: bool) -> tuple[_dt.datetime, int]:
+    """Epoch date of an epoch record -> (datetime to the minute, seconds in ns)."""
+    cols = ((1, 3), (4, 6), (7, 9), (10, 12), (13, 15), (15, 26)) if v2 else \
+        ((2, 6), (7, 9), (10, 12), (13, 15), (16, 18), (18, 29))
+    names = ("year", "month", "day", "hour", "minute")
+    y, mo, d, h, mi = (parse_int(line[a:b], path, lineno, n) for (a, b), n in zip(cols, names))
+    sec = fixed_float(line, *cols[5], path, lineno, "second")
+    if v2:
+        y += 2000 if y < 80 else 1900
+    for value, low, high, name in ((mo, 1, 12, "month"), (h, 0, 23, "hour"),
+                                   (mi, 0, 59, "minute")):
+        if not low <= value <= high:
+            raise FormatError(path, lineno, name, f"{value} is out of range {low}-{high}")
+    if not 0.0 <= sec < 61.0:
+        raise FormatError(path, lineno, "second", f"{sec} is out of range 0-60.9999999")
+    try:
+        base = _dt.datetime(y, mo, d, h, mi)
+    except ValueError:
+        raise FormatError(path, lineno, "day", f"{y:04d}-{mo:02d}-{d:02d} is not a date") \
+            from None
+    return base, round(sec * 1e9)
+
+
+def _epoch_flag(line: str, col: int, lineno: int, path) -> int:
+    """The epoch flag (0-6) at 0-based column ``col``."""
+    flag = parse_int(line[col:col + 1], path, lineno, "epoch flag")
+    if flag > 6:
+        raise FormatError(path, lineno, "epoch flag", f"{flag} is not an epoch flag (0-6)")
+    return flag
+
+
+class _SatIds:
+    """Normalise satellite identifiers ("G 5", " 5", "G05" -> "G05"), with a cache."""
+
+    def __init__(self, path, v2: bool):
+        self.path, self.v2, self.cache = path, v2, {}
+
+    def __call__(self, raw: str, lineno: int) -> str:
+        sv = self.cache.get(raw)
+        if sv is None:
+            system = raw[0] if raw[0] != " " or not self.v2 else "G"
+            prn = raw[1:3]
+            if system not in _SAT_SYSTEMS or len(raw) != 3 or not raw[2].isdigit() \
+                    or not (raw[1].isdigit() or raw[1] == " "):
+                raise FormatError(self.path, lineno, "satellite",
+                                  f"'{raw}' is not a satellite identifier")
+            sv = self.cache[raw] = f"{system}{int(prn):02d}"
+        return sv
+
+
+def _truncated(path, lineno: int, n_lines: int, what: str):
+    return FormatError(path, lineno, "epoch record", f"the file ends after line {n_lines} "
+                       f"in the middle of this epoch record ({what}); truncated file?")
+
+
+def _skip_event(lines, i: int, count: int, flag: int, path, types: dict, v2: bool) -> int:
+    """Skip an event (flags 2-5) and its special records; apply header changes of flag 4.
+
+    Returns the index of the line after the event.
+    """
+    end = i + 1 + count
+    if end > len(lines):
+        raise _truncated(path, i + 1, len(lines), f"{count} special records announced")
+    label = _TYPES_V2 if v2 else _TYPES_V3
+    if flag == 4:
+        records = [(k + 1, lines[k]) for k in range(i + 1, end) if lines[k][60:].strip() == label]
+        if records:
+            types.update(_parse_obs_types(records, path))
+            log.info("%s: observation types redefined at line %d", path, i + 1)
+    return end
+
+
+def _add_record(scan: _Scan, codes: tuple, epoch: int, sv: str, first: int, text: str):
+    """Store one satellite record (its fixed-width observation text)."""
+    group = scan.groups.get(codes)
+    if group is None:
+        group = scan.groups[codes] = len(scan.texts)
+        scan.texts.append([])
+    scan.texts[group].append(text)
+    scan.rec_epoch.append(epoch)
+    scan.rec_sv.append(sv)
+    scan.rec_line.append(first)
+    scan.rec_group.append(group)
+
+
+def _add_epoch(scan: _Scan, line: str, lineno: int, path, flag: int, v2: bool) -> int:
+    """Store the time, flag and clock of an epoch record; return the epoch index."""
+    base, sec_ns = _epoch_time(line, lineno, path, v2)
+    clock = fixed_float(line, *((68, 80) if v2 else (41, 56)), path, lineno,
+                        "receiver clock offset", allow_blank=True)
+    scan.base.append(base)
+    scan.sec_ns.append(sec_ns)
+    scan.flag.append(flag)
+    scan.clock.append(clock)
+    return len(scan.base) - 1
+
+
+def _scan_v2(lines: list[str], hdr: _Header, keep, path) -> _Scan:
+    """Walk through a RINEX 2 data section."""
+    scan = _Scan([], [], [], [], [], [], [], [], {}, [])
+    sat_id = _SatIds(path, True)
+    types = dict(hdr.types)
+    n, i = len(lines), hdr.end
+    while i < n:
+        line = lines[i]
+        if not line.strip():
+            i += 1
+            continue
+        lineno = i + 1
+        flag = _epoch_flag(line, 28, lineno, path)
+        count = parse_int(line[29:32], path, lineno, "number of satellites")
+        if 2 <= flag <= 5:
+            scan.n_events += 1
+            i = _skip_event(lines, i, count, flag, path, types, True)
+            continue
+        n_epoch_lines = 1 + max(count - 1, 0) // _V2_SATS_PER_LINE
+        codes = types[""]
+        per_sat = -(-len(codes) // _V2_OBS_PER_LINE)
+        if i + n_epoch_lines + count * per_sat > n:
+            raise _truncated(path, lineno, n, f"{count} satellites announced")
+        sat_text = "".join(lines[k][32:68].ljust(36) for k in range(i, i + n_epoch_lines))
+        raw_ids = [sat_text[3 * k:3 * k + 3] for k in range(count)]
+        if any(not r.strip() for r in raw_ids) or sat_text[3 * count:].strip():
+            listed = len(sat_text.split())
+            raise FormatError(path, lineno, "number of satellites", f"the epoch announces "
+                              f"{count} satellites but lists {listed}")
+        first = i + n_epoch_lines
+        i = first + count * per_sat
+        if flag == 6:
+            scan.n_slip_epochs += 1
+            continue
+        epoch = _add_epoch(scan, line, lineno, path, flag, True)
+        width = _W * len(codes)
+        for k, raw in enumerate(raw_ids):
+            sv = sat_id(raw, lineno)
+            if keep is not None and sv[0] not in keep:
+                continue
+            start = first + k * per_sat
+            text = "".join(lines[j][:80].ljust(80) for j in range(start, start + per_sat))
+            _add_record(scan, codes, epoch, sv, start, text[:width])
+    return scan
+
+
+def _scan_v3(lines: list[str], hdr: _Header, keep, path) -> _Scan:
+    """Walk through a RINEX 3/4 data section."""
+    scan = _Scan([], [], [], [], [], [], [], [], {}, [])
+    sat_id = _SatIds(path, False)
+    types = dict(hdr.types)
+    n, i = len(lines), hdr.end
+    while i < n:
+        line = lines[i]
+        if not line.strip():
+            i += 1
+            continue
+        lineno = i + 1
+        if line[0] != ">":
+            raise FormatError(path, lineno, "epoch record", "expected an epoch record "
+                              "starting with '>' (more satellite records than announced?)")
+        flag = _epoch_flag(line, 31, lineno, path)
+        count = parse_int(line[32:35], path, lineno, "number of satellites")
+        if 2 <= flag <= 5:
+            scan.n_events += 1
+            i = _skip_event(lines, i, count, flag, path, types, False)
+            continue
+        if i + 1 + count > n:
+            raise _truncated(path, lineno, n, f"{count} satellites announced")
+        for k in range(i + 1, i + 1 + count):
+            if lines[k][:1] == ">":
+                raise FormatError(path, k + 1, "number of satellites", f"the epoch at line "
+                                  f"{lineno} announces {count} satellites but only "
+                                  f"{k - i - 1} records follow")
+        first, i = i + 1, i + 1 + count
+        if flag == 6:
+            scan.n_slip_epochs += 1
+            continue
+        epoch = _add_epoch(scan, line, lineno, path, flag, False)
+        for k in range(first, i):
+            rec = lines[k]
+            sv = sat_id(rec[:3], k + 1)
+            if keep is not None and sv[0] not in keep:
+                continue
+            codes = types.get(sv[0])
+            if codes is None:
+                raise FormatError(path, k + 1, "satellite", f"{sv}: system '{sv[0]}' has no "
+                                  f"'{_TYPES_V3}' record in the header")
+            width = _W * len(codes)
+            _add_record(scan, codes, epoch, sv, k, rec[3:3 + width].ljust(width))
+    return scan
+
+
+def _bad_value(path, lineno: int, code: str, sv: str, text: str):
+    """FormatError for a non-numeric observation field."""
+    s = text.strip()
+    what = "is not a finite number" if s.lower().lstrip("+-") in ("nan", "inf", "infinity") \
+        else "is not a number"
+    return FormatError(path, lineno, code, f"satellite {sv}: '{s}' {what}")
+
+
+def _parse_block(texts: list[str], codes: tuple, lines0: np.ndarray, svs: list, path, v2: bool):
+    """Decode the fixed-width observation texts of one group of records at once.
+
+    Parameters
+    ----------
+    texts : list of str, each ``16 * len(codes)`` characters
+    codes : tuple of str, the observation codes of the columns
+    lines0 : ndarray of int, 0-based first line of each record (for error messages)
+    svs : list of str, satellite of each record (for error messages)
+
+    Returns
+    -------
+    values : ndarray (nrec, ncode) float64, NaN where blank
+    lli, ssi : ndarray (nrec, ncode) int8, -1 where the value is blank
+    """
+    nrec, ncode = len(texts), len(codes)
+    raw = np.frombuffer("".join(texts).encode("latin-1"), dtype=np.uint8)
+    raw = raw.reshape(nrec, ncode, _W)
+
+    def where(r, j):  # 1-based line of field j of record r
+        return int(lines0[r]) + 1 + (j // _V2_OBS_PER_LINE if v2 else 0)
+
+    value_chars = raw[:, :, :14]
+    blank = (value_chars == 32).all(axis=2)
+    bad = ~_VALUE_CHARS[value_chars].all(axis=2)
+    if bad.any():
+        r, j = np.argwhere(bad)[0]
+        text = value_chars[r, j].tobytes().decode("latin-1")
+        raise _bad_value(path, where(r, j), codes[j], svs[r], text)
+    fields = np.ascontiguousarray(value_chars).view("S14")[:, :, 0]
+    values = np.full((nrec, ncode), np.nan)
+    present = ~blank
+    try:
+        values[present] = fields[present].astype(np.float64)
+    except ValueError:  # e.g. "12 3.4" or "1.2.3": find the field for the message
+        for r, j in np.argwhere(present):
+            try:
+                float(fields[r, j])
+            except ValueError:
+                raise _bad_value(path, where(r, j), codes[j], svs[r],
+                                 fields[r, j].decode("latin-1")) from None
+    indicators = []
+    for col, name in ((14, "LLI"), (15, "SSI")):
+        chars = raw[:, :, col]
+        bad = ~_INDICATOR_CHARS[chars]
+        if bad.any():
+            r, j = np.argwhere(bad)[0]
+            raise FormatError(path, where(r, j), f"{codes[j]} {name}", f"satellite {svs[r]}: "
+                              f"'{chr(chars[r, j])}' is not an indicator digit")
+        ind = np.where(chars == 32, 0, chars.astype(np.int16) - 48).astype(np.int8)
+        ind[blank] = -1
+        indicators.append(ind)
+    return values, indicators[0], indicators[1]
+
+
+def _obs_attrs(code: str, v2: bool) -> dict:
+    """units and long_name of an observation variable."""
+    kind = code[0]
+    if kind in "CP":
+        return {"units": "m", "long_name": f"pseudorange {code} [m]"}
+    if kind == "L":
+        return {"units": "1", "long_name": f"carrier phase {code} [cycles]"}
+    if kind == "D":
+        return {"units": "Hz", "long_name": f"Doppler {code} [Hz]"}
+    if kind == "S":
+        if v2:
+            return {"units": "1", "long_name": f"signal strength {code} as written by the "
+                                               "receiver (receiver-dependent units)"}
+        return {"units": "dB-Hz", "long_name": f"carrier-to-noise density {code} [dB-Hz]"}
+    return {"units": "1", "long_name": f"observation {code} as written"}
+
+
+def _check_unique(ti: np.ndarray, si: np.ndarray, nsv: int, scan: _Scan, path) -> None:
+    """A satellite must not appear twice in one epoch."""
+    key = ti.astype(np.int64) * nsv + si
+    order = np.argsort(key, kind="stable")
+    dup = np.nonzero(np.diff(key[order]) == 0)[0]
+    if dup.size:
+        r = order[dup[0] + 1]
+        raise FormatError(path, scan.rec_line[r] + 1, "satellite",
+                          f"{scan.rec_sv[r]} appears twice in the same epoch")
+
+
+def _build_dataset(scan: _Scan, hdr: _Header, keep, path) -> xr.Dataset:
+    """Assemble the Dataset from the scanned records (``keep``: kept systems or None)."""
+    v2 = hdr.version < 3
+    times = np.array(scan.base, dtype="datetime64[ns]") + \
+        np.array(scan.sec_ns, dtype="timedelta64[ns]")
+    svs = sorted(set(scan.rec_sv))
+    sv_index = {sv: k for k, sv in enumerate(svs)}
+    nt, ns = len(times), len(svs)
+    ti = np.array(scan.rec_epoch, dtype=np.int64)
+    si = np.array([sv_index[sv] for sv in scan.rec_sv], dtype=np.int64)
+    _check_unique(ti, si, ns, scan, path)
+    group_of = np.array(scan.rec_group, dtype=np.int64)
+    rec_line = np.array(scan.rec_line, dtype=np.int64)
+
+    all_codes = [c for key, types in hdr.types.items()
+                 if keep is None or key in keep or key == "" for c in types]
+    all_codes += [c for codes in scan.groups for c in codes]
+    all_codes = list(dict.fromkeys(all_codes))
+    values = {c: np.full((nt, ns), np.nan) for c in all_codes}
+    lli = {c: np.full((nt, ns), -1, dtype=np.int8) for c in all_codes}
+    ssi = {c: np.full((nt, ns), -1, dtype=np.int8) for c in all_codes}
+    for codes, g in scan.groups.items():
+        rows = np.nonzero(group_of == g)[0]
+        block_svs = [scan.rec_sv[r] for r in rows]
+        v, li, ss = _parse_block(scan.texts[g], codes, rec_line[rows], block_svs, path, v2)
+        t, s = ti[rows], si[rows]
+        for j, code in enumerate(codes):
+            values[code][t, s] = v[:, j]
+            lli[code][t, s] = li[:, j]
+            ssi[code][t, s] = ss[:, j]
+
+    data = {}
+    for code in all_codes:
+        data[code] = (("time", "sv"), values[code], _obs_attrs(code, v2))
+        data[f"{code}_lli"] = (("time", "sv"), lli[code], {
+            "units": "1", "long_name": f"loss of lock indicator of {code} (bit 0: lost lock, "
+            "bit 1: half-wavelength/opposite wavelength factor, bit 2: half-cycle ambiguity "
+            "or anti-spoofing; 0 = blank, -1 = no observation)"})
+        data[f"{code}_ssi"] = (("time", "sv"), ssi[code], {
+            "units": "1", "long_name": f"signal strength indicator of {code} (1 = minimum, "
+            "9 = maximum; 0 = blank or unknown, -1 = no observation)"})
+    data["epoch_flag"] = (("time",), np.array(scan.flag, dtype=np.int8), {
+        "units": "1", "long_name": "epoch flag (0 = OK, 1 = power failure since the "
+                                   "previous epoch)"})
+    data["rx_clock_offset_s"] = (("time",), np.array(scan.clock, dtype=np.float64), {
+        "units": "s", "long_name": "receiver clock offset from the epoch record"})
+    coords = {"time": ("time", times), "sv": ("sv", np.array(svs, dtype=str))}
+    return xr.Dataset(data, coords=coords, attrs=_final_attrs(scan, hdr, times, svs, path))
+
+
+def _final_attrs(scan: _Scan, hdr: _Header, times: np.ndarray, svs: list, path) -> dict:
+    """Header attributes plus interval, observation-type lists and counters."""
+    attrs = dict(hdr.attrs)
+    if "interval_s" not in attrs:
+        steps = np.diff(times).astype("timedelta64[ns]").astype(np.int64)
+        attrs["interval_s"] = float(np.median(steps)) * 1e-9 if steps.size else math.nan
+    if hdr.version < 3:
+        systems = sorted({sv[0] for sv in svs} | ({hdr.system} - {"M"}))
+        attrs.update({f"obs_types_{s}": " ".join(hdr.types[""]) for s in systems})
+    else:
+        attrs.update({f"obs_types_{s}": " ".join(c) for s, c in hdr.types.items()})
+    attrs.update(n_events=scan.n_events, n_cycle_slip_epochs=scan.n_slip_epochs,
+                 filename=Path(path).name)
+    if np.any(np.diff(times) <= np.timedelta64(0, "ns")):
+        log.warning("%s: epochs are not in strictly increasing time order", path)
+    return attrs
+
+
+def read_rinex_obs(path: str | Path, systems: Iterable[str] | None = None) -> xr.Dataset:
+    """Read a RINEX 2.10-2.20, 3.0x or 4.00 observation file (plain, .gz, .Z or Hatanaka).
+
+    Parameters
+    ----------
+    path : str or Path
+        The observation file.
+    systems : iterable of str, optional
+        System letters to keep (e.g. ``"GC"`` or ``["G"]``); records of other systems are
+        skipped without being decoded. Default: all.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims (time, sv); observations in m (code), cycles (phase), Hz (Doppler), signal
+        strength as written; LLI/SSI indicators; see the module docstring for the schema.
+
+    Raises
+    ------
+    FormatError
+        Missing mandatory header record, not an observation file, bad epoch record,
+        satellite count not matching, non-numeric or non-finite observation, truncation in
+        the middle of an epoch record.
+    """
+    keep = None
+    if systems is not None:
+        keep = set(systems)
+        unknown = keep - set(_SAT_SYSTEMS)
+        if unknown:
+            raise ValueError(f"unknown satellite systems {sorted(unknown)} (known: "
+                             f"{', '.join(_SAT_SYSTEMS)})")
+    lines = read_lines(path)
+    hdr = _parse_header(lines, path)
+    scan = (_scan_v2 if hdr.version < 3 else _scan_v3)(lines, hdr, keep, path)
+    ds = _build_dataset(scan, hdr, keep, path)
+    log.debug("%s: %d epochs, %d satellites", path, ds.sizes["time"], ds.sizes["sv"])
+    return ds
+
+
+# ------------------------------------------------------------------------------------ writer
+
+_HEADER_KEYS = ("marker_name", "marker_number", "marker_type", "observer", "agency",
+                "receiver_number", "receiver_type", "receiver_version", "antenna_number",
+                "antenna_type", "approx_position_xyz_m", "antenna_delta_hen_m", "program",
+                "run_by", "comments")
+_CODE_NAME = re.compile(r"^[A-Z][0-9A-Z][0-9A-Z]?$")
+_INDICATOR_TEXT = (" ",) + tuple(str(d) for d in range(1, 10))
+
+
+def _hl(text: str, label: str) -> str:
+    """One header line: 60 columns of content, then the label."""
+    return f"{text:<60.60}{label}"
+
+
+def _header_values(ds: xr.Dataset, header: Mapping | None) -> dict:
+    """Header values: Dataset attributes overridden by ``header``."""
+    header = dict(header or {})
+    unknown = set(header) - set(_HEADER_KEYS)
+    if unknown:
+        raise ValueError(f"unknown header keys {sorted(unknown)} (known: {_HEADER_KEYS})")
+    values = {k: str(ds.attrs.get(k, "")) for k in _HEADER_KEYS}
+    values["program"] = "leopod"
+    values["comments"] = []
+    values.update(header)
+    if isinstance(values["comments"], str):
+        values["comments"] = [values["comments"]]
+    return values
+
+
+def _xyz_text(text, name: str) -> str:
+    """Three F14.4 numbers from an "x y z" string or a sequence (blank -> zeros)."""
+    parts = text.split() if isinstance(text, str) else list(text)
+    if not parts:
+        parts = [0.0, 0.0, 0.0]
+    try:
+        xyz = [float(p) for p in parts]
+    except ValueError:
+        raise ValueError(f"{name} must hold three numbers, not {text!r}") from None
+    if len(xyz) != 3 or not all(math.isfinite(v) and abs(v) < 1e9 for v in xyz):
+        raise ValueError(f"{name} must hold three finite numbers below 1e9 m, not {text!r}")
+    return "".join(f"{v:14.4f}" for v in xyz)
+
+
+def _observation_codes(ds: xr.Dataset) -> list[str]:
+    """Names of the observation variables of a Dataset of this module's schema."""
+    return [str(name) for name, var in ds.data_vars.items()
+            if var.dims == ("time", "sv") and _CODE_NAME.match(str(name))
+            and np.issubdtype(var.dtype, np.floating)]
+
+
+def _write_plan(ds: xr.Dataset, v2: bool, systems: list[str]) -> dict[str, list[tuple]]:
+    """Per system, the (file code, Dataset variable) pairs to write, in header order."""
+    from leopod.gnss.signals import RINEX2_TO_RINEX3
+
+    to_v2 = {v: k for k, v in RINEX2_TO_RINEX3["G"].items()}
+    codes = _observation_codes(ds)
+    sv = ds["sv"].values.astype(str)
+    plan = {}
+    for system in systems:
+        cols = np.char.startswith(sv, system)
+        listed = str(ds.attrs.get(f"obs_types_{system}", "")).split()
+        names = [c for c in listed if c in codes] or \
+            [c for c in codes if np.isfinite(ds[c].values[:, cols]).any()]
+        pairs = []
+        for name in names:
+            if v2:
+                file_code = name if len(name) == 2 else to_v2.get(name)
+            else:
+                file_code = name if len(name) == 3 else \
+                    RINEX2_TO_RINEX3.get(system, {}).get(name)
+            if file_code is None:
+                raise ValueError(f"observation '{name}' of system {system} has no RINEX "
+                                 f"{'2' if v2 else '3'} name; drop it or rename it")
+            pairs.append((file_code, name))
+        plan[system] = pairs
+    return plan
+
+
+def _record_texts(ds: xr.Dataset, plan: dict) -> np.ndarray:
+    """Fixed-width observation text of every (time, sv) cell, None where nothing to write."""
+    sv = ds["sv"].values.astype(str)
+    texts = np.full((ds.sizes["time"], sv.size), None, dtype=object)
+    for system, pairs in plan.items():
+        if not pairs:
+            continue
+        cols = np.nonzero(np.char.startswith(sv, system))[0]
+        names = [name for _, name in pairs]
+        vals = np.stack([ds[n].values[:, cols] for n in names], axis=-1)
+        present = np.isfinite(vals)
+        fits = (vals > -999999999.9995) & (vals < 9999999999.9995)
+        if (present & ~fits).any():
+            t, s, j = np.argwhere(present & ~fits)[0]
+            raise ValueError(f"{names[j]} of {sv[cols[s]]} at {ds.time.values[t]} = "
+                             f"{vals[t, s, j]} does not fit the F14.3 field")
+        inds = []
+        for suffix in ("_lli", "_ssi"):
+            ind = np.stack([ds[n + suffix].values[:, cols] if n + suffix in ds
+                            else np.zeros(vals.shape[:2], int) for n in names], axis=-1)
+            ind = np.where(present, ind, 0)
+            if ((ind < -1) | (ind > 9)).any():
+                raise ValueError(f"{suffix[1:].upper()} indicators must be -1 or 0-9")
+            inds.append(np.maximum(ind, 0))
+        cells = np.full(vals.shape, " " * _W, dtype=object)
+        cells[present] = [f"{v:14.3f}{_INDICATOR_TEXT[a]}{_INDICATOR_TEXT[b]}"
+                          for v, a, b in zip(vals[present], inds[0][present], inds[1][present])]
+        for t, s in np.argwhere(present.any(axis=2)):
+            texts[t, cols[s]] = "".join(cells[t, s])
+    return texts
+
+
+def _time_fields(times: np.ndarray) -> list[tuple]:
+    """(year, month, day, hour, minute, seconds) of each time, rounded to 100 ns."""
+    ns = times.astype("datetime64[ns]").astype(np.int64)
+    ns = (ns + 50) // 100 * 100
+    fields = []
+    for t in ns:
+        whole, frac = divmod(int(t), 60_000_000_000)
+        base = _dt.datetime(1970, 1, 1) + _dt.timedelta(minutes=whole)
+        fields.append((base.year, base.month, base.day, base.hour, base.minute, frac * 1e-9))
+    return fields
+
+
+def _header_lines(ds, meta: dict, plan: dict, v2: bool, first: tuple) -> list[str]:
+    """The header section of the output file."""
+    systems = list(plan)
+    file_sys = "G (GPS)" if v2 else (systems[0] if len(systems) == 1 else "M")
+    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%d %H%M%S UTC")
+    out = [_hl(f"{2.11 if v2 else 3.04:9.2f}{'':11}{'OBSERVATION DATA':<20}{file_sys:<20}",
+               "RINEX VERSION / TYPE"),
+           _hl(f"{meta['program']:<20.20}{meta['run_by']:<20.20}{now:<20}",
+               "PGM / RUN BY / DATE")]
+    out += [_hl(c, "COMMENT") for c in meta["comments"]]
+    out.append(_hl(meta["marker_name"], "MARKER NAME"))
+    if meta["marker_number"]:
+        out.append(_hl(meta["marker_number"], "MARKER NUMBER"))
+    if meta["marker_type"] and not v2:
+        out.append(_hl(meta["marker_type"], "MARKER TYPE"))
+    out += [_hl(f"{meta['observer']:<20.20}{meta['agency']:<40.40}", "OBSERVER / AGENCY"),
+            _hl(f"{meta['receiver_number']:<20.20}{meta['receiver_type']:<20.20}"
+                f"{meta['receiver_version']:<20.20}", "REC # / TYPE / VERS"),
+            _hl(f"{meta['antenna_number']:<20.20}{meta['antenna_type']:<20.20}",
+                "ANT # / TYPE"),
+            _hl(_xyz_text(meta["approx_position_xyz_m"], "approx_position_xyz_m"),
+                "APPROX POSITION XYZ"),
+            _hl(_xyz_text(meta["antenna_delta_hen_m"], "antenna_delta_hen_m"),
+                "ANTENNA: DELTA H/E/N")]
+    if v2:
+        codes = [c for c, _ in plan["G"]]
+        out.append(_hl(f"{1:6d}{1:6d}", "WAVELENGTH FACT L1/2"))
+        for k in range(0, max(len(codes), 1), 9):
+            lead = f"{len(codes):6d}" if k == 0 else " " * 6
+            out.append(_hl(lead + "".join(f"{c:>6}" for c in codes[k:k + 9]), _TYPES_V2))
+    else:
+        for system, pairs in plan.items():
+            codes = [c for c, _ in pairs]
+            for k in range(0, max(len(codes), 1), 13):
+                lead = f"{system}  {len(codes):3d}" if k == 0 else " " * 6
+                out.append(_hl(lead + "".join(f" {c}" for c in codes[k:k + 13]), _TYPES_V3))
+    interval = float(ds.attrs.get("interval_s", math.nan))
+    if math.isfinite(interval) and 0 < interval < 1e6:
+        out.append(_hl(f"{interval:10.3f}", "INTERVAL"))
+    time_system = str(ds.attrs.get("time_system", "GPS"))
+    out.append(_hl(f"{first[0]:6d}{first[1]:6d}{first[2]:6d}{first[3]:6d}{first[4]:6d}"
+                   f"{first[5]:13.7f}{'':5}{time_system:<3.3}", "TIME OF FIRST OBS"))
+    if not v2:
+        out += [_hl(system, "SYS / PHASE SHIFT") for system in plan]
+    out.append(_hl("", "END OF HEADER"))
+    return out
+
+
+def _clock_text(clock: float, v2: bool) -> str:
+    """Receiver clock offset field (F12.9 in RINEX 2, 6X,F15.12 in RINEX 3); '' if NaN."""
+    if not math.isfinite(clock):
+        return ""
+    text = f"{clock:12.9f}" if v2 else f"{'':6}{clock:15.12f}"
+    if len(text) > (12 if v2 else 21):
+        raise ValueError(f"receiver clock offset {clock} s does not fit the RINEX field")
+    return text
+
+
+def _epoch_lines(fields, flag: int, clock: float, svs: list, texts: list, v2: bool) -> list:
+    """Epoch record plus satellite records of one epoch."""
+    y, mo, d, h, mi, sec = fields
+    if v2:
+        head = f" {y % 100:02d} {mo:2d} {d:2d} {h:2d} {mi:2d}{sec:11.7f}  {flag:1d}{len(svs):3d}"
+        ids = "".join(svs)
+        out = [(head + ids[:36]).ljust(68) + _clock_text(clock, True)]
+        out += [" " * 32 + ids[k:k + 36] for k in range(36, len(ids), 36)]
+        step = _W * _V2_OBS_PER_LINE
+        for text in texts:
+            out += [text[k:k + step].rstrip() for k in range(0, len(text), step)]
+        return [line.rstrip() for line in out]
+    head = f"> {y:4d} {mo:02d} {d:02d} {h:02d} {mi:02d}{sec:11.7f}  {flag:1d}{len(svs):3d}"
+    return [head + _clock_text(clock, False)] + \
+        [(sv + text).rstrip() for sv, text in zip(svs, texts)]
+
+
+def write_rinex_obs(ds: xr.Dataset, path: str | Path, version: float = 3.04,
+                    header: Mapping | None = None) -> Path:
+    """Write a Dataset of the :func:`read_rinex_obs` schema as a RINEX observation file.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Observations (time, sv) as described in the module docstring; ``<code>_lli``,
+        ``<code>_ssi``, ``epoch_flag`` and ``rx_clock_offset_s`` are optional. RINEX 2 names
+        are mapped to RINEX 3 codes for version 3.04 (and back for 2.11) with
+        :data:`leopod.gnss.signals.RINEX2_TO_RINEX3`.
+    path : str or Path
+        Output file, written atomically; gzip-compressed if it ends in ``.gz``.
+    version : float
+        3.04 (systems G, E, C, J, I, S) or 2.11 (GPS only).
+    header : mapping, optional
+        Header values overriding ``ds.attrs``: marker_name, marker_number, marker_type,
+        observer, agency, receiver_number, receiver_type, receiver_version, antenna_number,
+        antenna_type, approx_position_xyz_m, antenna_delta_hen_m (``"x y z"`` [m] or three
+        numbers), program, run_by, comments (str or list of str).
+
+    Returns
+    -------
+    Path
+        The file written. Values are written as F14.3 (1 mm, 1e-3 cycle); epochs without any
+        observation are left out; the observation list of a system is the codes of
+        ``attrs["obs_types_<sys>"]`` present in ``ds`` (header order), else the codes with
+        data for that system (variable order).
+
+    Raises
+    ------
+    ValueError
+        Unsupported version or system, a code without a name in the requested version, a
+        value that does not fit its field, unknown ``header`` keys.
+    """
+    from leopod.netcdf import atomic_path
+
+    if round(float(version), 2) not in (2.11, 3.04):
+        raise ValueError(f"can write RINEX 2.11 or 3.04, not {version}")
+    v2 = round(float(version), 2) == 2.11
+    meta = _header_values(ds, header)
+    sv = [str(s) for s in ds["sv"].values]
+    systems = sorted({s[0] for s in sv})
+    allowed = "G" if v2 else "GECJIS"
+    if set(systems) - set(allowed):
+        raise ValueError(f"RINEX {version} output supports systems {allowed!r}, the data "
+                         f"have {systems} (GLONASS would need frequency-slot records)")
+    plan = _write_plan(ds, v2, systems or ["G"])
+    texts = _record_texts(ds, plan)
+    flags = ds["epoch_flag"].values if "epoch_flag" in ds else np.zeros(ds.sizes["time"])
+    clocks = ds["rx_clock_offset_s"].values if "rx_clock_offset_s" in ds else \
+        np.full(ds.sizes["time"], np.nan)
+    rows = [t for t in range(texts.shape[0]) if any(x is not None for x in texts[t])]
+    if not rows:
+        raise ValueError("the Dataset holds no observation to write")
+    times = _time_fields(ds["time"].values[rows])
+    body = []
+    for t, fields in zip(rows, times):
+        cols = [k for k in range(len(sv)) if texts[t, k] is not None]
+        flag = int(flags[t]) if int(flags[t]) in (0, 1) else 0
+        body += _epoch_lines(fields, flag, float(clocks[t]), [sv[k] for k in cols],
+                             [texts[t, k] for k in cols], v2)
+    lines = _header_lines(ds, meta, plan, v2, times[0]) + body
+    data = ("\n".join(lines) + "\n").encode("latin-1")
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(gzip.compress(data, compresslevel=6) if path.suffix == ".gz" else data)
+    log.info("wrote %s: RINEX %s, %d epochs", path, version, len(rows))
+    return path

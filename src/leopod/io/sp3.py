@@ -1,0 +1,614 @@
+"""Read and write SP3 precise orbit files (SP3-a, -b, -c and -d).
+
+Specification: S. Hilla, "The Extended Standard Product 3 Orbit Format (SP3-d)", NGS/NOAA,
+21 February 2016 (files.igs.org/pub/data/format/sp3d.pdf), and its predecessor "SP3-c"
+(Hilla, 17 August 2010), whose fixed columns the reader also accepts. SP3-a numeric satellite
+ids ("  1") are read as GPS ("G01").
+
+Dataset returned by :func:`read_sp3` (and accepted by :func:`write_sp3`)
+------------------------------------------------------------------------
+Coordinates
+    ``time``  (time,) datetime64[ns] -- epochs in the file's time system (``attrs["time_system"]``)
+    ``sv``    (sv,) str -- satellite ids of the header list, in header order ("G01", "R24", "L47")
+    ``xyz``   (xyz,) str -- ``["x", "y", "z"]``
+Data variables
+    ``pos_m``       (time, sv, xyz) float64 [m]   position (file km x 1000); NaN where the file
+                    has the "bad or absent" value 0.000000 in all three components, or no record
+    ``clk_s``       (time, sv) float64 [s]        clock correction (file microseconds x 1e-6);
+                    NaN for 999999.999999 (bad or absent) or a blank field
+    ``vel_m_s``     (time, sv, xyz) float64 [m s-1] velocity (file dm/s x 0.1); only when the
+                    file has V records; NaN where all three components are 0.000000
+    ``clk_rate_s_s`` (time, sv) float64 [s s-1]   clock rate (file 1e-4 microseconds/s x 1e-10);
+                    only with V records; NaN for 999999.999999 or blank
+    ``pos_sigma_m`` (time, sv, xyz) float64 [m]   record standard deviation base**n mm; and
+    ``clk_sigma_s`` (time, sv) float64 [s]        base**n ps -- both only when the P records carry
+                    accuracy exponents and the ``%f`` line gives a non-zero base; NaN when blank
+    ``orbit_accuracy_m`` (sv,) float64 [m]        header accuracy 2**n mm ("++" lines); NaN for 0
+                    (unknown)
+Attributes
+    ``sp3_version`` ("a".."d"), ``pv_flag`` ("P" or "V"), ``data_used``, ``coordinate_system``,
+    ``orbit_type``, ``agency``, ``interval_s`` (float, header epoch interval), ``time_system``
+    ("GPS" when the file does not say, as in SP3-a/b), ``file_type`` ("G", "M", "L", ...; "" if
+    absent), ``comments`` (the ``/*`` lines joined by newlines), ``filename``.
+
+Errors
+------
+Bad input raises :class:`leopod.io.FormatError` naming file, line and field: a malformed first
+or second header line, a missing satellite list, an unreadable epoch (``*``) line, a bad numeric
+field of a P/V record (field ``"<sv> x|y|z|clock"``, ``"<sv> vx|vy|vz|clock rate"``), a satellite
+absent from the header list, two records of one satellite at one epoch, epochs out of order,
+fewer epochs than the header declares (a truncated file), and a file without ``EOF`` whose last
+epoch lacks some satellites. More epochs than declared is only logged as a warning.
+"""
+
+from __future__ import annotations
+
+import gzip
+import logging
+import math
+from datetime import datetime
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
+
+__all__ = ["read_sp3", "write_sp3"]
+
+logger = logging.getLogger(__name__)
+
+_UNIX0 = datetime(1970, 1, 1)
+_NS = 1_000_000_000
+_GPS0_NS = 315_964_800 * _NS  # 1980-01-06T00:00:00 as ns since 1970-01-01
+_MJD0_NS = -40_587 * 86_400 * _NS  # 1858-11-17T00:00:00 as ns since 1970-01-01
+_BAD_CLOCK = 999_999.0  # "bad or absent" clock values are 999999.999999 (>= this)
+_XYZ = ("x", "y", "z")
+# 0-based [start, stop) columns of a P or V record (SP3-d table "Position and Clock Record")
+_REC_COLS = ((4, 18), (18, 32), (32, 46), (46, 60))
+_EXP_COLS = ((61, 63), (64, 66), (67, 69), (70, 73))
+_IDS_PER_LINE = 17
+
+
+# --------------------------------------------------------------------------------------------
+# small parsing helpers
+
+
+def _to_float(texts: list[str], line_nos: list[int], field_of: Callable[[int], str],
+              path: Path, *, allow_blank: bool = False) -> np.ndarray:
+    """Convert many numeric field texts to float64 with exact error locations.
+
+    Parameters
+    ----------
+    texts : list of str
+        Field texts, shape (N,).
+    line_nos : list of int
+        1-based line number of each text, shape (N,).
+    field_of : callable
+        ``field_of(i)`` gives the field name of item ``i`` for an error message.
+    path : Path
+        File, for error messages.
+    allow_blank : bool
+        Blank fields become NaN instead of an error.
+
+    Returns
+    -------
+    numpy.ndarray
+        float64, shape (N,).
+    """
+    if not texts:
+        return np.empty(0)
+    try:
+        values = np.asarray(texts, dtype=str).astype(np.float64)
+        if np.isfinite(values).all():
+            return values
+    except ValueError:
+        pass
+    # slow path: locate the bad field (or handle blanks and Fortran D exponents)
+    return np.array([parse_float(t, path, n, field_of(i), allow_blank=allow_blank)
+                     for i, (t, n) in enumerate(zip(texts, line_nos))], dtype=np.float64)
+
+
+def _epoch_ns(fields: tuple[int, int, int, int, int], seconds: float, path: Path,
+              line_no: int) -> int:
+    """Nanoseconds since 1970-01-01 of a calendar epoch, validating every part."""
+    try:
+        dt = datetime(*fields)
+    except ValueError as err:
+        raise FormatError(path, line_no, "epoch", f"invalid date or time ({err})") from None
+    if not 0.0 <= seconds < 60.0:
+        raise FormatError(path, line_no, "second", f"seconds {seconds} outside [0, 60)")
+    delta = dt - _UNIX0
+    return (delta.days * 86_400 + delta.seconds) * _NS + round(seconds * 1e9)
+
+
+def _sat_id(text: str, path: Path, line_no: int) -> str:
+    """Normalise a 3-character SP3 satellite id ("G01", "G 1", SP3-a "  1") to "G01"."""
+    system = text[:1]
+    number = text[1:3]
+    if system == " " or system.isdigit():  # SP3-a: I3 PRN, GPS implied
+        system, number = "G", text[:3]
+    if not system.isalpha() or not number.strip().isdigit():
+        raise FormatError(path, line_no, "satellite id", f"'{text}' is not a satellite id")
+    return f"{system.upper()}{int(number):02d}"
+
+
+# --------------------------------------------------------------------------------------------
+# reader
+
+
+def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.ndarray, int]:
+    """Parse the SP3 header.
+
+    Returns
+    -------
+    attrs : dict
+        Header attributes of the Dataset, plus private keys ``_n_epochs``, ``_base_pos``,
+        ``_base_clk``.
+    sats : list of str
+        Satellite ids in header order.
+    accuracy_m : numpy.ndarray
+        Header accuracy per satellite [m], NaN where unknown, shape (nsat,).
+    first_data : int
+        0-based index of the first epoch line.
+    """
+    line1 = lines[0]
+    if not (line1.startswith("#") and line1[1:2] in ("a", "b", "c", "d")):
+        raise FormatError(path, 1, "version", "the first line must start with '#a', '#b', '#c' "
+                          f"or '#d' (SP3 version), found '{line1[:3]}'")
+    if line1[2:3] not in ("P", "V"):
+        raise FormatError(path, 1, "pos/vel flag", f"column 3 must be 'P' or 'V', "
+                          f"found '{line1[2:3]}'")
+    if len(line1.rstrip()) < 39:
+        raise FormatError(path, 1, "number of epochs", "the first header line is truncated")
+    attrs = {
+        "sp3_version": line1[1],
+        "pv_flag": line1[2],
+        "data_used": line1[40:45].strip(),
+        "coordinate_system": line1[46:51].strip(),
+        "orbit_type": line1[52:55].strip(),
+        "agency": line1[56:60].strip(),
+        "_n_epochs": parse_int(line1[32:39], path, 1, "number of epochs"),
+    }
+    line2 = lines[1] if len(lines) > 1 else ""
+    if not line2.startswith("##"):
+        raise FormatError(path, 2, "##", "the second header line must start with '##'")
+    attrs["interval_s"] = fixed_float(line2, 24, 38, path, 2, "epoch interval")
+
+    i = 2
+    plus = []
+    while i < len(lines) and lines[i].startswith("+ "):
+        plus.append(i)
+        i += 1
+    if not plus:
+        raise FormatError(path, 3, "+", "the satellite list ('+' lines) is missing")
+    n_sat = parse_int(lines[plus[0]][3:6], path, plus[0] + 1, "number of satellites")
+    sats = []
+    for k in plus:
+        text = lines[k]
+        for c in range(9, 60, 3):
+            if len(sats) < n_sat:
+                sats.append((text[c:c + 3], k + 1))
+    if len(sats) < n_sat or any(not s.strip() or s.strip() == "0" for s, _ in sats):
+        raise FormatError(path, plus[-1] + 1, "+", f"the header declares {n_sat} satellites "
+                          "but lists fewer ids")
+    sat_ids = [_sat_id(s, path, n) for s, n in sats]
+    if len(set(sat_ids)) != len(sat_ids):
+        raise FormatError(path, plus[0] + 1, "+", "a satellite is listed twice")
+
+    exps = np.zeros(n_sat)
+    k_sat = 0
+    while i < len(lines) and lines[i].startswith("++"):
+        for c in range(9, 60, 3):
+            if k_sat < n_sat:
+                field = lines[i][c:c + 3]
+                exps[k_sat] = parse_int(field, path, i + 1, "accuracy") if field.strip() else 0
+                k_sat += 1
+        i += 1
+    with np.errstate(over="ignore"):
+        accuracy = np.where(exps > 0, 2.0 ** exps * 1e-3, np.nan)
+
+    attrs.update(file_type="", time_system="GPS", _base_pos=0.0, _base_clk=0.0)
+    comments = []
+    seen_c = seen_f = False
+    while i < len(lines) and not lines[i].startswith("*"):
+        text = lines[i]
+        if text.startswith("%c") and not seen_c:
+            seen_c = True
+            attrs["file_type"] = text[3:5].strip().replace("c", "")
+            tsys = text[9:12].strip()
+            if tsys and tsys != "ccc" and attrs["sp3_version"] in ("c", "d"):
+                attrs["time_system"] = tsys
+        elif text.startswith("%f") and not seen_f:
+            seen_f = True
+            attrs["_base_pos"] = fixed_float(text, 3, 13, path, i + 1, "base pos/vel",
+                                             allow_blank=True)
+            attrs["_base_clk"] = fixed_float(text, 14, 26, path, i + 1, "base clk/rate",
+                                             allow_blank=True)
+        elif text.startswith("/*"):
+            comments.append(text[2:].strip())
+        elif not text.startswith(("%c", "%f", "%i")) and text.strip():
+            raise FormatError(path, i + 1, "header", f"unexpected header line '{text[:20]}'")
+        i += 1
+    if i >= len(lines):
+        raise FormatError(path, len(lines), "*", "the file has no epoch ('*') record")
+    attrs["comments"] = "\n".join(c for c in comments if c)
+    return attrs, sat_ids, accuracy, i
+
+
+def _parse_epoch_line(text: str, path: Path, line_no: int) -> int:
+    """Epoch of a ``*`` line in ns since 1970-01-01."""
+    if len(text.rstrip()) < 31:
+        raise FormatError(path, line_no, "epoch", "the epoch ('*') record is truncated: "
+                          f"'{text.rstrip()}' (31 columns expected)")
+    parts = (parse_int(text[3:7], path, line_no, "year"),
+             parse_int(text[8:10], path, line_no, "month"),
+             parse_int(text[11:13], path, line_no, "day"),
+             parse_int(text[14:16], path, line_no, "hour"),
+             parse_int(text[17:19], path, line_no, "minute"))
+    seconds = fixed_float(text, 20, 31, path, line_no, "second")
+    return _epoch_ns(parts, seconds, path, line_no)
+
+
+class _Records:
+    """Lines of one record type (P or V) with their epoch and satellite indices."""
+
+    def __init__(self):
+        self.texts: list[str] = []
+        self.line_nos: list[int] = []
+        self.epoch: list[int] = []
+        self.sat: list[int] = []
+
+    def add(self, text: str, line_no: int, epoch: int, sat: int) -> None:
+        self.texts.append(text)
+        self.line_nos.append(line_no)
+        self.epoch.append(epoch)
+        self.sat.append(sat)
+
+
+def _check_record_length(text: str, sv: str, names: tuple[str, ...], path: Path,
+                         line_no: int) -> None:
+    """Reject a P/V record cut inside one of its four numeric fields."""
+    length = len(text.rstrip())
+    for (start, stop), name in zip(_REC_COLS, names):
+        if length < stop and (name != names[3] or length > start):
+            raise FormatError(path, line_no, f"{sv} {name}", "the record is truncated "
+                              f"(ends at column {length}, field ends at column {stop})")
+
+
+def _scan_data(lines: list[str], first: int, sat_index: dict[str, int], path: Path):
+    """Walk the data section: epoch times and the P and V record lines.
+
+    Returns
+    -------
+    epochs : list of int
+        ns since 1970 of each epoch.
+    epoch_lines : list of int
+        1-based line number of each epoch record.
+    pos, vel : _Records
+    eof : bool
+        Whether an ``EOF`` line was found.
+    """
+    epochs, epoch_lines = [], []
+    pos, vel = _Records(), _Records()
+    sats = list(sat_index)
+    for i in range(first, len(lines)):
+        text = lines[i]
+        kind = text[:1]
+        if kind == "*":
+            epochs.append(_parse_epoch_line(text, path, i + 1))
+            epoch_lines.append(i + 1)
+        elif kind in ("P", "V"):
+            sv = _sat_id(text[1:4], path, i + 1)
+            k = sat_index.get(sv)
+            if k is None:
+                raise FormatError(path, i + 1, "satellite", f"'{sv}' is not in the header "
+                                  f"satellite list ({' '.join(sats[:5])} ...)")
+            names = ("x", "y", "z", "clock") if kind == "P" else ("vx", "vy", "vz", "clock rate")
+            _check_record_length(text, sv, names, path, i + 1)
+            (pos if kind == "P" else vel).add(text, i + 1, len(epochs) - 1, k)
+        elif text.startswith("EOF"):
+            return epochs, epoch_lines, pos, vel, True
+        elif text.startswith(("EP", "EV")) or not text.strip():
+            continue  # correlation records are not read; blank lines are tolerated
+        else:
+            raise FormatError(path, i + 1, "record", f"unexpected line '{text[:20]}' in the "
+                              "data section (expected '*', 'P', 'V', 'EP', 'EV' or 'EOF')")
+    return epochs, epoch_lines, pos, vel, False
+
+
+def _record_arrays(rec: _Records, sats: list[str], names: tuple[str, ...], path: Path):
+    """Numeric columns of P or V records: values (N, 4) and exponents (N, 4), NaN if blank."""
+    values = np.empty((len(rec.texts), 4))
+    exps = np.empty((len(rec.texts), 4))
+    for j, ((start, stop), name) in enumerate(zip(_REC_COLS, names)):
+        values[:, j] = _to_float([t[start:stop] for t in rec.texts], rec.line_nos,
+                                 lambda i, name=name: f"{sats[rec.sat[i]]} {name}", path,
+                                 allow_blank=(j == 3))
+    for j, ((start, stop), name) in enumerate(zip(_EXP_COLS, names)):
+        exps[:, j] = _to_float([t[start:stop] for t in rec.texts], rec.line_nos,
+                               lambda i, name=name: f"{sats[rec.sat[i]]} {name} exponent",
+                               path, allow_blank=True)
+    return values, exps
+
+
+def _check_duplicates(rec: _Records, n_sat: int, sats: list[str], path: Path) -> None:
+    """Reject two records of one satellite at one epoch."""
+    key = np.asarray(rec.epoch, dtype=np.int64) * n_sat + np.asarray(rec.sat, dtype=np.int64)
+    order = np.argsort(key, kind="stable")
+    dup = np.nonzero(np.diff(key[order]) == 0)[0]
+    if dup.size:
+        i = order[dup[0] + 1]
+        raise FormatError(path, rec.line_nos[i], "satellite", f"second record of "
+                          f"{sats[rec.sat[i]]} at the same epoch")
+
+
+def _grid(rec: _Records, values: np.ndarray, n_time: int, n_sat: int) -> np.ndarray:
+    """Scatter per-record rows (N, k) onto a (time, sv, k) NaN grid."""
+    out = np.full((n_time, n_sat, values.shape[1]), np.nan)
+    out[np.asarray(rec.epoch, dtype=np.intp), np.asarray(rec.sat, dtype=np.intp)] = values
+    return out
+
+
+def _check_epochs(attrs: dict, epochs: list[int], epoch_lines: list[int], pos: _Records,
+                  vel: _Records, eof: bool, n_sat: int, path: Path, n_lines: int) -> None:
+    """Epoch order, declared vs actual number of epochs, and completeness without EOF."""
+    ep = np.asarray(epochs, dtype=np.int64)
+    bad = np.nonzero(np.diff(ep) <= 0)[0]
+    if bad.size:
+        raise FormatError(path, epoch_lines[bad[0] + 1], "epoch",
+                          "epochs are not in increasing order")
+    declared = attrs["_n_epochs"]
+    if len(epochs) < declared:
+        raise FormatError(path, n_lines, "number of epochs", f"the header declares {declared} "
+                          f"epochs but the file has {len(epochs)}: the file is truncated")
+    if len(epochs) > declared:
+        logger.warning("%s: header declares %d epochs, file has %d; all are read",
+                       path, declared, len(epochs))
+    if not eof:
+        last = len(epochs) - 1
+        n_pos = sum(1 for e in pos.epoch if e == last)
+        n_vel = sum(1 for e in vel.epoch if e == last)
+        if n_pos < n_sat or (attrs["pv_flag"] == "V" and n_vel < n_sat):
+            raise FormatError(path, n_lines, "EOF", "the file ends without 'EOF' and its last "
+                              f"epoch is incomplete ({n_pos} of {n_sat} satellites): truncated")
+
+
+def read_sp3(path: str | Path) -> xr.Dataset:
+    """Read an SP3-a/b/c/d orbit file (plain, .gz or .Z).
+
+    Parameters
+    ----------
+    path : str or Path
+        The SP3 file.
+
+    Returns
+    -------
+    xarray.Dataset
+        Positions ``pos_m`` (time, sv, xyz) [m], clocks ``clk_s`` (time, sv) [s] and, when the
+        file has them, velocities ``vel_m_s`` [m s-1], clock rates ``clk_rate_s_s`` and
+        standard deviations; see the module docstring for the full schema.
+
+    Raises
+    ------
+    FormatError
+        If the file does not follow the SP3 format (see the module docstring).
+    """
+    path = Path(path)
+    lines = read_lines(path)
+    attrs, sats, accuracy, first = _parse_header(lines, path)
+    n_sat = len(sats)
+    sat_index = {sv: k for k, sv in enumerate(sats)}
+    epochs, epoch_lines, pos, vel, eof = _scan_data(lines, first, sat_index, path)
+    _check_epochs(attrs, epochs, epoch_lines, pos, vel, eof, n_sat, path, len(lines))
+    _check_duplicates(pos, n_sat, sats, path)
+    _check_duplicates(vel, n_sat, sats, path)
+    n_time = len(epochs)
+
+    p_values, p_exps = _record_arrays(pos, sats, ("x", "y", "z", "clock"), path)
+    xyz_km = p_values[:, :3]
+    xyz_km[(xyz_km == 0.0).all(axis=1)] = np.nan
+    clk_us = p_values[:, 3]
+    clk_us[np.abs(clk_us) >= _BAD_CLOCK] = np.nan
+    coords = {"time": np.asarray(epochs, dtype=np.int64).astype("datetime64[ns]"),
+              "sv": np.asarray(sats, dtype=str), "xyz": list(_XYZ)}
+    grid = _grid(pos, np.column_stack([xyz_km * 1e3, clk_us * 1e-6]), n_time, n_sat)
+    data = {
+        "pos_m": (("time", "sv", "xyz"), grid[:, :, :3],
+                  {"units": "m", "long_name": "satellite position"}),
+        "clk_s": (("time", "sv"), grid[:, :, 3],
+                  {"units": "s", "long_name": "satellite clock correction"}),
+    }
+    base_pos, base_clk = attrs.pop("_base_pos"), attrs.pop("_base_clk")
+    if np.isfinite(p_exps).any() and base_pos > 0 and base_clk > 0:
+        sig = np.column_stack([base_pos ** p_exps[:, :3] * 1e-3, base_clk ** p_exps[:, 3] * 1e-12])
+        sig = _grid(pos, sig, n_time, n_sat)
+        data["pos_sigma_m"] = (("time", "sv", "xyz"), sig[:, :, :3],
+                               {"units": "m", "long_name": "position standard deviation"})
+        data["clk_sigma_s"] = (("time", "sv"), sig[:, :, 3],
+                               {"units": "s", "long_name": "clock standard deviation"})
+    if vel.texts:
+        v_values, _ = _record_arrays(vel, sats, ("vx", "vy", "vz", "clock rate"), path)
+        v_dm = v_values[:, :3]
+        v_dm[(v_dm == 0.0).all(axis=1)] = np.nan
+        rate = v_values[:, 3]
+        rate[np.abs(rate) >= _BAD_CLOCK] = np.nan
+        grid = _grid(vel, np.column_stack([v_dm * 0.1, rate * 1e-10]), n_time, n_sat)
+        data["vel_m_s"] = (("time", "sv", "xyz"), grid[:, :, :3],
+                           {"units": "m s-1", "long_name": "satellite velocity"})
+        data["clk_rate_s_s"] = (("time", "sv"), grid[:, :, 3],
+                                {"units": "s s-1", "long_name": "satellite clock rate"})
+    data["orbit_accuracy_m"] = (("sv",), accuracy,
+                                {"units": "m", "long_name": "header orbit accuracy (2**n mm)"})
+    attrs.pop("_n_epochs")
+    attrs["filename"] = path.name
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+# --------------------------------------------------------------------------------------------
+# writer
+
+
+def _calendar(t_ns: int) -> tuple[int, int, int, int, int, str]:
+    """Split ns since 1970 into year, month, day, hour, minute and an F11.8 seconds text."""
+    ticks = (t_ns + 5) // 10  # 10 ns: the resolution of F11.8 seconds
+    whole, frac = divmod(ticks, 100_000_000)
+    days, sec_of_day = divmod(whole, 86_400)
+    dt = datetime.fromordinal(_UNIX0.toordinal() + days)
+    hour, rest = divmod(sec_of_day, 3600)
+    minute, sec = divmod(rest, 60)
+    return dt.year, dt.month, dt.day, hour, minute, f"{sec:2d}.{frac:08d}"
+
+
+def _fmt(value: float, width: int, decimals: int, what: str) -> str:
+    """Fixed-point field of exactly ``width`` characters, or ValueError if it overflows."""
+    text = f"{value:{width}.{decimals}f}"
+    if len(text) > width:
+        raise ValueError(f"{what} = {value} does not fit the SP3 field F{width}.{decimals}")
+    return text
+
+
+def _fmt_clock(value: float, what: str) -> str:
+    """F14.6 clock or clock-rate field; NaN becomes the "bad or absent" 999999.999999."""
+    if not np.isfinite(value):
+        return " 999999.999999"
+    if abs(value) >= _BAD_CLOCK:
+        raise ValueError(f"{what} = {value} reaches the reserved SP3 bad-clock value 999999")
+    return _fmt(value, 14, 6, what)
+
+
+def _header_lines(ds: xr.Dataset, times: np.ndarray, sats: list[str], pv: str, *, agency: str,
+                  orbit_type: str, coordinate_system: str, data_used: str,
+                  comments: tuple[str, ...]) -> list[str]:
+    """The SP3-d header lines for ``ds``."""
+    t0 = int(times[0])
+    y, mo, d, h, mi, sec = _calendar(t0)
+    interval = float(np.median(np.diff(times))) / 1e9 if times.size > 1 else 0.0
+    week, sow_ns = divmod(t0 - _GPS0_NS, 7 * 86_400 * _NS)
+    mjd, frac_ns = divmod(t0 - _MJD0_NS, 86_400 * _NS)
+    out = [f"#d{pv}{y:4d} {mo:2d} {d:2d} {h:2d} {mi:2d} {sec} {times.size:7d} "
+           f"{data_used:<5s} {coordinate_system:<5s} {orbit_type:<3s} {agency:<4s}",
+           f"## {week:4d} {sow_ns / 1e9:15.8f} {interval:14.8f} {mjd:5d} "
+           f"{frac_ns / (86_400 * _NS):15.13f}"]
+    n_lines = max(5, math.ceil(len(sats) / _IDS_PER_LINE))
+    ids = sats + ["  0"] * (n_lines * _IDS_PER_LINE - len(sats))
+    if "orbit_accuracy_m" in ds:
+        acc_mm = ds["orbit_accuracy_m"].values * 1e3
+        with np.errstate(divide="ignore", invalid="ignore"):
+            exps = np.where(np.isfinite(acc_mm) & (acc_mm > 0),
+                            np.clip(np.round(np.log2(acc_mm)), 1, 99), 0).astype(int)
+    else:
+        exps = np.zeros(len(sats), dtype=int)
+    accs = [f"{e:3d}" for e in exps] + ["  0"] * (n_lines * _IDS_PER_LINE - len(sats))
+    for k in range(n_lines):
+        chunk = slice(k * _IDS_PER_LINE, (k + 1) * _IDS_PER_LINE)
+        lead = f"+  {len(sats):3d}   " if k == 0 else "+        "
+        out.append(lead + "".join(ids[chunk]))
+    for k in range(n_lines):
+        out.append("++       " + "".join(accs[k * _IDS_PER_LINE:(k + 1) * _IDS_PER_LINE]))
+    systems = {sv[0] for sv in sats}
+    file_type = systems.pop() if len(systems) == 1 else "M"
+    time_system = str(ds.attrs.get("time_system", "GPS"))
+    if len(time_system) != 3:
+        raise ValueError(f"time_system '{time_system}' must have 3 characters (e.g. 'GPS')")
+    out += [f"%c {file_type:<2s} cc {time_system} ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc",
+            "%c cc cc ccc ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc",
+            "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000",
+            "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000",
+            "%i    0    0    0    0      0      0      0      0         0",
+            "%i    0    0    0    0      0      0      0      0         0"]
+    texts = ["Written by leopod", *comments]
+    texts += [""] * (4 - len(texts))
+    for text in texts:
+        if len(text) > 77:
+            raise ValueError(f"SP3-d comment longer than 77 characters: '{text}'")
+        out.append(f"/* {text}".rstrip() if text else "/*")
+    return out
+
+
+def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
+              orbit_type: str = "FIT", coordinate_system: str = "ITRF",
+              data_used: str = "u+U", comments: tuple[str, ...] = ()) -> None:
+    """Write an SP3-d orbit file from a Dataset with the :func:`read_sp3` schema.
+
+    Positions are written in km with 6 decimals (1 mm), velocities in dm/s with 6 decimals
+    (1e-7 m/s), clocks in microseconds with 6 decimals (1 ps) and clock rates in 1e-4 µs/s
+    with 6 decimals. NaN positions/velocities are written as the "bad or absent" value
+    0.000000 and NaN clocks/rates as 999999.999999. Standard deviations are not written (the
+    ``%f`` bases are 0); the ``++`` accuracy exponents come from ``orbit_accuracy_m`` when
+    present, else 0 (unknown). A name ending in ``.gz`` is gzip-compressed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Needs ``pos_m`` (time, sv, xyz) [m]; optional ``clk_s`` (time, sv) [s], ``vel_m_s``
+        (time, sv, xyz) [m s-1] (then V records are written), ``clk_rate_s_s`` (time, sv).
+        ``attrs["time_system"]`` (3 characters, default "GPS") names the time system of ``time``.
+    path : str or Path
+        Output file.
+    agency : str
+        Generating agency, at most 4 characters.
+    orbit_type : str
+        Orbit type ("FIT", "EXT", "BCT", "HLM"), at most 3 characters.
+    coordinate_system : str
+        Reference frame label ("ITRF", "IGS20"), at most 5 characters.
+    data_used : str
+        Data-used descriptor ("u+U": undifferenced phase and code), at most 5 characters.
+    comments : tuple of str
+        Extra ``/*`` comment lines (at most 77 characters each).
+
+    Raises
+    ------
+    ValueError
+        If ``ds`` lacks ``pos_m``, its times are not strictly increasing, a label is too long,
+        a satellite id is not 3 characters, or a value overflows its SP3 field.
+    """
+    for label, value, width in (("agency", agency, 4), ("orbit_type", orbit_type, 3),
+                                ("coordinate_system", coordinate_system, 5),
+                                ("data_used", data_used, 5)):
+        if len(value) > width:
+            raise ValueError(f"{label} '{value}' is longer than {width} characters")
+    if "pos_m" not in ds:
+        raise ValueError("the Dataset has no 'pos_m' variable")
+    pos = ds["pos_m"].transpose("time", "sv", "xyz").sel(xyz=list(_XYZ)).values / 1e3
+    n_time, n_sat = pos.shape[:2]
+    times = ds["time"].values.astype("datetime64[ns]").astype(np.int64)
+    if n_time == 0 or (np.diff(times) <= 0).any():
+        raise ValueError("'time' must be non-empty and strictly increasing")
+    sats = [str(s) for s in ds["sv"].values]
+    if any(len(s) != 3 for s in sats):
+        raise ValueError(f"satellite ids must have 3 characters, got {sats}")
+    clk = (ds["clk_s"].transpose("time", "sv").values * 1e6 if "clk_s" in ds
+           else np.full((n_time, n_sat), np.nan))
+    has_vel = "vel_m_s" in ds
+    if has_vel:
+        vel = ds["vel_m_s"].transpose("time", "sv", "xyz").sel(xyz=list(_XYZ)).values * 10.0
+        rate = (ds["clk_rate_s_s"].transpose("time", "sv").values * 1e10
+                if "clk_rate_s_s" in ds else np.full((n_time, n_sat), np.nan))
+
+    out = _header_lines(ds, times, sats, "V" if has_vel else "P", agency=agency,
+                        orbit_type=orbit_type, coordinate_system=coordinate_system,
+                        data_used=data_used, comments=comments)
+    for i in range(n_time):
+        y, mo, d, h, mi, sec = _calendar(int(times[i]))
+        out.append(f"*  {y:4d} {mo:2d} {d:2d} {h:2d} {mi:2d} {sec}")
+        for k, sv in enumerate(sats):
+            where = f"{sv} at epoch {i}"
+            xyz = pos[i, k] if np.isfinite(pos[i, k]).all() else np.zeros(3)
+            c = _fmt_clock(clk[i, k], f"clock of {where}")
+            out.append(f"P{sv}" + "".join(_fmt(v, 14, 6, f"position of {where}") for v in xyz)
+                       + c)
+            if has_vel:
+                v3 = vel[i, k] if np.isfinite(vel[i, k]).all() else np.zeros(3)
+                r = _fmt_clock(rate[i, k], f"clock rate of {where}")
+                out.append(f"V{sv}" + "".join(_fmt(v, 14, 6, f"velocity of {where}")
+                                              for v in v3) + r)
+    out.append("EOF")
+    text = "\n".join(out) + "\n"
+    path = Path(path)
+    if path.suffix == ".gz":
+        with gzip.open(path, "wt", encoding="ascii") as f:
+            f.write(text)
+    else:
+        path.write_text(text, encoding="ascii")

@@ -1,0 +1,1 @@
+"""Closed-loop simulator: a simulated world written in the standard file formats, with truth."""

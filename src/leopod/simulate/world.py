@@ -1,0 +1,151 @@
+"""A simple, self-consistent simulated world: Earth rotation, GPS constellation, LEO, clocks.
+
+This is the first stage of the closed-loop simulator: orbits are analytic (circular orbits
+with the secular J2 drift of node and argument of latitude), so the default campaign runs
+with no external file. The full simulator (truth orbit from the dynamics engine, real
+product sets) replaces these orbit models without changing the observation generator.
+
+Frames: the inertial frame is fixed; Earth-fixed coordinates follow from a rotation about Z
+by ``θ(t) = θ0 + ω t`` with the IERS nominal Earth rotation rate (no precession, nutation or
+polar motion in this world). Time ``t`` is GPS seconds since the world's epoch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from leopod.constants import GM_EARTH_M3_S2, OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
+
+__all__ = ["CircularOrbit", "gps_constellation", "earth_fixed", "RandomWalkClock"]
+
+_J2 = 1.0826359e-3  # Earth dynamic form factor, IERS Conventions 2010 Table 1.1
+
+
+@dataclass(frozen=True)
+class CircularOrbit:
+    """Circular orbit with secular J2 precession of node and argument of latitude.
+
+    Attributes
+    ----------
+    a_m : float
+        Semi-major axis [m].
+    inc_deg : float
+        Inclination [deg].
+    raan_deg : float
+        Right ascension of the ascending node at t = 0 [deg].
+    u0_deg : float
+        Argument of latitude at t = 0 [deg].
+    j2 : bool
+        Apply the secular J2 rates (Vallado, Fundamentals of Astrodynamics, 4th ed., eq. 9-41).
+    """
+
+    a_m: float
+    inc_deg: float
+    raan_deg: float
+    u0_deg: float
+    j2: bool = True
+
+    def _rates(self):
+        n = np.sqrt(GM_EARTH_M3_S2 / self.a_m**3)
+        if not self.j2:
+            return n, 0.0
+        inc = np.radians(self.inc_deg)
+        k = 1.5 * _J2 * (R_EARTH_EQUATOR_M / self.a_m) ** 2 * n
+        raan_dot = -k * np.cos(inc)
+        u_dot = n + k * (2.0 - 2.5 * np.sin(inc) ** 2) + k * (1.0 - 1.5 * np.sin(inc) ** 2)
+        return u_dot, raan_dot
+
+    def inertial(self, t_s) -> tuple[np.ndarray, np.ndarray]:
+        """Inertial position [m] and velocity [m/s], shape (..., 3), at times ``t_s`` [s]."""
+        t = np.asarray(t_s, dtype=float)
+        u_dot, raan_dot = self._rates()
+        u = np.radians(self.u0_deg) + u_dot * t
+        raan = np.radians(self.raan_deg) + raan_dot * t
+        inc = np.radians(self.inc_deg)
+        cu, su, cO, sO, ci, si = np.cos(u), np.sin(u), np.cos(raan), np.sin(raan), np.cos(inc), np.sin(inc)
+        pos = self.a_m * np.stack([cO * cu - sO * su * ci, sO * cu + cO * su * ci, su * si], axis=-1)
+        # d/dt with u and raan varying
+        dx_du = np.stack([-cO * su - sO * cu * ci, -sO * su + cO * cu * ci, cu * si], axis=-1)
+        dx_dO = np.stack([-sO * cu - cO * su * ci, cO * cu - sO * su * ci, np.zeros_like(u)], axis=-1)
+        vel = self.a_m * (dx_du * u_dot + dx_dO * raan_dot)
+        return pos, vel
+
+
+def gps_constellation() -> dict[str, CircularOrbit]:
+    """A nominal 24-slot GPS constellation: 6 planes (55°), 4 slots each, a = 26 559.7 km.
+
+    Slot phases follow the pattern of the baseline 24-slot constellation (SPS Performance
+    Standard 2020, Table 3.1-1) only approximately: equally spaced slots with a 15° shift
+    per plane. Satellites are named G01..G24.
+    """
+    sats = {}
+    k = 1
+    for plane in range(6):
+        for slot in range(4):
+            sats[f"G{k:02d}"] = CircularOrbit(26_559.7e3, 55.0, 60.0 * plane,
+                                              90.0 * slot + 15.0 * plane, j2=True)
+            k += 1
+    return sats
+
+
+def earth_fixed(t_s, pos_in: np.ndarray, vel_in: np.ndarray | None = None, theta0_rad: float = 0.0):
+    """Rotate inertial vectors to Earth-fixed at times ``t_s`` (rotation about Z by θ0 + ωt).
+
+    Parameters
+    ----------
+    t_s : array_like, shape (...)
+    pos_in : ndarray, shape (..., 3)
+    vel_in : ndarray, shape (..., 3), optional
+        Inertial velocity; returned as Earth-fixed velocity ``R v − ω × r_ef``.
+
+    Returns
+    -------
+    pos_ef : ndarray, shape (..., 3)
+    vel_ef : ndarray, shape (..., 3) or None
+    """
+    theta = theta0_rad + OMEGA_EARTH_RAD_S * np.asarray(t_s, dtype=float)
+    c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
+    x, y, z = pos_in[..., 0:1], pos_in[..., 1:2], pos_in[..., 2:3]
+    pos = np.concatenate([c * x + s * y, -s * x + c * y, z], axis=-1)
+    if vel_in is None:
+        return pos, None
+    vx, vy, vz = vel_in[..., 0:1], vel_in[..., 1:2], vel_in[..., 2:3]
+    vel = np.concatenate([c * vx + s * vy, -s * vx + c * vy, vz], axis=-1)
+    omega = np.array([0.0, 0.0, OMEGA_EARTH_RAD_S])
+    vel = vel - np.cross(omega, pos)
+    return pos, vel
+
+
+@dataclass(frozen=True)
+class RandomWalkClock:
+    """Clock offset = bias + drift·t + a smooth random walk, reproducible from a seed.
+
+    The random part is a random walk sampled every ``step_s`` and interpolated linearly, so
+    its value at any time is deterministic and continuous across day boundaries.
+
+    Attributes
+    ----------
+    bias_s, drift_s_s, walk_s_sqrt_s : float
+        Offset [s], drift [s/s], random-walk intensity [s/√s].
+    seed : int
+    step_s : float
+    span_s : float
+        Length of the pre-drawn walk [s] (the campaign's duration).
+    """
+
+    bias_s: float
+    drift_s_s: float
+    walk_s_sqrt_s: float
+    seed: int
+    step_s: float = 30.0
+    span_s: float = 10 * 86400.0
+
+    def __call__(self, t_s) -> np.ndarray:
+        t = np.asarray(t_s, dtype=float)
+        n = int(self.span_s / self.step_s) + 3
+        rng = np.random.default_rng(self.seed)
+        walk = np.concatenate([[0.0], np.cumsum(rng.normal(0.0, self.walk_s_sqrt_s * np.sqrt(self.step_s), n))])
+        grid = (np.arange(walk.size) - 1) * self.step_s
+        return self.bias_s + self.drift_s_s * t + np.interp(t, grid, walk)
