@@ -10,7 +10,7 @@ min_version("8.20")
 # --configfile replaces the default campaign instead of being merged into it
 if not config:
 
-    configfile: "config/config.yaml"
+    configfile: f"{workflow.basedir}/config/config.yaml"
 
 
 report: "workflow/report/workflow.rst"

@@ -3,6 +3,7 @@
 import numpy as np
 
 from leopod.ingest import apriori_from_sp3, apriori_from_spp, canonical_observations, gnss_at_epochs
+from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
@@ -11,7 +12,7 @@ from leopod.orbit.products import GnssProducts
 from leopod.workflow import configure_logging
 
 
-def main(obs_path, orbit_path, clock_path, apriori_path, out_obs, out_gnss, out_leo,
+def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, out_gnss, out_leo,
          signal_cfg, pco_body_m, sp3_id, log):
     raw = read_rinex_obs(obs_path, systems=list(signal_cfg))
     obs = canonical_observations(raw, signal_cfg)
@@ -29,11 +30,12 @@ def main(obs_path, orbit_path, clock_path, apriori_path, out_obs, out_gnss, out_
     if apriori_path:
         leo = apriori_from_sp3(read_sp3(apriori_path), sp3_id, obs.time.values)
     else:
-        leo = apriori_from_spp(obs, products, signal_cfg, pco_body_m)
+        antex = read_antex(antex_path) if antex_path else None
+        leo = apriori_from_spp(obs, products, signal_cfg, pco_body_m, antex)
         log.info("code-only orbit: %d of %d epochs, median residual RMS %.2f m, median PDOP %.2f",
                  np.isfinite(leo.pos_m.values[:, 0]).sum(), leo.sizes["time"],
                  float(np.nanmedian(leo.rms_m)), float(np.nanmedian(leo.pdop)))
-    inputs = [p for p in (obs_path, orbit_path, clock_path, apriori_path) if p]
+    inputs = [p for p in (obs_path, orbit_path, clock_path, apriori_path, antex_path) if p]
     write_netcdf(obs, out_obs, step="ingest", inputs=inputs, time_system="GPS",
                  title="canonical GNSS observations")
     write_netcdf(gnss, out_gnss, step="ingest", inputs=inputs, time_system="GPS",
@@ -45,6 +47,6 @@ def main(obs_path, orbit_path, clock_path, apriori_path, out_obs, out_gnss, out_
 if __name__ == "__main__":
     log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
     main(snakemake.input.obs, snakemake.input.orbit, snakemake.input.clock,  # noqa: F821
-         snakemake.input.get("apriori"), snakemake.output.obs, snakemake.output.gnss,  # noqa: F821
-         snakemake.output.leo, snakemake.params.signals, snakemake.params.pco_body_m,  # noqa: F821
+         snakemake.input.get("apriori"), snakemake.input.get("antex"),  # noqa: F821
+         snakemake.output.obs, snakemake.output.gnss, snakemake.output.leo,  # noqa: F821 snakemake.params.signals, snakemake.params.pco_body_m,  # noqa: F821
          snakemake.params.sp3_id, log)  # noqa: F821

@@ -23,6 +23,7 @@ from leopod.frames.attitude import body_to_ef, nominal_body_axes
 from leopod.gnss import signals
 from leopod.gnss.combinations import ionosphere_free
 from leopod.gnss.spp import solve_spp
+from leopod.orbit.gnss_attitude import satellite_pco_if, sun_position_ef
 from leopod.orbit.interpolate import interpolate_table
 from leopod.orbit.products import GnssProducts
 from leopod.time import seconds_since
@@ -164,7 +165,7 @@ def smooth_positions(t_s: np.ndarray, pos_m: np.ndarray, *, window_s: float = 20
     pos_m : ndarray, shape (n, 3)
         Positions [m], NaN where unsolved.
     window_s : float
-        Length of the local polynomial window [s].
+        Length of the local polynomial window [s]; at least 11 samples are used.
     polyorder : int
         Degree of the local polynomial.
     max_fill_s : float
@@ -192,7 +193,7 @@ def smooth_positions(t_s: np.ndarray, pos_m: np.ndarray, *, window_s: float = 20
     good = np.isfinite(filled).all(axis=1)
     pos = np.full(pos_m.shape, np.nan)
     vel = np.full(pos_m.shape, np.nan)
-    win = int(round(window_s / dt)) | 1
+    win = max(int(round(window_s / dt)), 11) | 1
     # contiguous segments on the grid
     breaks = np.nonzero(~good[1:] | ~good[:-1] | ~np.isclose(np.diff(t_s), dt))[0] + 1
     for seg in np.split(np.arange(len(t_s)), breaks):
@@ -205,7 +206,7 @@ def smooth_positions(t_s: np.ndarray, pos_m: np.ndarray, *, window_s: float = 20
 
 
 def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
-                     pco_body_m: dict | None = None) -> xr.Dataset:
+                     pco_body_m: dict | None = None, antex=None) -> xr.Dataset:
     """A-priori LEO orbit from code-only single point positioning.
 
     The ionosphere-free combination of the ``pod_code`` pair of each system is positioned
@@ -222,6 +223,9 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
         Campaign signals (only GPS is used for now: one receiver clock, one system).
     pco_body_m : dict, optional
         Antenna phase-centre offsets in the body frame per band name (``{"L1": [x, y, z]}``).
+    antex : leopod.io.antex.AntexFile, optional
+        GNSS satellite antenna offsets; without it the transmitters' centres of mass are used
+        (metre-level errors for satellites with large offsets).
 
     Returns
     -------
@@ -236,7 +240,18 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
     cols = np.array([str(s).startswith(system) for s in obs.sv.values])
     code_if = ionosphere_free(obs[c1].values[:, cols], obs[c2].values[:, cols], f1, f2)
     t = seconds_since(obs.time.values, products.ref)
-    spp = solve_spp(t, obs.sv.values[cols], code_if, products)
+    sv = obs.sv.values[cols]
+    sat_pco = sun = None
+    if antex is not None:
+        sat_pco = satellite_pco_if(antex, sv, obs.time.values[len(t) // 2], system,
+                                   (signals.code_band(c1), signals.code_band(c2)), f1, f2)
+        missing = [str(s) for s, p in zip(sv, sat_pco) if not np.isfinite(p).all()]
+        if missing:
+            log.warning("no ANTEX entry for %s: not used in the code-only orbit", " ".join(missing))
+            code_if[:, ~np.isfinite(sat_pco).all(axis=1)] = np.nan
+        sat_pco = np.nan_to_num(sat_pco)
+        sun = sun_position_ef(obs.time.values)
+    spp = solve_spp(t, sv, code_if, products, sat_pco_body_m=sat_pco, sun_ef_m=sun)
     dt_rx_s = spp.clk_rx_m / C_LIGHT_M_S
     # first pass: velocity for the attitude; then reduce to the centre of mass
     pos_s, vel_s = smooth_positions(t, spp.pos_m)
@@ -251,7 +266,14 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
     com = spp.pos_m - body_to_ef(rot, pco_if)
     # the solution refers to the true reception time t - dt_rx; move it to the nominal epoch
     com = com + vel_s * dt_rx_s[:, None]
-    pos, vel = smooth_positions(t, com)
+    # robust smoothing: drop kinematic epochs far from a first smooth fit, then fit again
+    first, _ = smooth_positions(t, com)
+    dist = np.linalg.norm(com - first, axis=1)
+    limit = max(5.0 * float(np.nanmedian(dist)), 1.0) if np.isfinite(dist).any() else np.inf
+    outlying = dist > limit
+    log.info("code-only orbit: %d epochs farther than %.1f m from the smooth fit rejected",
+             int(outlying.sum()), limit)
+    pos, vel = smooth_positions(t, np.where(outlying[:, None], np.nan, com))
     ds = xr.Dataset(
         {
             "pos_m": (("time", "xyz"), pos, {"units": "m", "long_name": "a-priori LEO centre-of-mass position (Earth-fixed)"}),
@@ -265,6 +287,7 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
         coords={"time": obs.time.values, "xyz": ["x", "y", "z"]},
     )
     ds.attrs.update({"apriori_source": "spp", "spp_system": system, "spp_codes": f"{c1} {c2}",
+                     "gnss_antenna_offsets": "ANTEX" if antex is not None else "none",
                      "antenna_pco_if_body_m": " ".join(f"{v:.4f}" for v in pco_if)})
     return ds
 

@@ -35,6 +35,8 @@ def ingest_inputs(wildcards):
     }
     if sat.get("apriori_orbit"):
         files["apriori"] = expand_template(sat["apriori_orbit"], wildcards.date, wildcards.sat)
+    if config["products"].get("antex"):
+        files["antex"] = expand_template(config["products"]["antex"], wildcards.date, wildcards.sat)
     return files
 
 

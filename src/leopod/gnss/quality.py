@@ -122,8 +122,11 @@ def _pass_durations(t_s: np.ndarray, pass_id: np.ndarray) -> np.ndarray:
 
 
 def _rms(x, axis=None):
-    with np.errstate(invalid="ignore"):
-        return np.sqrt(np.nanmean(np.square(x), axis=axis))
+    """RMS over finite values (NaN where there are none)."""
+    ok = np.isfinite(x)
+    n = ok.sum(axis=axis)
+    total = np.where(ok, np.square(np.where(ok, x, 0.0)), 0.0).sum(axis=axis)
+    return np.sqrt(np.divide(total, n, out=np.full(np.shape(n), np.nan), where=n > 0))
 
 
 def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, system: str,

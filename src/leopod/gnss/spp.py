@@ -4,8 +4,9 @@ Per epoch, position and receiver clock are estimated by iterated least squares f
 ionosphere-free code combination, with precise GNSS orbits and clocks, transmit-time
 iteration, the Earth-rotation (Sagnac) correction and the periodic relativistic clock
 correction ``-2 r·v / c²`` (IS-GPS-200, 20.3.3.3.3.1). There is no troposphere above a LEO.
-GNSS antenna offsets are not applied: the result is an a-priori orbit at the metre level,
-good for elevation angles, attitude and as the start of a dynamic fit, not a product.
+GNSS satellite antenna offsets are applied when given (ANTEX); variations are not. The
+result is an a-priori orbit at the decimetre-to-metre level, good for elevation angles,
+attitude and as the start of a dynamic fit, not a product.
 
 All epochs are solved at once with batched 4×4 normal equations (numpy), so a day of 10-s
 data takes well under a second.
@@ -19,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_WGS84_RAD_S
+from leopod.orbit.gnss_attitude import gnss_body_axes
 from leopod.orbit.products import GnssProducts
 
 __all__ = ["SppResult", "solve_spp"]
@@ -65,7 +67,8 @@ def _rotate_z(vec: np.ndarray, angle: np.ndarray) -> np.ndarray:
 
 
 def solve_spp(t_s: np.ndarray, sv: np.ndarray, code_if_m: np.ndarray, products: GnssProducts,
-              *, min_sv: int = 5, max_residual_m: float = 30.0, iterations: int = 8) -> SppResult:
+              *, sat_pco_body_m: np.ndarray | None = None, sun_ef_m: np.ndarray | None = None,
+              min_sv: int = 5, max_residual_m: float = 30.0, iterations: int = 8) -> SppResult:
     """Solve position and clock per epoch from ionosphere-free code.
 
     Parameters
@@ -78,6 +81,13 @@ def solve_spp(t_s: np.ndarray, sv: np.ndarray, code_if_m: np.ndarray, products: 
         Ionosphere-free code [m], NaN where absent.
     products : GnssProducts
         GNSS orbits and clocks consistent with the code (same reference signals).
+    sat_pco_body_m : ndarray, shape (s, 3), optional
+        Ionosphere-free antenna phase-centre offsets of the transmitters in their body frame
+        [m] (NaN rows: satellite not used). Without them the solution is biased by up to
+        metres for satellites with large offsets (GPS Block IIA: 2.5 m).
+    sun_ef_m : ndarray, shape (n, 3), optional
+        Earth-fixed Sun position per epoch [m]; required with ``sat_pco_body_m`` for the
+        yaw-steering attitude.
     min_sv : int
         Minimum number of satellites for a solution (5 gives one redundant observation,
         which is what outlier screening needs).
@@ -102,6 +112,9 @@ def solve_spp(t_s: np.ndarray, sv: np.ndarray, code_if_m: np.ndarray, products: 
     t_tx = t_tx - np.nan_to_num(dt_sv)
     pos_sv, vel_sv, _ = products.position(isv[col], t_tx)
     dt_sv = products.clock(isv[col], t_tx)
+    if sat_pco_body_m is not None:
+        axes = gnss_body_axes(pos_sv, sun_ef_m[ep])
+        pos_sv = pos_sv + np.einsum("pji,pj->pi", axes, sat_pco_body_m[col])
     rel_s = -2.0 * np.einsum("pc,pc->p", pos_sv, vel_sv) / C_LIGHT_M_S**2
     corr_obs = p_obs + C_LIGHT_M_S * (dt_sv + rel_s)       # = geometric range + receiver clock
     ok = np.isfinite(corr_obs) & np.isfinite(pos_sv).all(axis=1)

@@ -13,8 +13,28 @@ import numpy as np
 __all__ = ["lagrange_weights", "interpolate_table"]
 
 
+def _window_denominators(t_nodes: np.ndarray, starts: np.ndarray, k: int) -> np.ndarray:
+    """``prod_{l != j} (x_j - x_l)`` for the windows starting at ``starts``, shape (len, k)."""
+    x = t_nodes[starts[:, None] + np.arange(k)[None, :]]
+    diff = x[:, :, None] - x[:, None, :]
+    diff[:, np.eye(k, dtype=bool)] = 1.0
+    return diff.prod(axis=2)
+
+
+def _products_without(dx: np.ndarray) -> np.ndarray:
+    """``prod_{l != j} dx_l`` for every j, by prefix and suffix products, shape like ``dx``."""
+    ones = np.ones(dx.shape[:-1] + (1,))
+    prefix = np.cumprod(np.concatenate([ones, dx[..., :-1]], axis=-1), axis=-1)
+    suffix = np.cumprod(np.concatenate([ones, dx[..., :0:-1]], axis=-1), axis=-1)[..., ::-1]
+    return prefix * suffix
+
+
 def lagrange_weights(t_nodes: np.ndarray, t: np.ndarray, order: int):
     """Node indices and Lagrange weights (and their time derivatives) for query times.
+
+    Costs O(m·k) per call: numerators by prefix/suffix products, denominators once per
+    distinct window, derivatives from ``w_j Σ_{l≠j} 1/(t − x_l)`` (with the limit taken
+    exactly when a query coincides with a node).
 
     Parameters
     ----------
@@ -43,25 +63,26 @@ def lagrange_weights(t_nodes: np.ndarray, t: np.ndarray, order: int):
     right = np.searchsorted(t_nodes, t, side="right")
     start = np.clip(right - k // 2 - (k % 2), 0, len(t_nodes) - k)
     idx = start[:, None] + np.arange(k)[None, :]
-    x = t_nodes[idx]                                    # (m, k)
-    dx = t[:, None] - x                                 # (m, k)
-    diff = x[:, :, None] - x[:, None, :]                # (m, k, k) x_j - x_l
-    eye = np.eye(k, dtype=bool)
-    diff[:, eye] = 1.0
-    denom = diff.prod(axis=2)                           # prod_{l != j} (x_j - x_l)
-    factors = np.broadcast_to(dx[:, None, :], (len(t), k, k)).copy()
-    factors[:, eye] = 1.0                               # factors[j, l] = t - x_l, l != j
-    numer = factors.prod(axis=2)
-    w = numer / denom
-    # derivative: sum over m != j of prod_{l != j, m} (t - x_l)
-    dnum = np.zeros_like(numer)
-    for m_ in range(k):
-        f = factors.copy()
-        f[:, :, m_] = 1.0
-        mask = np.ones(k, dtype=bool)
-        mask[m_] = False
-        dnum[:, mask] += f[:, mask, :].prod(axis=2)
-    dw = dnum / denom
+    uniq, inverse = np.unique(start, return_inverse=True)
+    denom = _window_denominators(t_nodes, uniq, k)[inverse]          # (m, k)
+    dx = t[:, None] - t_nodes[idx]                                     # (m, k)
+    at_node = np.abs(dx) < 1e-9
+    w = _products_without(dx) / denom
+    with np.errstate(divide="ignore", invalid="ignore"):
+        recip = np.where(at_node, 0.0, 1.0 / dx)
+    dw = w * (recip.sum(axis=1, keepdims=True) - recip)
+    rows = np.nonzero(at_node.any(axis=1))[0]
+    if rows.size:
+        # query on node z: w = e_z; dw_j = prod_{l != j, z} dx_l / denom_j, dw_z = Σ_{l≠z} 1/dx_l
+        z = at_node[rows].argmax(axis=1)
+        dxz = dx[rows].copy()
+        dxz[np.arange(rows.size), z] = 1.0
+        dwr = _products_without(dxz) / denom[rows]
+        dwr[np.arange(rows.size), z] = recip[rows].sum(axis=1)
+        dw[rows] = dwr
+        wr = np.zeros((rows.size, k))
+        wr[np.arange(rows.size), z] = 1.0
+        w[rows] = wr
     return idx, w, dw
 
 

@@ -41,12 +41,12 @@ class ObservationModel:
     Attributes
     ----------
     noise_m : dict
-        White-noise STD at high elevation per RINEX 2 observation name [m]. The default
-        code values are the typical 2-min STDs of epoch-differenced code minus carrier of
-        seed 000 (C1 0.46, P1 0.09, P2 0.02 m) divided by √2, so the quality step should
-        find those numbers again.
+        Typical white-noise STD per RINEX 2 observation name [m], reached at 30° elevation
+        (where the bulk of the observations lie). The default code values are the typical
+        2-min STDs of epoch-differenced code minus carrier of seed 000 (C1 0.46, P1 0.09,
+        P2 0.02 m) divided by √2, so the quality step should find those numbers again.
     low_elevation_factor : float
-        Noise grows as ``1 + factor · exp(−el / 10°)``.
+        Noise scales as ``(1 + factor · exp(−el / 10°)) / (1 + factor · exp(−3))``.
     channels : int
         Tracking channels (HY-2B: 12).
     elevation_mask_deg : float
@@ -179,7 +179,8 @@ def simulate_observations(t_read_s: np.ndarray, leo: CircularOrbit, gnss: dict[s
     iono = {b: _TEC_TO_M_HZ2 * stec / f[b] ** 2 for b in ("1", "2")}
     # geometry per frequency phase centre
     rho = {b: np.linalg.norm(r_tx - (r_rx + pco_in[b])[:, None, :], axis=2) for b in ("1", "2")}
-    noise_scale = 1.0 + model.low_elevation_factor * np.exp(-np.clip(el, 0, 90) / 10.0)
+    noise_scale = ((1.0 + model.low_elevation_factor * np.exp(-np.clip(el, 0, 90) / 10.0))
+                   / (1.0 + model.low_elevation_factor * np.exp(-3.0)))
     dcb = np.array([dcb_p1c1_s.get(k, 0.0) for k in ids]) * C_LIGHT_M_S
 
     def noisy(name):

@@ -1,0 +1,81 @@
+"""Ingest and quality of the real GRACE-A day 2007-03-21 (../shared/data/grace-a_2007-080).
+
+Authorities: the MANIFEST of the data (10 s, 8640 epochs, 7-10 satellites per epoch, LLI set
+at every detected slip and at acquisition), the GRACE orbit (mean altitude about 470 km in
+2007, near-circular, 89° inclination), and the receiver's own loss-of-lock flags.
+"""
+
+import numpy as np
+import pytest
+
+from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.quality import QualitySettings, assess_quality
+from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
+from leopod.io.antex import read_antex
+from leopod.io.clock import read_rinex_clock
+from leopod.io.rinex_obs import read_rinex_obs
+from leopod.io.sp3 import read_sp3
+from leopod.orbit.products import GnssProducts
+
+pytestmark = pytest.mark.shared
+SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}
+PCO = {"L1": [-0.0004, -0.0004, -0.4514], "L2": [-0.0004, -0.0004, -0.4757]}
+
+
+@pytest.fixture(scope="module")
+def day(shared_data):
+    d = shared_data / "grace-a_2007-080"
+    raw = read_rinex_obs(d / "graa0800.07o.gz")
+    obs = canonical_observations(raw, SIGNALS)
+    products = GnssProducts.from_datasets(read_sp3(d / "cod14193.sp3.gz"),
+                                          read_rinex_clock(d / "cod14193.clk.gz"),
+                                          np.datetime64("2007-03-21"), max_extrapolation_s=900.0)
+    gnss = gnss_at_epochs(products, obs.time.values)
+    leo = apriori_from_spp(obs, products, SIGNALS, PCO, read_antex(d / "igs05_1402.atx.gz"))
+    rot = nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values)
+    el, az = antenna_angles(rot, gnss.pos_m.sel(sv=obs.sv).values - leo.pos_m.values[:, None, :])
+    q = assess_quality(obs, el, az, "G", ["L1C", "L2W"], ["C1C", "C1W", "C2W"], ["C1W", "C2W"],
+                       QualitySettings())
+    return dict(raw=raw, obs=obs, leo=leo, q=q)
+
+
+def test_canonical_observations_in_metres(day):
+    obs, raw = day["obs"], day["raw"]
+    assert obs.sizes["time"] == 8640
+    lam1 = 299_792_458.0 / 1575.42e6
+    np.testing.assert_allclose(obs.L1C.sel(sv="G01").values[0], raw.L1.sel(sv="G01").values[0] * lam1)
+    assert obs.C1W.attrs["rinex_name"] == "P1"
+
+
+def test_code_only_orbit_is_a_grace_orbit(day):
+    leo = day["leo"]
+    r = np.linalg.norm(leo.pos_m.values, axis=1)
+    v = np.linalg.norm(leo.vel_m_s.values, axis=1)
+    ok = np.isfinite(r)
+    assert ok.mean() > 0.99
+    assert 6.80e6 < np.median(r[ok]) < 6.88e6           # ~470 km altitude
+    assert 7.55e3 < np.median(v[ok]) < 7.75e3            # Earth-fixed speed of a ~470 km orbit
+    # ionosphere-free P-code noise of the day: sqrt((2.55 MP1)^2 + (1.55 MP2)^2) ~ 0.9 m
+    assert np.nanmedian(leo.rms_m.values) < 1.0
+    # the kinematic positions scatter around the smoothed orbit by residual x PDOP (~1.9)
+    d = np.linalg.norm(leo.pos_kinematic_m.values - leo.pos_m.values, axis=1)
+    assert np.nanmedian(d) < 2.0
+    assert np.nanpercentile(d, 90) < 6.0
+
+
+def test_every_receiver_loss_of_lock_starts_a_pass(day):
+    q, obs = day["q"], day["obs"]
+    lli = ((obs.L1C_lli.values.clip(0) | obs.L2W_lli.values.clip(0)) & 1) != 0
+    tracked = q.pass_id.values >= 0
+    starts = (q.pass_flag.values != 0) & tracked
+    assert np.all(starts[lli & tracked])
+
+
+def test_daily_indicators_are_plausible(day):
+    q = day["q"]
+    assert 7.0 <= float(q.G_mean_sv_per_epoch) <= 10.0
+    assert float(q.G_completeness) > 0.99
+    for code in ("C1C", "C1W", "C2W"):
+        rms = float(q[f"G_mp_rms_{code}_m"])
+        assert 0.05 < rms < 1.0                          # decimetre level, like seed 001 Table 2
+    assert 10 < float(q.G_obs_per_slip) < 1000

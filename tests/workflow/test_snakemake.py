@@ -1,0 +1,122 @@
+"""The Snakemake workflow: lint, dry runs, config validation and a small end-to-end run.
+
+These tests call the ``snakemake`` command of the environment that runs pytest.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import xarray as xr
+import yaml
+
+REPO = Path(__file__).resolve().parents[2]
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+
+
+def _run(args, cwd=REPO, check=False):
+    proc = subprocess.run([SNAKEMAKE, "--snakefile", str(REPO / "Snakefile"), *args], cwd=cwd,
+                          capture_output=True, text=True, timeout=900)
+    if check and proc.returncode != 0:
+        raise AssertionError(proc.stdout[-3000:] + proc.stderr[-3000:])
+    return proc
+
+
+def _write_config(path: Path, **changes) -> Path:
+    cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+    for dotted, value in changes.items():
+        node = cfg
+        keys = dotted.split(".")
+        for key in keys[:-1]:
+            node = node[key]
+        node[keys[-1]] = value
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+def test_lint_is_clean():
+    proc = _run(["--lint"])
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "good condition" in proc.stdout + proc.stderr
+
+
+@pytest.mark.shared
+def test_grace_dry_run_lists_the_jobs(shared):
+    proc = _run(["-n", "-F", "--configfile", "config/grace-a-2007.yaml"], check=True)
+    out = proc.stdout + proc.stderr
+    for rule in ("ingest", "quality", "all"):
+        assert f"rule {rule}:" in out
+    assert "results/quality/grace-a/2007-080.nc" in out
+    assert "rule simulate" not in out            # the real campaign reads files only
+
+
+def test_default_dry_run_has_three_days(tmp_path):
+    proc = _run(["-n", "--directory", str(tmp_path)], check=True)
+    out = proc.stdout + proc.stderr
+    for day in ("2019-001", "2019-002", "2019-003"):
+        assert f"results/quality/hy2b-sim/{day}.nc" in out
+
+
+@pytest.mark.parametrize("key,value,named", [
+    ("quality.max_gap_s", -5.0, "max_gap_s"),
+    ("signals.G.phase", ["L1C"], "phase"),
+    ("start_date", "2019/01/01", "start_date"),
+])
+def test_bad_config_stops_before_any_job(tmp_path, key, value, named):
+    cfg = _write_config(tmp_path / "bad.yaml", **{key: value})
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(cfg)])
+    assert proc.returncode != 0
+    err = proc.stdout + proc.stderr
+    assert "Error validating config" in err and named in err
+    assert not (tmp_path / "results").exists()
+
+
+def test_unknown_config_key_is_named(tmp_path):
+    cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+    cfg["quality"]["slip_gf_treshold_m"] = 0.05
+    (tmp_path / "bad.yaml").write_text(yaml.safe_dump(cfg))
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(tmp_path / "bad.yaml")])
+    assert proc.returncode != 0 and "slip_gf_treshold_m" in proc.stdout + proc.stderr
+
+
+@pytest.mark.slow
+def test_one_simulated_day_end_to_end(tmp_path):
+    cfg = _write_config(tmp_path / "one.yaml", end_date="2019-01-01")
+    _run(["--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg)], check=True)
+    nc = tmp_path / "results/quality/hy2b-sim/2019-001.nc"
+    with xr.open_dataset(nc) as q:
+        assert q.attrs["processing_step"] == "quality"
+        assert 6 < float(q.G_mean_sv_per_epoch) <= 12          # 12-channel receiver
+        assert q.el_deg.attrs["units"] == "degree"
+    for name in ("summary.html", "mp_elevation.png", "skyplot.png", "code_noise.png", "visibility.png"):
+        assert (tmp_path / f"results/quality/hy2b-sim/2019-001_{name}").stat().st_size > 1000
+    assert (tmp_path / "logs/quality/hy2b-sim/2019-001.log").read_text().count("quality G") == 1
+
+
+@pytest.mark.slow
+def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
+    # two days of simulated files; the second day's RINEX is cut in the middle of an epoch
+    cfg = _write_config(tmp_path / "two.yaml", end_date="2019-01-02")
+    _run(["--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg),
+          "--until", "simulate", "simulate_gnss"], check=True)
+    files = tmp_path / "files"
+    shutil.copytree(tmp_path / "resources/simulate", files)
+    rnx = files / "hy2b-sim/2019-002.rnx"
+    lines = rnx.read_text().splitlines(keepends=True)
+    rnx.write_text("".join(lines[: len(lines) // 2 + 3]))
+    broken = _write_config(tmp_path / "files.yaml", end_date="2019-01-02",
+                           **{"satellites.hy2b-sim.source": "files",
+                              "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
+                              "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
+                              "products.gnss_clock": str(files / "gnss/{date}.clk")})
+    proc = _run(["--cores", "2", "--keep-going", "--directory", str(tmp_path), "--configfile",
+                 str(broken)])
+    assert proc.returncode != 0
+    assert (tmp_path / "results/quality/hy2b-sim/2019-001.nc").exists()
+    assert not (tmp_path / "results/ingest/hy2b-sim/2019-002_obs.nc").exists()
+    log = (tmp_path / "logs/ingest/hy2b-sim/2019-002.log").read_text()
+    assert "2019-002.rnx:" in log and "field" in log
