@@ -46,7 +46,9 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
 
 if __name__ == "__main__":
     log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input.obs, snakemake.input.orbit, snakemake.input.clock,  # noqa: F821
-         snakemake.input.get("apriori"), snakemake.input.get("antex"),  # noqa: F821
-         snakemake.output.obs, snakemake.output.gnss, snakemake.output.leo,  # noqa: F821 snakemake.params.signals, snakemake.params.pco_body_m,  # noqa: F821
-         snakemake.params.sp3_id, log)  # noqa: F821
+    sm = snakemake  # noqa: F821
+    main(obs_path=sm.input.obs, orbit_path=sm.input.orbit, clock_path=sm.input.clock,
+         apriori_path=sm.input.get("apriori"), antex_path=sm.input.get("antex"),
+         out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
+         signal_cfg=sm.params.signals, pco_body_m=sm.params.pco_body_m,
+         sp3_id=sm.params.sp3_id, log=log)
