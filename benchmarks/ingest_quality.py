@@ -17,8 +17,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
@@ -38,7 +36,11 @@ def _inputs(tmp: Path):
         return ("GRACE-A 2007-080 (real, 10 s)", GRACE / "graa0800.07o.gz", GRACE / "cod14193.sp3.gz",
                 GRACE / "cod14193.clk.gz", GRACE / "igs05_1402.atx.gz",
                 {"L1": [-0.0004, -0.0004, -0.4514], "L2": [-0.0004, -0.0004, -0.4757]})
-    from leopod.simulate.campaign import SimulationSettings, simulate_gnss_products, simulate_leo_day
+    from leopod.simulate.campaign import (
+        SimulationSettings,
+        simulate_gnss_products,
+        simulate_leo_day,
+    )
     s = SimulationSettings(interval_s=10.0)
     simulate_gnss_products("2019-001", "2019-001", s, tmp / "g.sp3", tmp / "g.clk")
     simulate_leo_day("2019-001", "2019-001", "sim", s, tmp / "o.rnx", tmp / "t.sp3", tmp / "t.nc")

@@ -10,7 +10,15 @@ import pytest
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.gnss import signals
-from leopod.gnss.passes import FLAG_GAP, FLAG_GF, FLAG_LLI, FLAG_MW, FLAG_NEW, FLAG_OUTLIER, detect_passes
+from leopod.gnss.passes import (
+    FLAG_GAP,
+    FLAG_GF,
+    FLAG_LLI,
+    FLAG_MW,
+    FLAG_NEW,
+    FLAG_OUTLIER,
+    detect_passes,
+)
 
 F1, F2 = signals.frequency_hz("G", "1"), signals.frequency_hz("G", "2")
 LAM1, LAM2 = C_LIGHT_M_S / F1, C_LIGHT_M_S / F2

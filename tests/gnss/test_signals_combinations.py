@@ -11,8 +11,13 @@ import pytest
 from leopod.constants import C_LIGHT_M_S
 from leopod.gnss import signals
 from leopod.gnss.combinations import (
-    geometry_free, ionosphere_free, ionosphere_l1_m, melbourne_wuebbena, multipath,
-    narrow_lane_wavelength_m, wide_lane_wavelength_m,
+    geometry_free,
+    ionosphere_free,
+    ionosphere_l1_m,
+    melbourne_wuebbena,
+    multipath,
+    narrow_lane_wavelength_m,
+    wide_lane_wavelength_m,
 )
 
 

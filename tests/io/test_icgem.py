@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _helpers import assert_format_error, write_lines
 
 from leopod.io import FormatError
 from leopod.io.icgem import read_icgem
@@ -33,16 +34,10 @@ def _gravity(shared):
 
 
 def _write(tmp_path, lines, name="test.gfc"):
-    path = tmp_path / name
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return write_lines(tmp_path, lines, name)
 
 
-def _assert_error(excinfo, path, line, field):
-    err = excinfo.value
-    assert path.name in str(err)
-    assert err.line == line
-    assert err.field == field
+_assert_error = assert_format_error
 
 
 # ------------------------------------------------------------------------------ real files

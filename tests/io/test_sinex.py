@@ -14,7 +14,10 @@ import xarray as xr
 
 from leopod.io._text import FormatError
 from leopod.io.sinex import (
-    read_sinex_eccentricities, read_sinex_stations, station_eccentricity, station_position,
+    read_sinex_eccentricities,
+    read_sinex_stations,
+    station_eccentricity,
+    station_position,
     write_sinex_stations,
 )
 

@@ -7,6 +7,7 @@ import logging
 import numpy as np
 import pytest
 import xarray as xr
+from _helpers import assert_format_error, write_lines
 
 from leopod.io import FormatError
 from leopod.io.sp3 import read_sp3, write_sp3
@@ -43,16 +44,10 @@ def _written_lines(tmp_path, **kwargs) -> list[str]:
 
 
 def _write(tmp_path, lines, name="broken.sp3"):
-    path = tmp_path / name
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return write_lines(tmp_path, lines, name)
 
 
-def _assert_error(excinfo, path, line, field):
-    err = excinfo.value
-    assert path.name in str(err)
-    assert err.line == line
-    assert err.field == field
+_assert_error = assert_format_error
 
 
 # ------------------------------------------------------------------------------ real files

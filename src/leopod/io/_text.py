@@ -11,15 +11,20 @@ in any combination (e.g. ``.crx.gz`` or ``.10D.Z``).
 
 from __future__ import annotations
 
+import datetime as _dt
 import gzip
 import math
 from pathlib import Path
 
-__all__ = ["FormatError", "read_lines", "parse_float", "parse_int", "fixed_float"]
+import numpy as np
+
+__all__ = ["FormatError", "read_lines", "parse_float", "parse_int", "fixed_float", "parse_floats",
+           "calendar_epoch_ns"]
 
 _GZIP_MAGIC = b"\x1f\x8b"
 _COMPRESS_MAGIC = b"\x1f\x9d"
 _CRX_MARK = b"COMPACT RINEX FORMAT"
+_UNIX0 = _dt.datetime(1970, 1, 1)
 
 
 class FormatError(ValueError):
@@ -152,3 +157,67 @@ def fixed_float(line_text: str, start: int, stop: int, path, line: int, field: s
                 *, allow_blank=False) -> float:
     """Parse the fixed-width field ``line_text[start:stop]`` (0-based, stop exclusive)."""
     return parse_float(line_text[start:stop], path, line, field, allow_blank=allow_blank)
+
+
+def parse_floats(texts, line_nos, field, path, *, allow_blank: bool = False) -> np.ndarray:
+    """Convert many numeric field texts to float64, fast, with exact error locations.
+
+    numpy converts the whole list at once; only when that fails (or gives NaN/inf) are the
+    texts parsed one by one with :func:`parse_float`, which raises at the first bad one.
+    Fortran ``D`` exponents are accepted.
+
+    Parameters
+    ----------
+    texts : sequence of str, shape (N,)
+        Field texts.
+    line_nos : sequence of int, shape (N,)
+        1-based line number of each text.
+    field : str, sequence of str or callable
+        Field name for error messages: one name, one per text, or ``field(i)``.
+    path : str or Path
+        File, for error messages.
+    allow_blank : bool
+        Blank fields become NaN instead of an error.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,)
+    """
+    if len(texts) == 0:
+        return np.empty(0)
+    arr = np.asarray(texts, dtype=str)
+    for candidate in (arr, np.char.translate(arr, str.maketrans("Dd", "Ee"))):
+        try:
+            values = candidate.astype(np.float64)
+        except ValueError:
+            continue
+        if np.isfinite(values).all():
+            return values
+        break
+    if callable(field):
+        name = field
+    elif isinstance(field, str):
+        name = lambda i: field  # noqa: E731
+    else:
+        name = field.__getitem__
+    return np.array([parse_float(t, path, n, name(i), allow_blank=allow_blank)
+                     for i, (t, n) in enumerate(zip(texts, line_nos))], dtype=np.float64)
+
+
+def calendar_epoch_ns(ymdhm: tuple[int, int, int, int, int], seconds: float, path,
+                      line: int) -> int:
+    """Nanoseconds since 1970-01-01 of a calendar epoch, validating every part.
+
+    Raises
+    ------
+    FormatError
+        Naming ``epoch`` for an impossible date/time or ``second`` outside [0, 60).
+    """
+    try:
+        dt = _dt.datetime(*ymdhm)
+    except ValueError as err:
+        raise FormatError(path, line, "epoch", f"invalid date or time ({err})") from None
+    if not 0.0 <= seconds < 60.0:
+        raise FormatError(path, line, "second", f"seconds {seconds} outside [0, 60)")
+    delta = dt - _UNIX0
+    return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + round(seconds * 1e9)

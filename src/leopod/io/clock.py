@@ -49,7 +49,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, parse_float, parse_int, read_lines
+from leopod.io._text import (
+    FormatError, calendar_epoch_ns, parse_float, parse_floats, parse_int, read_lines,
+)
 
 __all__ = ["read_rinex_clock", "write_rinex_clock"]
 
@@ -78,14 +80,7 @@ def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Pa
             parse_float(text, path, line_nos[k], fields[k])  # raises if not a number at all
             raise FormatError(path, line_nos[k], fields[k], f"'{text}' is not an E19.12 "
                               "value (incomplete exponent: truncated?)")
-    try:
-        values = np.asarray(texts, dtype=str).astype(np.float64)
-        if np.isfinite(values).all():
-            return values
-    except ValueError:
-        pass
-    return np.array([parse_float(t, path, n, f, allow_blank=True)
-                     for t, n, f in zip(texts, line_nos, fields)], dtype=np.float64)
+    return parse_floats(texts, line_nos, fields, path, allow_blank=True)
 
 
 def _epoch_ns(text: str, path: Path, line_no: int) -> int:
@@ -97,14 +92,7 @@ def _epoch_ns(text: str, path: Path, line_no: int) -> int:
     names = ("year", "month", "day", "hour", "minute")
     ints = [parse_int(p, path, line_no, n) for p, n in zip(parts, names)]
     seconds = parse_float(parts[5], path, line_no, "second")
-    try:
-        dt = datetime(*ints)
-    except ValueError as err:
-        raise FormatError(path, line_no, "epoch", f"invalid date or time ({err})") from None
-    if not 0.0 <= seconds < 60.0:
-        raise FormatError(path, line_no, "second", f"seconds {seconds} outside [0, 60)")
-    delta = dt - _UNIX0
-    return (delta.days * 86_400 + delta.seconds) * _NS + round(seconds * 1e9)
+    return calendar_epoch_ns(tuple(ints), seconds, path, line_no)
 
 
 def _parse_header(lines: list[str], path: Path) -> tuple[dict, int, bool]:

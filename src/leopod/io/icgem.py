@@ -54,7 +54,9 @@ import numpy as np
 import xarray as xr
 from scipy.special import gammaln
 
-from leopod.io._text import FormatError, parse_float, parse_int, read_lines
+from leopod.io._text import (
+    FormatError, parse_float, parse_floats, parse_int, read_lines,
+)
 
 __all__ = ["read_icgem"]
 
@@ -64,23 +66,6 @@ _KEYWORDS = _MANDATORY + ("errors", "norm", "tide_system", "format")
 _N_FIELDS = {"gfc": (5, 7), "gfct": (8,), "trnd": (5, 7), "dot": (5, 7), "acos": (8,),
              "asin": (8,)}
 _TIME_VARIABLE = ("gfct", "trnd", "dot", "acos", "asin")
-
-
-def _floats(texts: list[str], line_nos: list[int], field: str, path: Path) -> np.ndarray:
-    """Convert numeric texts (E or Fortran D exponents) to float64 with exact error locations."""
-    if not texts:
-        return np.empty(0)
-    arr = np.asarray(texts, dtype=str)
-    for candidate in (arr, np.char.translate(arr, str.maketrans("Dd", "Ee"))):
-        try:
-            values = candidate.astype(np.float64)
-        except ValueError:
-            continue
-        if np.isfinite(values).all():
-            return values
-        break
-    # slow path: raises at the first bad value
-    return np.array([parse_float(t, path, n, field) for t, n in zip(texts, line_nos)])
 
 
 def _ints(texts: list[str], line_nos: list[int], field: str, path: Path) -> np.ndarray:
@@ -266,16 +251,16 @@ def read_icgem(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
     static_nums = line_nos["gfc"] + line_nos["gfct"]
     n, m = _degree_order(static_rows, static_nums, n_file, path)
     _check_unique(n, m, static_nums, "gfc", path)
-    coef["C"][n, m] = _floats([r[3] for r in static_rows], static_nums, "C", path)
-    coef["S"][n, m] = _floats([r[4] for r in static_rows], static_nums, "S", path)
+    coef["C"][n, m] = parse_floats([r[3] for r in static_rows], static_nums, "C", path)
+    coef["S"][n, m] = parse_floats([r[4] for r in static_rows], static_nums, "S", path)
     with_sigma = [k for k, r in enumerate(static_rows) if len(r) >= 7]
     has_sigma = bool(with_sigma)
     if has_sigma:
         rows = [static_rows[k] for k in with_sigma]
         nums = [static_nums[k] for k in with_sigma]
-        sigma["C"][n[with_sigma], m[with_sigma]] = _floats([r[5] for r in rows], nums,
+        sigma["C"][n[with_sigma], m[with_sigma]] = parse_floats([r[5] for r in rows], nums,
                                                            "sigma C", path)
-        sigma["S"][n[with_sigma], m[with_sigma]] = _floats([r[6] for r in rows], nums,
+        sigma["S"][n[with_sigma], m[with_sigma]] = parse_floats([r[6] for r in rows], nums,
                                                            "sigma S", path)
 
     scale = (_unnormalized_to_normalized(max_degree) if attrs["norm_in_file"] == "unnormalized"
@@ -309,22 +294,22 @@ def _add_time_variable(tokens: dict[str, list[list[str]]], line_nos: dict[str, l
     _check_unique(n, m, nums, "trnd", path)
     for col, name in ((3, "C"), (4, "S")):
         grid = np.zeros((size, size))
-        grid[n, m] = _floats([r[col] for r in rows], nums, name, path)
+        grid[n, m] = parse_floats([r[col] for r in rows], nums, name, path)
         data[f"trnd_{name}"] = (("n", "m"), grid * scale, {
             "units": "year-1", "long_name": f"secular rate of {name} per year"})
-    periods = _floats([r[7] for k in ("acos", "asin") for r in tokens[k]],
+    periods = parse_floats([r[7] for k in ("acos", "asin") for r in tokens[k]],
                       line_nos["acos"] + line_nos["asin"], "period", path)
     unique = np.unique(periods)[::-1]
     coords["period"] = ("period", unique, {"units": "year", "long_name": "period of the term"})
     for key in ("acos", "asin"):
         rows, nums = tokens[key], line_nos[key]
         n, m = _degree_order(rows, nums, n_file, path)
-        p = _floats([r[7] for r in rows], nums, "period", path)
+        p = parse_floats([r[7] for r in rows], nums, "period", path)
         _check_unique(n, m, nums, key, path, extra=p)
         p_idx = np.searchsorted(-unique, -p)
         for col, name in ((3, "C"), (4, "S")):
             grid = np.zeros((unique.size, size, size))
-            grid[p_idx, n, m] = _floats([r[col] for r in rows], nums, name, path)
+            grid[p_idx, n, m] = parse_floats([r[col] for r in rows], nums, name, path)
             data[f"{key}_{name}"] = (("period", "n", "m"), grid * scale, {
                 "units": "1", "long_name": f"{'cosine' if key == 'acos' else 'sine'} amplitude "
                                            f"of {name}"})

@@ -47,13 +47,14 @@ import gzip
 import logging
 import math
 from datetime import datetime
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
+from leopod.io._text import (
+    FormatError, calendar_epoch_ns, fixed_float, parse_floats, parse_int, read_lines,
+)
 
 __all__ = ["read_sp3", "write_sp3"]
 
@@ -73,54 +74,6 @@ _IDS_PER_LINE = 17
 
 # --------------------------------------------------------------------------------------------
 # small parsing helpers
-
-
-def _to_float(texts: list[str], line_nos: list[int], field_of: Callable[[int], str],
-              path: Path, *, allow_blank: bool = False) -> np.ndarray:
-    """Convert many numeric field texts to float64 with exact error locations.
-
-    Parameters
-    ----------
-    texts : list of str
-        Field texts, shape (N,).
-    line_nos : list of int
-        1-based line number of each text, shape (N,).
-    field_of : callable
-        ``field_of(i)`` gives the field name of item ``i`` for an error message.
-    path : Path
-        File, for error messages.
-    allow_blank : bool
-        Blank fields become NaN instead of an error.
-
-    Returns
-    -------
-    numpy.ndarray
-        float64, shape (N,).
-    """
-    if not texts:
-        return np.empty(0)
-    try:
-        values = np.asarray(texts, dtype=str).astype(np.float64)
-        if np.isfinite(values).all():
-            return values
-    except ValueError:
-        pass
-    # slow path: locate the bad field (or handle blanks and Fortran D exponents)
-    return np.array([parse_float(t, path, n, field_of(i), allow_blank=allow_blank)
-                     for i, (t, n) in enumerate(zip(texts, line_nos))], dtype=np.float64)
-
-
-def _epoch_ns(fields: tuple[int, int, int, int, int], seconds: float, path: Path,
-              line_no: int) -> int:
-    """Nanoseconds since 1970-01-01 of a calendar epoch, validating every part."""
-    try:
-        dt = datetime(*fields)
-    except ValueError as err:
-        raise FormatError(path, line_no, "epoch", f"invalid date or time ({err})") from None
-    if not 0.0 <= seconds < 60.0:
-        raise FormatError(path, line_no, "second", f"seconds {seconds} outside [0, 60)")
-    delta = dt - _UNIX0
-    return (delta.days * 86_400 + delta.seconds) * _NS + round(seconds * 1e9)
 
 
 def _sat_id(text: str, path: Path, line_no: int) -> str:
@@ -248,7 +201,7 @@ def _parse_epoch_line(text: str, path: Path, line_no: int) -> int:
              parse_int(text[14:16], path, line_no, "hour"),
              parse_int(text[17:19], path, line_no, "minute"))
     seconds = fixed_float(text, 20, 31, path, line_no, "second")
-    return _epoch_ns(parts, seconds, path, line_no)
+    return calendar_epoch_ns(parts, seconds, path, line_no)
 
 
 class _Records:
@@ -323,11 +276,11 @@ def _record_arrays(rec: _Records, sats: list[str], names: tuple[str, ...], path:
     values = np.empty((len(rec.texts), 4))
     exps = np.empty((len(rec.texts), 4))
     for j, ((start, stop), name) in enumerate(zip(_REC_COLS, names)):
-        values[:, j] = _to_float([t[start:stop] for t in rec.texts], rec.line_nos,
+        values[:, j] = parse_floats([t[start:stop] for t in rec.texts], rec.line_nos,
                                  lambda i, name=name: f"{sats[rec.sat[i]]} {name}", path,
                                  allow_blank=(j == 3))
     for j, ((start, stop), name) in enumerate(zip(_EXP_COLS, names)):
-        exps[:, j] = _to_float([t[start:stop] for t in rec.texts], rec.line_nos,
+        exps[:, j] = parse_floats([t[start:stop] for t in rec.texts], rec.line_nos,
                                lambda i, name=name: f"{sats[rec.sat[i]]} {name} exponent",
                                path, allow_blank=True)
     return values, exps
