@@ -1,0 +1,110 @@
+"""Sun and Moon as point masses: ephemerides (JPL DE421) and the third-body acceleration.
+
+Ephemeris: JPL DE421 (Folkner et al. 2008, IPN Progress Report 42-178), shipped in the
+``skyfield-data`` package and read with ``jplephem``; positions are ICRF-aligned, i.e. GCRF
+axes for geocentric vectors. The time argument of DE421 is TDB; TT is used instead (|TDB−TT|
+< 2 ms, which moves the Moon by < 2 m and changes a LEO's lunar acceleration by < 1e-13 m/s²).
+
+Acceleration of a satellite at ``r`` by a body at ``s`` (geocentric), including the indirect
+term (the acceleration of the Earth by the body), Montenbruck & Gill (2000) eq. (3.37):
+``a = GM (s − r)/|s − r|³ − GM s/|s|³``; its gradient
+``∂a/∂r = GM (3 d dᵀ/|d|⁵ − I/|d|³)`` with ``d = s − r``.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["GM_SUN_M3_S2", "GM_MOON_M3_S2", "Ephemeris", "third_body_acceleration"]
+
+#: Heliocentric gravitational constant, TDB-compatible [m³/s²]. IERS Conventions 2010, Table 1.1.
+GM_SUN_M3_S2 = 1.32712442099e20
+#: Lunar gravitational constant [m³/s²]: DE421 value 4902.800066 km³/s² (Folkner et al. 2008).
+GM_MOON_M3_S2 = 4.902800066e12
+
+_J2000_JD = 2451545.0
+
+
+def _de421_path() -> Path:
+    import skyfield_data
+
+    return Path(skyfield_data.__file__).parent / "data" / "de421.bsp"
+
+
+@lru_cache(maxsize=2)
+def _kernel(path: str):
+    from jplephem.spk import SPK
+
+    return SPK.open(path)
+
+
+class Ephemeris:
+    """Geocentric Sun and Moon positions from a JPL SPK kernel (default DE421).
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        SPK file; default: DE421 from the skyfield-data package.
+    """
+
+    def __init__(self, path: str | Path | None = None):
+        self.path = str(path or _de421_path())
+        self._spk = _kernel(self.path)
+
+    def _vec(self, center: int, target: int, jd1, jd2) -> np.ndarray:
+        return np.asarray(self._spk[center, target].compute(jd1, jd2)).T * 1e3
+
+    def moon_m(self, t_tt_s_j2000) -> np.ndarray:
+        """Geocentric Moon position [m], shape (n, 3), at TT seconds since J2000.0."""
+        jd1, jd2 = _jd(t_tt_s_j2000)
+        return self._vec(3, 301, jd1, jd2) - self._vec(3, 399, jd1, jd2)
+
+    def sun_m(self, t_tt_s_j2000) -> np.ndarray:
+        """Geocentric Sun position [m], shape (n, 3), at TT seconds since J2000.0."""
+        jd1, jd2 = _jd(t_tt_s_j2000)
+        earth = self._vec(0, 3, jd1, jd2) + self._vec(3, 399, jd1, jd2)
+        return self._vec(0, 10, jd1, jd2) - earth
+
+
+def _jd(t_s):
+    """Two-part Julian date (TT used for TDB) from seconds since J2000.0."""
+    t = np.atleast_1d(np.asarray(t_s, dtype=float))
+    days = np.floor(t / 86400.0)
+    return _J2000_JD + days, (t - days * 86400.0) / 86400.0
+
+
+def third_body_acceleration(pos_m: np.ndarray, body_m: np.ndarray, gm_m3_s2: float,
+                            with_gradient: bool = True):
+    """Point-mass perturbation of a third body, with the indirect term.
+
+    Parameters
+    ----------
+    pos_m : ndarray, shape (..., 3)
+        Geocentric satellite position [m].
+    body_m : ndarray, shape (..., 3)
+        Geocentric position of the body [m] (broadcast against ``pos_m``).
+    gm_m3_s2 : float
+        Gravitational constant of the body [m³/s²].
+    with_gradient : bool
+        Also return ``∂a/∂r``.
+
+    Returns
+    -------
+    acc : ndarray, shape (..., 3)
+        Acceleration [m/s²].
+    grad : ndarray, shape (..., 3, 3), only if ``with_gradient``
+        ``∂a/∂r`` [1/s²].
+    """
+    d = body_m - pos_m
+    nd = np.linalg.norm(d, axis=-1, keepdims=True)
+    ns = np.linalg.norm(body_m, axis=-1, keepdims=True)
+    acc = gm_m3_s2 * (d / nd**3 - body_m / ns**3)
+    if not with_gradient:
+        return acc
+    eye = np.eye(3)
+    grad = gm_m3_s2 * (3.0 * d[..., :, None] * d[..., None, :] / nd[..., None] ** 5
+                       - eye / nd[..., None] ** 3)
+    return acc, grad
