@@ -1,1 +1,1 @@
-"""Reference frames: satellite attitude and antenna frames (ITRF<->GCRF comes with the dynamics engine)."""
+"""Reference frames: ITRF <-> GCRF (IAU 2006/2000A), satellite attitude and antenna frames."""
