@@ -1,0 +1,1 @@
+"""Force models of the orbit dynamics (gravity field, tides, third bodies, relativity, ...)."""
