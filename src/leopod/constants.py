@@ -35,3 +35,32 @@ GPST_MINUS_TAI_S = -19.0
 
 #: TT minus TAI [s]. IERS Conventions 2010, Chapter 10.
 TT_MINUS_TAI_S = 32.184
+
+#: Julian date of J2000.0 (2000-01-01 12:00 TT) [d]. IERS Conventions 2010, Chapter 5.
+JD_J2000 = 2_451_545.0
+
+#: Astronomical unit [m]. IAU 2012 Resolution B2 (defining value).
+AU_M = 149_597_870_700.0
+
+#: Solar radiation pressure at 1 AU on a fully absorbing surface [N/m²] (solar constant
+#: 1367 W/m² / c). Montenbruck & Gill, Satellite Orbits (2000), sec. 3.4.1.
+SOLAR_PRESSURE_1AU_N_M2 = 4.56e-6
+
+#: Radius of the Sun for the conical shadow model [m]. Montenbruck & Gill (2000), sec. 3.4.2.
+R_SUN_M = 6.96e8
+
+#: Heliocentric gravitational constant, TDB-compatible [m³/s²]. IERS Conventions 2010, Table 1.1.
+GM_SUN_M3_S2 = 1.32712442099e20
+
+#: Lunar gravitational constant [m³/s²]: DE421 value 4902.800066 km³/s² (Folkner et al. 2008).
+GM_MOON_M3_S2 = 4.902800066e12
+
+#: Earth's angular momentum per unit mass, along the GCRF Z axis [m²/s]. IERS 2010 sec. 10.3.
+EARTH_ANGULAR_MOMENTUM_M2_S = 9.8e8
+
+#: Rate of the Earth rotation angle [rad/s]: 2π · 1.00273781191135448 per UT1 day.
+#: IERS Conventions 2010, eq. (5.15).
+ERA_RATE_RAD_S = 2.0 * 3.141592653589793 * 1.00273781191135448 / SECONDS_PER_DAY
+
+#: Height of the permanent tide H0 [m] (zero-frequency degree-2 tide). IERS 2010 eq. (6.14).
+H0_PERMANENT_TIDE_M = -0.31460

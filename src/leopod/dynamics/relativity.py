@@ -17,12 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from leopod.constants import C_LIGHT_M_S, GM_EARTH_M3_S2
+from leopod.constants import C_LIGHT_M_S, EARTH_ANGULAR_MOMENTUM_M2_S, GM_EARTH_M3_S2, GM_SUN_M3_S2
 
 __all__ = ["relativistic_acceleration", "EARTH_ANGULAR_MOMENTUM_M2_S"]
 
-#: Earth's angular momentum per unit mass, along the GCRF Z axis [m²/s]. IERS 2010 sec. 10.3.
-EARTH_ANGULAR_MOMENTUM_M2_S = 9.8e8
 
 
 def relativistic_acceleration(pos_m, vel_m_s, sun_m=None, sun_vel_m_s=None, *,
@@ -58,8 +56,6 @@ def relativistic_acceleration(pos_m, vel_m_s, sun_m=None, sun_vel_m_s=None, *,
         rj = np.sum(r * j, axis=-1, keepdims=True)
         acc = acc + 2.0 * gm / (c2 * rn**3) * (3.0 / rn**2 * np.cross(r, v) * rj + np.cross(v, j))
     if sun_m is not None:
-        from leopod.dynamics.third_body import GM_SUN_M3_S2
-
         gms = GM_SUN_M3_S2 if gm_sun_m3_s2 is None else gm_sun_m3_s2
         big_r = -np.asarray(sun_m, dtype=float)          # Earth w.r.t. Sun
         big_v = -np.asarray(sun_vel_m_s, dtype=float)

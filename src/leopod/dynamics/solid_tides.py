@@ -37,8 +37,9 @@ import math
 import erfa
 import numpy as np
 
-from leopod.constants import GM_EARTH_M3_S2, R_EARTH_EQUATOR_M
-from leopod.dynamics.third_body import GM_MOON_M3_S2, GM_SUN_M3_S2
+from leopod.constants import (
+    GM_EARTH_M3_S2, GM_MOON_M3_S2, GM_SUN_M3_S2, H0_PERMANENT_TIDE_M, R_EARTH_EQUATOR_M,
+)
 
 __all__ = [
     "H0_PERMANENT_TIDE_M",
@@ -66,9 +67,6 @@ _K_NM = {2: (0.30190 - 0.0j, 0.29830 - 0.00144j, 0.30102 - 0.00130j),
          3: (0.093, 0.093, 0.093, 0.094)}
 _K_PLUS_2M = (-0.00089, -0.00080, -0.00057)
 
-#: Cartwright-Tayler-Edden amplitude of the permanent zonal tide H0 [m]; IERS Conventions
-#: (2010), eq. (6.14).
-H0_PERMANENT_TIDE_M = -0.31460
 
 # IERS Conventions (2010), Table 6.5a: corrections for the frequency dependence of k21 (diurnal
 # band; nominal k21 = 0.29830 − 0.00144 i). Columns: Darwin name ("-" if none), Doodson

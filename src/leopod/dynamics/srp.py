@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from leopod.constants import R_EARTH_EQUATOR_M
+from leopod.constants import AU_M, R_EARTH_EQUATOR_M, R_SUN_M, SOLAR_PRESSURE_1AU_N_M2
 
 __all__ = [
     "AU_M",
@@ -54,12 +54,6 @@ __all__ = [
     "srp_plates",
 ]
 
-#: Astronomical unit [m]. IAU 2012 Resolution B2 (defining value).
-AU_M = 149_597_870_700.0
-#: Solar radiation pressure at 1 AU [N/m²]. Montenbruck & Gill (2000), sec. 3.4.1.
-SOLAR_PRESSURE_1AU_N_M2 = 4.56e-6
-#: Radius of the Sun [m]. Montenbruck & Gill (2000), sec. 3.4.2 (696,000 km).
-R_SUN_M = 6.96e8
 
 
 @dataclass(frozen=True)

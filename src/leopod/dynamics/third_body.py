@@ -18,14 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
+from leopod.constants import GM_MOON_M3_S2, GM_SUN_M3_S2, JD_J2000
+
 __all__ = ["GM_SUN_M3_S2", "GM_MOON_M3_S2", "Ephemeris", "third_body_acceleration"]
 
-#: Heliocentric gravitational constant, TDB-compatible [m³/s²]. IERS Conventions 2010, Table 1.1.
-GM_SUN_M3_S2 = 1.32712442099e20
-#: Lunar gravitational constant [m³/s²]: DE421 value 4902.800066 km³/s² (Folkner et al. 2008).
-GM_MOON_M3_S2 = 4.902800066e12
 
-_J2000_JD = 2451545.0
 
 
 def _de421_path() -> Path:
@@ -73,7 +70,7 @@ def _jd(t_s):
     """Two-part Julian date (TT used for TDB) from seconds since J2000.0."""
     t = np.atleast_1d(np.asarray(t_s, dtype=float))
     days = np.floor(t / 86400.0)
-    return _J2000_JD + days, (t - days * 86400.0) / 86400.0
+    return JD_J2000 + days, (t - days * 86400.0) / 86400.0
 
 
 def third_body_acceleration(pos_m: np.ndarray, body_m: np.ndarray, gm_m3_s2: float,

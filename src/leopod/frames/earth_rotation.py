@@ -29,15 +29,12 @@ from __future__ import annotations
 import erfa
 import numpy as np
 
-from leopod.constants import GPST_MINUS_TAI_S, SECONDS_PER_DAY, TT_MINUS_TAI_S
+from leopod.constants import ERA_RATE_RAD_S, GPST_MINUS_TAI_S, TT_MINUS_TAI_S
 from leopod.orbit.interpolate import interpolate_table
 from leopod.timescales import EarthOrientation, EopValues, default_earth_orientation, jd_tt, jd_ut1
 
 __all__ = ["cip_xys", "gcrf_from_itrf_matrices", "gcrf_to_itrf", "itrf_to_gcrf"]
 
-#: Rate of the Earth rotation angle per second of UT1 [rad/s]:
-#: 2π × 1.00273781191135448 / 86400 (IERS Conventions 2010, eq. 5.15).
-ERA_RATE_RAD_S = 2.0 * np.pi * 1.00273781191135448 / SECONDS_PER_DAY
 
 #: Half step of the central differences for the slow rotation rates [s].
 _RATE_STEP_S = 60.0
