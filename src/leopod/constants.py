@@ -6,9 +6,9 @@ Signal frequencies live in :mod:`leopod.gnss.signals`, not here.
 #: Speed of light in vacuum [m/s]. IERS Conventions 2010, Table 1.1 (defining constant).
 C_LIGHT_M_S = 299_792_458.0
 
-#: Geocentric gravitational constant, TT-compatible, incl. atmosphere [m^3/s^2].
-#: IERS Conventions 2010, Table 1.1.
-GM_EARTH_M3_S2 = 3.986004418e14
+#: Geocentric gravitational constant, TT-compatible (orbits are integrated in TT), incl. the
+#: atmosphere [m^3/s^2]. IERS Conventions 2010, Table 1.1 (TCG-compatible value: 3.986004418e14).
+GM_EARTH_M3_S2 = 3.986004415e14
 
 #: Nominal mean angular velocity of the Earth [rad/s]. IERS Conventions 2010, Table 1.1.
 OMEGA_EARTH_RAD_S = 7.292115e-5
