@@ -15,12 +15,15 @@ import datetime as _dt
 import numpy as np
 
 __all__ = [
-    "GPS_EPOCH", "parse_date_id", "date_id", "gps_week_dow", "template_fields",
+    "GPS_EPOCH", "J2000_TT", "parse_date_id", "date_id", "gps_week_dow", "template_fields",
     "seconds_since", "from_seconds", "days_between",
 ]
 
 #: Start of GPS time, 1980-01-06 00:00:00 GPST (IS-GPS-200, 3.3.4).
 GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "ns")
+
+#: J2000.0 = 2000-01-01 12:00:00 TT, as a TT-scale label (IERS Conventions 2010, ch. 5).
+J2000_TT = np.datetime64("2000-01-01T12:00:00", "ns")
 
 
 def parse_date_id(date: str) -> _dt.date:

@@ -41,7 +41,9 @@ import numba
 import numpy as np
 import xarray as xr
 
-from leopod.constants import OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
+from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
+from leopod.time import J2000_TT
+from leopod.timescales import tai_minus_utc_s
 
 __all__ = [
     "HarrisPriesterDensity",
@@ -52,7 +54,6 @@ __all__ = [
 ]
 
 _OMEGA_Z = np.array([0.0, 0.0, OMEGA_EARTH_RAD_S])
-_J2000_TT = np.datetime64("2000-01-01T12:00:00", "ns")  # J2000.0 as a TT reading
 _ERFA_WGS84 = 1  # ellipsoid identifier of erfa.gc2gd (SOFA iau_GC2GD: 1 = WGS84)
 
 # Modified Harris–Priester density table for mean solar activity, M&G (2000) Table 3.8:
@@ -307,12 +308,13 @@ class HarrisPriesterDensity:
 
 
 def _tt_to_utc(t_tt_s: float, cache: dict) -> np.datetime64:
-    """UTC epoch of TT seconds since J2000.0 (TAI−UTC from ERFA's leap-second table)."""
-    tai = _J2000_TT + np.timedelta64(round((t_tt_s - TT_MINUS_TAI_S) * 1e9), "ns")
+    """UTC epoch of TT seconds since J2000.0 (TAI−UTC from :mod:`leopod.timescales`, cached
+    per day because it sits on the integrator's hot path)."""
+    tai = J2000_TT + np.timedelta64(round((t_tt_s - TT_MINUS_TAI_S) * 1e9), "ns")
     day = tai.astype("datetime64[D]")
     if day not in cache:
-        y, m, d = (int(x) for x in str(day).split("-"))
-        cache[day] = np.timedelta64(round(erfa.dat(y, m, d, 0.5) * 1e9), "ns")
+        gps = tai + np.timedelta64(round(GPST_MINUS_TAI_S * 1e9), "ns")
+        cache[day] = np.timedelta64(round(float(tai_minus_utc_s(gps)[0]) * 1e9), "ns")
     return tai - cache[day]
 
 

@@ -79,11 +79,17 @@ from leopod.constants import (
     R_EARTH_EQUATOR_M,
     TT_MINUS_TAI_S,
 )
-from leopod.dynamics import gravity_field as _gf
 from leopod.dynamics.drag import HarrisPriesterDensity, MsisDensity, drag_cannonball
 from leopod.dynamics.empirical import EmpiricalModel, empirical_acceleration
 from leopod.dynamics.forces import Force, ForceModel, PointMassGravity
-from leopod.dynamics.gravity_field import GravityField, acceleration_sums, field_sums
+from leopod.dynamics.gravity_field import (
+    GravityField,
+    acceleration_sums,
+    acceleration_table,
+    decimal_year,
+    field_sums,
+    recursion_tables,
+)
 from leopod.dynamics.ocean_tides import OceanTides
 from leopod.dynamics.srp import srp_cannonball
 from leopod.dynamics.third_body import Ephemeris
@@ -91,6 +97,7 @@ from leopod.dynamics.tides import TideModel
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.io.icgem import read_icgem
 from leopod.io.space_weather import read_space_weather
+from leopod.time import J2000_TT
 from leopod.timescales import EarthOrientation, default_earth_orientation, jd_tt, jd_ut1
 
 __all__ = ["ArcEnvironment", "Drag", "EarthGravity", "Empirical", "Relativity",
@@ -99,7 +106,6 @@ __all__ = ["ArcEnvironment", "Drag", "EarthGravity", "Empirical", "Relativity",
 
 logger = logging.getLogger(__name__)
 
-_J2000_TT = np.datetime64("2000-01-01T12:00:00", "ns")   # J2000.0 as a TT reading
 _TT_MINUS_GPST_NS = round((TT_MINUS_TAI_S - GPST_MINUS_TAI_S) * 1e9)
 _ROTATION_POINTS = 8          # Lagrange points of the ITRF->GCRF matrix (degree 7)
 _EPHEMERIS_POINTS = 8         # ... of the Sun and Moon positions
@@ -193,7 +199,7 @@ class ArcEnvironment:
         self.t_ref = np.datetime64(t_ref, "ns")
         tt_ref = self.t_ref + np.timedelta64(_TT_MINUS_GPST_NS, "ns")
         #: TT seconds since J2000.0 of ``t_ref`` [s].
-        self.tt_j2000_ref_s = float((tt_ref - _J2000_TT).astype(np.int64)) * 1e-9
+        self.tt_j2000_ref_s = float((tt_ref - J2000_TT).astype(np.int64)) * 1e-9
         self.t_start_s, self.t_end_s = float(t_start_s), float(t_end_s)
         self.eop = default_earth_orientation() if eop is None else eop
         self.ephemeris = Ephemeris() if ephemeris is None else ephemeris
@@ -328,7 +334,7 @@ class EarthGravity(Force):
             self._grad_args = gradient_field.kernel_args("gradient")
         # tidal acceleration sums to degree N + 1 (tables packed as GravityField's, to N + 2)
         degree = 0 if tides is None else tides.max_degree
-        recursion = _gf._recursion_tables(degree + 2)
+        recursion = recursion_tables(degree + 2)
         self._tide_offsets = recursion[0]
         self._tide_args = (field.radius_m, degree + 1, *recursion)
         if tides is None:
@@ -358,11 +364,9 @@ class EarthGravity(Force):
 
     def tide_tables(self, dc: np.ndarray, ds: np.ndarray) -> np.ndarray:
         """Packed acceleration-sum tables (n, K·6) of tidal corrections (n, N+1, N+1)."""
-        out = []
-        for c, s in zip(dc, ds):
-            fields = _gf._acc_grad_fields(c, s, self.field.gm_m3_s2, self.field.radius_m)
-            out.append(_gf._field_table(fields[1:4], self._tide_offsets).ravel())
-        return np.array(out)
+        return np.array([acceleration_table(c, s, self.field.gm_m3_s2, self.field.radius_m,
+                                            self._tide_offsets).ravel()
+                         for c, s in zip(dc, ds)])
 
     def _tide_tables(self, t_s) -> np.ndarray:
         return self.tide_tables(*self.tide_coefficients(t_s))
@@ -703,7 +707,7 @@ def _gravity(cfg: dict, tides_cfg: dict | None, env: ArcEnvironment) -> Force:
     ds = cfg["field"]
     if not isinstance(ds, xr.Dataset):
         ds = _read_icgem(str(Path(ds)))
-    epoch = _gf.decimal_year(env.t_ref)
+    epoch = decimal_year(env.t_ref)
     available = int(ds.attrs.get("max_degree", ds.sizes["n"] - 1))
     field = GravityField(ds, cfg.get("max_degree", min(120, available)), epoch_decimal_year=epoch)
     gradient_degree = cfg.get("gradient_degree")

@@ -44,7 +44,8 @@ import numba
 import numpy as np
 import xarray as xr
 
-__all__ = ["GravityField", "acceleration_sums", "decimal_year", "field_sums"]
+__all__ = ["GravityField", "acceleration_sums", "acceleration_table", "decimal_year", "field_sums",
+           "recursion_tables"]
 
 logger = logging.getLogger(__name__)
 
@@ -155,7 +156,7 @@ def _acc_grad_fields(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: fl
     return [u, ax, ay, az, axx, axy, axz, ayy, ayz, azz]
 
 
-def _recursion_tables(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def recursion_tables(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Packed factors of the normalised Cunningham recursion up to ``degree``.
 
     Packing: index ``k = offsets[m] + n − m`` runs order by order (m outer, n inner).
@@ -190,6 +191,27 @@ def _pack(grid: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     return np.concatenate([grid[m:, m] for m in range(size)]) if size else np.zeros(0)
 
 
+def acceleration_table(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: float,
+                       offsets: np.ndarray) -> np.ndarray:
+    """Packed acceleration-sum table (K, 6) of a coefficient set, for :func:`acceleration_sums`.
+
+    Parameters
+    ----------
+    c, s : ndarray, shape (N+1, N+1)
+        Fully normalised coefficients (e.g. tidal corrections ΔC̄, ΔS̄).
+    gm_m3_s2, radius_m : float
+        GM and reference radius the coefficients refer to.
+    offsets : ndarray of int64
+        Packing offsets from :func:`recursion_tables` of degree ≥ N + 2.
+
+    Returns
+    -------
+    ndarray, shape (K, 6)
+        The table is linear in (c, s), so tables at two epochs may be interpolated.
+    """
+    return _field_table(_acc_grad_fields(c, s, gm_m3_s2, radius_m)[1:4], offsets)
+
+
 def _field_table(fields: list[np.ndarray], offsets: np.ndarray) -> np.ndarray:
     """Table (K, 2 f) of the packed coefficients: [Re D, −Im D] of each field side by side.
 
@@ -218,7 +240,7 @@ def field_sums(pos_m, radius_m, degree, offsets, rec_a, rec_b, diag, table, out)
     degree : int
         Highest degree summed (<= the degree of the tables).
     offsets, rec_a, rec_b, diag : ndarray
-        Recursion tables of :func:`_recursion_tables`.
+        Recursion tables of :func:`recursion_tables`.
     table : ndarray, shape (K, 2 f)
         Packed field coefficients (:func:`_field_table`).
     out : ndarray, shape (f,)
@@ -421,7 +443,7 @@ class GravityField:
     def _build_tables(self) -> None:
         """Precompute recursion factors and the coefficients of the ten sums (to degree N+2)."""
         top = self.max_degree + 2
-        self._offsets, self._rec_a, self._rec_b, self._diag = _recursion_tables(top)
+        self._offsets, self._rec_a, self._rec_b, self._diag = recursion_tables(top)
         fields = _acc_grad_fields(self.c, self.s, self.gm_m3_s2, self.radius_m)
         recursion = (self._offsets, self._rec_a, self._rec_b, self._diag)
         self._kernel_args = {

@@ -15,12 +15,13 @@ from __future__ import annotations
 import erfa
 import numpy as np
 
+from leopod.constants import GPST_MINUS_TAI_S, JD_J2000, TT_MINUS_TAI_S
 from leopod.gnss.combinations import ionosphere_free
+from leopod.time import J2000_TT
 
 __all__ = ["sun_position_ef", "gnss_body_axes", "satellite_pco_if"]
 
-_GPS_TT_OFFSET_S = 51.184   # TT - GPST = 19 s + 32.184 s (exact)
-_J2000_TT = np.datetime64("2000-01-01T12:00:00", "ns")
+_GPS_TT_OFFSET_S = TT_MINUS_TAI_S - GPST_MINUS_TAI_S   # TT - GPST = 51.184 s (exact)
 
 
 def sun_position_ef(times) -> np.ndarray:
@@ -33,7 +34,7 @@ def sun_position_ef(times) -> np.ndarray:
         direction over the leap seconds of the GPS era), which the use here tolerates.
     """
     t = np.atleast_1d(np.asarray(times, dtype="datetime64[ns]"))
-    days_tt = ((t - _J2000_TT).astype("int64") * 1e-9 + _GPS_TT_OFFSET_S) / 86400.0
+    days_tt = ((t - J2000_TT).astype("int64") * 1e-9 + _GPS_TT_OFFSET_S) / 86400.0
     cent = days_tt / 36525.0
     m = np.radians(357.5256 + 35999.049 * cent)
     lon = np.radians(282.9400) + m + np.radians((6892.0 * np.sin(m) + 72.0 * np.sin(2 * m)) / 3600.0)
@@ -42,7 +43,7 @@ def sun_position_ef(times) -> np.ndarray:
     x = r * np.cos(lon)
     y = r * np.sin(lon) * np.cos(eps)
     z = r * np.sin(lon) * np.sin(eps)
-    gmst = erfa.gmst82(2451545.0, days_tt - _GPS_TT_OFFSET_S / 86400.0)
+    gmst = erfa.gmst82(JD_J2000, days_tt - _GPS_TT_OFFSET_S / 86400.0)
     c, s = np.cos(gmst), np.sin(gmst)
     return np.stack([c * x + s * y, -s * x + c * y, z], axis=-1)
 
