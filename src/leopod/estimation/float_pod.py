@@ -1,0 +1,504 @@
+"""Float reduced-dynamic POD: iterated batch least squares on undifferenced IF code and phase.
+
+Unknowns (seeds 000-002; Jäggi et al. 2006, J. Geod. 80:47-60): the GCRF initial state, the
+estimated force-model parameters (drag and SRP scale factors, piecewise empirical
+accelerations, :mod:`leopod.dynamics.force_model`), pseudo-stochastic velocity pulses in R,
+T, N at regular epochs with a-priori zero and a given sigma, optionally the LEO antenna PCO
+Z-component, one float ionosphere-free ambiguity per pass (a new pass at every detected slip,
+:mod:`leopod.gnss.passes`), and one receiver clock per epoch, pre-eliminated from the normal
+equations epoch by epoch (:mod:`leopod.estimation.normals`).
+
+Each iteration integrates the orbit with its variational equations and the current pulses
+(:func:`leopod.dynamics.integrator.apply_pulses`), evaluates the observation model
+(:mod:`leopod.estimation.obsmodel`) at the true reception times (nominal epoch minus the
+receiver clock of the previous iteration), and solves for corrections. Outliers are screened
+separately for code and phase once the orbit correction is below ``screen_below_m``:
+observations whose normalised residual exceeds ``outlier_k`` times the robust (MAD) scale
+of their type are rejected, repeatedly, and the system is solved again. Iterations stop
+when the largest position correction over the arc is below ``tolerance_m``.
+
+Weights: ``σ(e) = σ0`` above ``weight_elevation_deg`` and ``σ0 / (2 sin e)`` below
+(continuous at 30°), e the antenna-frame elevation (floored at 1°).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from leopod.constants import C_LIGHT_M_S
+from leopod.dynamics.force_model import (
+    apriori_parameters,
+    constraint_sigmas,
+    estimated_parameters,
+)
+from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses
+from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, pulse_partials
+from leopod.dynamics.orbit_fit import STATE_NAMES
+from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve
+from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
+from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
+from leopod.orbit.gnss_attitude import sun_position_ef
+from leopod.orbit.products import GnssProducts
+from leopod.time import seconds_since
+from leopod.timescales import EarthOrientation
+
+__all__ = ["PodSettings", "PodObservations", "PodResult", "float_pod", "pulse_epochs"]
+
+log = logging.getLogger(__name__)
+
+_MAD_TO_SIGMA = 1.4826
+_MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
+
+
+@dataclass
+class PodSettings:
+    """Tunables of the float POD (all configurable from the campaign file).
+
+    Attributes
+    ----------
+    code_sigma_m, phase_sigma_m : float
+        A-priori sigma of the undifferenced ionosphere-free code and phase at high
+        elevation [m].
+    weight_elevation_deg : float
+        Elevation below which the sigma grows as ``1/(2 sin e)`` [deg].
+    min_elevation_deg : float
+        Antenna-frame elevation cut-off [deg].
+    pulse_interval_s : float or None
+        Spacing of the pseudo-stochastic pulses [s] (None: no pulses).
+    pulse_sigma_m_s : tuple of 3 float
+        A-priori sigma of the pulses in R, T, N [m/s].
+    estimate_pco_z : bool
+        Estimate a correction to the LEO antenna PCO Z-component (all frequencies alike).
+    outlier_k : float
+        Rejection threshold in robust standard deviations.
+    screen_below_m : float
+        Screening starts once the largest position correction is below this [m].
+    max_iterations : int
+    tolerance_m : float
+        Convergence: largest position correction over the arc [m].
+    min_phase_obs : int
+        Passes with fewer phase observations are dropped.
+    gross_code_m : float
+        Before the first solution, code observations deviating from the median misclosure
+        of their epoch by more than this are rejected (gross errors in the data) [m].
+    """
+
+    code_sigma_m: float = 0.5
+    phase_sigma_m: float = 0.01
+    weight_elevation_deg: float = 30.0
+    min_elevation_deg: float = 0.0
+    pulse_interval_s: float | None = 900.0
+    pulse_sigma_m_s: tuple[float, float, float] = (1e-5, 1e-5, 1e-5)
+    estimate_pco_z: bool = False
+    outlier_k: float = 5.0
+    screen_below_m: float = 0.05
+    max_iterations: int = 8
+    tolerance_m: float = 0.001
+    min_phase_obs: int = 4
+    gross_code_m: float = 1000.0
+
+
+@dataclass
+class PodObservations:
+    """Ionosphere-free observations of an arc, flattened to (epoch, satellite) pairs.
+
+    Attributes
+    ----------
+    times : ndarray of datetime64[ns], shape (m,)
+        Nominal epochs (receiver time tags, GPS time).
+    sv : ndarray of str, shape (s,)
+        Satellite ids of the observation columns.
+    epoch, sat : ndarray of int, shape (n,)
+        Epoch and satellite index of each pair.
+    code_m, phase_m : ndarray, shape (n,)
+        IF code and phase [m] (NaN where not used).
+    pass_index : ndarray of int, shape (n,)
+        Ambiguity (pass) index of the phase, −1 where the phase is not used.
+    clk_rx_m : ndarray, shape (m,)
+        A-priori receiver clock [m] (e.g. from code-only positioning).
+    nl_wavelength_m : float
+        ``c/(f1+f2)`` of the phase pair (wind-up scale) [m].
+    """
+
+    times: np.ndarray
+    sv: np.ndarray
+    epoch: np.ndarray
+    sat: np.ndarray
+    code_m: np.ndarray
+    phase_m: np.ndarray
+    pass_index: np.ndarray
+    clk_rx_m: np.ndarray
+    nl_wavelength_m: float
+
+
+@dataclass(eq=False)
+class PodResult:
+    """Outcome of :func:`float_pod` (see the attributes; arrays as in PodObservations).
+
+    Attributes
+    ----------
+    t_ref : datetime64
+        Time origin of the force model (``t_s`` = GPS seconds since it).
+    parameter_names : list of str
+        Arc parameters: initial state, estimated force parameters, pulses, [pco_z_m].
+    estimates, sigmas : ndarray, shape (k,)
+        Values (pulses and pco correction included) and formal sigmas (scaled by σ0).
+    covariance : ndarray, shape (k + a, k + a)
+        Formal covariance (scaled by σ0²) of the arc parameters and ambiguities.
+    ambiguity_m, ambiguity_sigma_m : ndarray, shape (a,)
+        Float IF ambiguities [m] (including receiver/satellite phase biases).
+    ambiguity_pass : ndarray of int, shape (a,)
+        Pass index (``PodObservations.pass_index`` value) of each ambiguity.
+    trajectory : Trajectory
+        Final orbit (GCRF), with partials.
+    pulses : PseudoStochasticPulses or None
+    force_model : ForceModel
+    force_parameters : ndarray
+        All force-model parameters (estimated and fixed).
+    clk_rx_m : ndarray, shape (m,)
+        Estimated receiver clock [m] (NaN at epochs without observations).
+    model : ModelResult
+        Observation model of the last iteration (per pair).
+    code_residual_m, phase_residual_m : ndarray, shape (n,)
+        Post-fit residuals per pair (NaN where not used).
+    code_used, phase_used : ndarray of bool, shape (n,)
+        Observations in the final solution (False: rejected or not available).
+    code_rejected, phase_rejected : ndarray of bool, shape (n,)
+        Rejected by the screening.
+    sigma0 : float
+        A-posteriori standard deviation of unit weight.
+    iterations : int
+    converged : bool
+    """
+
+    t_ref: np.datetime64
+    parameter_names: list[str]
+    estimates: np.ndarray
+    sigmas: np.ndarray
+    covariance: np.ndarray
+    ambiguity_m: np.ndarray
+    ambiguity_sigma_m: np.ndarray
+    ambiguity_pass: np.ndarray
+    trajectory: Trajectory = field(repr=False)
+    pulses: PseudoStochasticPulses | None
+    force_model: ForceModel = field(repr=False)
+    force_parameters: np.ndarray
+    clk_rx_m: np.ndarray
+    model: ModelResult = field(repr=False)
+    code_residual_m: np.ndarray
+    phase_residual_m: np.ndarray
+    code_used: np.ndarray
+    phase_used: np.ndarray
+    code_rejected: np.ndarray
+    phase_rejected: np.ndarray
+    sigma0: float
+    iterations: int
+    converged: bool
+    log_lines: list[str] = field(default_factory=list)
+
+    def orbit_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """GCRF state and formal position covariance at epochs [s since ``t_ref``].
+
+        Returns
+        -------
+        states : ndarray, shape (m, 6)
+        cov_pos : ndarray, shape (m, 3, 3)
+            Formal GCRF position covariance [m²] from the arc-parameter covariance.
+        partials : ndarray, shape (m, 3, k)
+            Position partials of the arc parameters.
+        """
+        traj = self.trajectory.at(t_s)
+        g = _position_partials(traj, self.trajectory, self.pulses, self._est_columns,
+                               len(self.parameter_names))
+        k = g.shape[2]
+        cov = np.einsum("mik,kl,mjl->mij", g, self.covariance[:k, :k], g)
+        return traj.states, cov, g
+
+    _est_columns: np.ndarray = field(default=None, repr=False)
+
+
+def pulse_epochs(t_start_s: float, t_end_s: float, interval_s: float | None) -> np.ndarray:
+    """Regular pulse epochs strictly inside (t_start, t_end) [s]."""
+    if not interval_s:
+        return np.empty(0)
+    n = int(np.floor((t_end_s - t_start_s) / interval_s - 1e-9))
+    return t_start_s + interval_s * np.arange(1, n + 1)
+
+
+def _position_partials(traj: Trajectory, full: Trajectory, pulses, est: np.ndarray,
+                       k: int) -> np.ndarray:
+    """∂r/∂(state, estimated force parameters, pulses) at the epochs of ``traj`` (m, 3, k')."""
+    parts = [traj.stm[:, :3, :], traj.sensitivity[:, :3, est]]
+    if pulses is not None and pulses.epochs_s.size:
+        parts.append(pulse_partials(full, pulses, traj.t_s)[:, :3, :])
+    g = np.concatenate(parts, axis=2)
+    if g.shape[2] < k:                       # PCO-Z column: no orbit partial
+        g = np.concatenate([g, np.zeros(g.shape[:2] + (k - g.shape[2],))], axis=2)
+    return g
+
+
+def _sigma(el_deg: np.ndarray, sigma0: float, knee_deg: float) -> np.ndarray:
+    el = np.radians(np.maximum(el_deg, _MIN_ELEVATION_FOR_WEIGHT_DEG))
+    return np.where(np.degrees(el) >= knee_deg, sigma0, sigma0 / (2.0 * np.sin(el)))
+
+
+def _robust_scale(z: np.ndarray) -> float:
+    return float(_MAD_TO_SIGMA * np.median(np.abs(z - np.median(z)))) if z.size else 0.0
+
+
+class _Problem:
+    """Book-keeping of one float POD run (observations, parameters, current estimates)."""
+
+    def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
+                 t_ref, settings: PodSettings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m):
+        self.obs, self.products, self.fm, self.settings = obs, products, force_model, settings
+        self.eop = eop
+        self.leo_pco = (np.zeros(3) if leo_pco_body_m is None
+                        else np.asarray(leo_pco_body_m, dtype=float).copy())
+        self.sat_pco, self.sat_pcv = sat_pco_body_m, sat_pcv_m
+        self.t_ref = np.datetime64(t_ref, "ns")
+        self.t_nom_s = seconds_since(obs.times, self.t_ref)
+        self.t_nom_prod_s = seconds_since(obs.times, products.ref)
+        self.sun = sun_position_ef(obs.times)
+        self.pairs = Pairs(epoch=obs.epoch, isv=products.sv_index(obs.sv)[obs.sat],
+                           sat=obs.sat)
+        self.est = estimated_parameters(force_model)
+        self.params = apriori_parameters(force_model)
+        self.apriori = self.params.copy()
+        sig = constraint_sigmas(force_model)[self.est]
+        self.t0 = float(self.t_nom_s[0])
+        epochs = pulse_epochs(self.t0, float(self.t_nom_s[-1]), settings.pulse_interval_s)
+        self.pulses = PseudoStochasticPulses(epochs) if epochs.size else None
+        n_p = 0 if self.pulses is None else epochs.size
+        self.dv = np.zeros((n_p, 3))
+        self.names = list(STATE_NAMES) + [p for p, e in zip(force_model.parameters, self.est)
+                                          if e]
+        if self.pulses is not None:
+            self.names += self.pulses.parameters
+        self.k_orbit = len(self.names)
+        if settings.estimate_pco_z:
+            self.names.append("pco_z_m")
+        self.k = len(self.names)
+        w = np.zeros(self.k)
+        w[6:6 + sig.size] = np.where(np.isfinite(sig), 1.0 / np.where(np.isfinite(sig), sig,
+                                                                         1.0)**2, 0.0)
+        if n_p:
+            w[6 + sig.size:self.k_orbit] = np.tile(1.0 / np.asarray(settings.pulse_sigma_m_s)**2,
+                                                   n_p)
+        self.constraint_weight = w
+        self.pco_dz = 0.0
+        self.clk_rx_m = np.asarray(obs.clk_rx_m, dtype=float).copy()
+        self.ambiguity = np.zeros(int(obs.pass_index.max(initial=-1)) + 1)
+        self.code_ok = np.isfinite(obs.code_m)
+        self.phase_ok = (obs.pass_index >= 0) & np.isfinite(obs.phase_m)
+        self.code_rej = np.zeros(obs.epoch.size, bool)
+        self.phase_rej = np.zeros(obs.epoch.size, bool)
+
+    # -- orbit ------------------------------------------------------------------------------
+    def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
+        if self.pulses is None:
+            return integrate(self.fm, self.t0, state0, self.params, t_eval)
+        return apply_pulses(self.fm, self.t0, state0, self.params, t_eval, self.pulses, self.dv)
+
+    def current_vector(self, state0: np.ndarray) -> np.ndarray:
+        parts = [state0, self.params[self.est], self.dv.ravel()]
+        if self.settings.estimate_pco_z:
+            parts.append([self.pco_dz])
+        return np.concatenate(parts)
+
+    def apply(self, state0: np.ndarray, dx: np.ndarray) -> np.ndarray:
+        n_e = int(self.est.sum())
+        self.params[self.est] += dx[6:6 + n_e]
+        self.dv += dx[6 + n_e:self.k_orbit].reshape(self.dv.shape)
+        if self.settings.estimate_pco_z:
+            self.pco_dz += dx[self.k_orbit]
+        return state0 + dx[:6]
+
+    def constraint_rhs(self, state0: np.ndarray) -> np.ndarray:
+        apriori = np.concatenate([state0, self.apriori[self.est], np.zeros(self.dv.size),
+                                  [0.0] * self.settings.estimate_pco_z])
+        return self.constraint_weight * (apriori - self.current_vector(state0))
+
+    # -- observations -----------------------------------------------------------------------
+    def linearise(self, state0: np.ndarray):
+        """Integrate, model and build the observation rows at the current estimates."""
+        dt_rx_s = np.nan_to_num(self.clk_rx_m) / C_LIGHT_M_S
+        t_eval = self.t_nom_s - dt_rx_s
+        traj = self.integrate(state0, t_eval)
+        times_true = self.obs.times - (dt_rx_s * 1e9).round().astype("timedelta64[ns]")
+        rot, _ = gcrf_from_itrf_matrices(times_true, eop=self.eop)
+        pco = self.leo_pco + np.array([0.0, 0.0, self.pco_dz])
+        model = compute_model(self.pairs, self.t_nom_prod_s - dt_rx_s, traj.states[:, :3],
+                              traj.states[:, 3:], rot, self.products, self.sun,
+                              leo_pco_body_m=pco, sat_pco_body_m=self.sat_pco,
+                              sat_pcv_m=self.sat_pcv,
+                              nl_wavelength_m=self.obs.nl_wavelength_m)
+        g = _position_partials(traj, traj, self.pulses, self.est, self.k)
+        return traj, model, g
+
+    def rows(self, model: ModelResult, g: np.ndarray):
+        """Code and phase rows of the usable observations, and their pair indices."""
+        s = self.settings
+        usable = model.valid & (model.el_deg >= s.min_elevation_deg)
+        code = self.code_ok & usable & ~self.code_rej
+        phase = self.phase_ok & usable & ~self.phase_rej
+        # passes with too few phase observations are dropped
+        counts = np.bincount(self.obs.pass_index[phase], minlength=self.ambiguity.size)
+        phase &= counts[np.maximum(self.obs.pass_index, 0)] >= s.min_phase_obs
+        active = np.flatnonzero(np.bincount(self.obs.pass_index[phase],
+                                            minlength=self.ambiguity.size))
+        column = np.full(self.ambiguity.size, -1)
+        column[active] = np.arange(active.size)
+        ic, ip = np.flatnonzero(code), np.flatnonzero(phase)
+        pair = np.concatenate([ic, ip])
+        is_phase = np.concatenate([np.zeros(ic.size, bool), np.ones(ip.size, bool)])
+        ep = self.obs.epoch[pair]
+        a_o = -np.einsum("ni,nik->nk", model.los_gcrf[pair], g[ep])
+        if s.estimate_pco_z:
+            a_o[:, self.k_orbit] = -np.sum(model.los_gcrf[pair] * model.z_body_gcrf[pair],
+                                           axis=-1)
+        computed = np.where(is_phase, model.phase_m[pair], model.code_m[pair])
+        observed = np.where(is_phase, self.obs.phase_m[pair], self.obs.code_m[pair])
+        amb = np.where(is_phase, column[self.obs.pass_index[pair]], -1)
+        amb_value = np.where(is_phase, self.ambiguity[self.obs.pass_index[pair]], 0.0)
+        sigma = np.where(is_phase,
+                         _sigma(model.el_deg[pair], s.phase_sigma_m, s.weight_elevation_deg),
+                         _sigma(model.el_deg[pair], s.code_sigma_m, s.weight_elevation_deg))
+        rows = Rows(a_o=a_o, amb=amb, epoch=ep, misclosure=observed - computed - amb_value,
+                    weight=1.0 / sigma**2, n_epochs=self.obs.times.size, n_amb=active.size)
+        return rows, pair, is_phase, active
+
+    def reject_gross_code(self, model: ModelResult) -> int:
+        """Reject code observations far from the median misclosure of their epoch."""
+        ok = self.code_ok & model.valid
+        l = np.where(ok, self.obs.code_m - model.code_m, np.nan)
+        med = np.full(self.obs.times.size, np.nan)
+        order = np.argsort(self.obs.epoch[ok], kind="stable")
+        ep_ok, l_ok = self.obs.epoch[ok][order], l[ok][order]
+        starts = np.flatnonzero(np.r_[True, np.diff(ep_ok) > 0])
+        for a, b in zip(starts, np.r_[starts[1:], ep_ok.size]):
+            med[ep_ok[a]] = np.median(l_ok[a:b])
+        bad = ok & (np.abs(l - med[self.obs.epoch]) > self.settings.gross_code_m)
+        self.code_rej |= bad
+        return int(bad.sum())
+
+    def screen(self, rows: Rows, residuals: np.ndarray, pair: np.ndarray,
+               is_phase: np.ndarray) -> int:
+        """Reject code and phase outliers (module docstring); returns the number rejected."""
+        z = residuals * np.sqrt(rows.weight)
+        n_new = 0
+        for phase_type, rejected in ((False, self.code_rej), (True, self.phase_rej)):
+            sel = is_phase == phase_type
+            scale = _robust_scale(z[sel])
+            bad = sel & (np.abs(z) > self.settings.outlier_k * scale)
+            rejected[pair[bad]] = True
+            n_new += int(bad.sum())
+        return n_new
+
+
+def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceModel, t_ref,
+              state0_gcrf: np.ndarray, settings: PodSettings | None = None, *,
+              eop: EarthOrientation | None = None, leo_pco_body_m=None,
+              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None) -> PodResult:
+    """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
+
+    Parameters
+    ----------
+    obs : PodObservations
+    products : GnssProducts
+        GNSS orbits and clocks (reference signals of the clocks = the code pair of ``obs``).
+    force_model : ForceModel
+        Arc force model, time origin ``t_ref``.
+    t_ref : datetime64
+        Time origin of the force model (GPS time label).
+    state0_gcrf : array_like, shape (6,)
+        A-priori GCRF state at the first epoch of ``obs`` (e.g. a dynamic fit to a
+        code-only orbit, :func:`leopod.dynamics.orbit_fit.fit_orbit`).
+    settings : PodSettings, optional
+    eop : EarthOrientation, optional
+    leo_pco_body_m : array_like, shape (3,), optional
+        Ionosphere-free LEO antenna PCO in the body frame [m].
+    sat_pco_body_m : ndarray, shape (s, 3), optional
+        Ionosphere-free GNSS antenna PCO per ``obs.sv`` (body frame) [m].
+    sat_pcv_m : callable, optional
+        ``f(sat_index, nadir_deg) -> m``: ionosphere-free GNSS antenna PCV.
+
+    Returns
+    -------
+    PodResult
+    """
+    settings = settings or PodSettings()
+    prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
+                    sat_pco_body_m, sat_pcv_m)
+    state = np.asarray(state0_gcrf, dtype=float).copy()
+    log.info("float POD: %d epochs, %d code and %d phase observations, %d passes, "
+             "%d arc parameters (%d pulses)", obs.times.size, int(prob.code_ok.sum()),
+             int(prob.phase_ok.sum()), prob.ambiguity.size, prob.k,
+             0 if prob.pulses is None else prob.pulses.epochs_s.size)
+    converged = False
+    screening = False
+    for iteration in range(1, settings.max_iterations + 1):
+        traj, model, g = prob.linearise(state)
+        if iteration == 1:
+            log.info("rejected %d code observations with gross errors (> %.0f m)",
+                     prob.reject_gross_code(model), settings.gross_code_m)
+        while True:
+            rows, pair, is_phase, active = prob.rows(model, g)
+            ne = accumulate(rows)
+            dx, cov = solve(ne, np.concatenate([prob.constraint_weight, np.zeros(active.size)]),
+                            np.concatenate([prob.constraint_rhs(state), np.zeros(active.size)]))
+            clocks, res = epoch_clocks(rows, dx)
+            if not screening or prob.screen(rows, res, pair, is_phase) == 0:
+                break
+        shift = np.max(np.linalg.norm(np.einsum("mik,k->mi", g[:, :, :prob.k], dx[:prob.k]),
+                                      axis=1))
+        code_rms = np.sqrt(np.mean(res[~is_phase]**2))
+        phase_rms = np.sqrt(np.mean(res[is_phase]**2))
+        log.info("iteration %d: max position correction %.4f m, code RMS %.3f m, phase RMS "
+                 "%.4f m, rejected %d code / %d phase", iteration, shift, code_rms, phase_rms,
+                 int(prob.code_rej.sum()), int(prob.phase_rej.sum()))
+        state = prob.apply(state, dx)
+        prob.ambiguity[active] += dx[prob.k:]
+        prob.clk_rx_m = np.where(np.isfinite(clocks), clocks, prob.clk_rx_m)
+        if shift < settings.screen_below_m and not screening:
+            screening = True
+            continue
+        if screening and shift < settings.tolerance_m:
+            converged = True
+            break
+    if not converged:
+        log.warning("float POD: not converged after %d iterations", settings.max_iterations)
+    dt_rx_s = np.nan_to_num(prob.clk_rx_m) / C_LIGHT_M_S
+    traj = prob.integrate(state, np.union1d(prob.t_nom_s - dt_rx_s, prob.t_nom_s))
+    dof = max(rows.epoch.size - prob.k - active.size - np.unique(rows.epoch).size, 1)
+    v_pv = float(np.sum(rows.weight * res**2))
+    sigma0 = float(np.sqrt(v_pv / dof))
+    cov = cov * sigma0**2
+    n = obs.epoch.size
+    code_res = np.full(n, np.nan)
+    phase_res = np.full(n, np.nan)
+    code_res[pair[~is_phase]] = res[~is_phase]
+    phase_res[pair[is_phase]] = res[is_phase]
+    code_used = np.zeros(n, bool)
+    phase_used = np.zeros(n, bool)
+    code_used[pair[~is_phase]] = True
+    phase_used[pair[is_phase]] = True
+    sig = np.sqrt(np.diag(cov))
+    log.info("float POD: sigma0 %.3f, code RMS %.3f m, phase RMS %.4f m, %d passes",
+             sigma0, np.sqrt(np.mean(res[~is_phase]**2)), np.sqrt(np.mean(res[is_phase]**2)),
+             active.size)
+    result = PodResult(
+        t_ref=prob.t_ref, parameter_names=prob.names,
+        estimates=prob.current_vector(state), sigmas=sig[:prob.k],
+        covariance=cov, ambiguity_m=prob.ambiguity[active],
+        ambiguity_sigma_m=sig[prob.k:], ambiguity_pass=active, trajectory=traj,
+        pulses=prob.pulses, force_model=force_model, force_parameters=prob.params.copy(),
+        clk_rx_m=clocks, model=model, code_residual_m=code_res, phase_residual_m=phase_res,
+        code_used=code_used, phase_used=phase_used, code_rejected=prob.code_rej.copy(),
+        phase_rejected=prob.phase_rej.copy(), sigma0=sigma0, iterations=iteration,
+        converged=converged)
+    result._est_columns = prob.est
+    return result

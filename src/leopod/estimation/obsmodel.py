@@ -1,0 +1,184 @@
+"""Observation model of undifferenced ionosphere-free code and phase of a LEO receiver.
+
+For each (epoch, GNSS satellite) pair the model computes, in the GCRF:
+
+* the true reception time ``t = t_nominal − dt_rx`` (receiver clock from the previous
+  iteration; the LEO moves 7.5 mm per ns of clock error);
+* the LEO antenna phase centre: centre of mass plus the body-frame ionosphere-free PCO
+  rotated with the nominal attitude (:mod:`leopod.frames.attitude`; +Z to the geocentre,
+  +X along the inertial velocity);
+* the transmission time by light-time iteration; the GNSS position of the product (ITRF,
+  centre of mass, :class:`leopod.orbit.products.GnssProducts`) at the transmission time is
+  taken into the GCRF of the reception time with ``R(t) R3(ω τ)`` (the Earth rotation during
+  the travel time τ: the Sagnac effect), plus the satellite's ionosphere-free PCO (yaw-steering
+  attitude, :mod:`leopod.orbit.gnss_attitude`) and nadir-dependent PCV from ANTEX;
+* the satellite clock at the transmission time (linear between product samples) with the
+  periodic relativistic correction, and the Shapiro delay
+  (:mod:`leopod.estimation.corrections`);
+* for phase, the wind-up (ionosphere-free: ``λ_NL φ`` with ``λ_NL = c/(f1+f2)``,
+  Kouba 2009 sec. 5.3), with receiver dipole axes ``x = body X``, ``y = −body Y`` (so that
+  ``x × y`` is the boresight −Z).
+
+The receiver clock is not modelled here (it is pre-eliminated in the estimator).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S
+from leopod.estimation.corrections import (
+    relativistic_clock_s,
+    shapiro_delay_m,
+    unwrap_windup,
+    windup_cycles,
+)
+from leopod.orbit.gnss_attitude import gnss_body_axes
+from leopod.orbit.products import GnssProducts
+
+__all__ = ["Pairs", "ModelResult", "nominal_axes_inertial", "compute_model"]
+
+_LIGHT_TIME_ITERATIONS = 3
+
+
+@dataclass
+class Pairs:
+    """Observed (epoch, satellite) pairs, flattened.
+
+    Attributes
+    ----------
+    epoch : ndarray of int, shape (n,)
+        Index into the epoch axis.
+    isv : ndarray of int, shape (n,)
+        Index into the product satellite axis (:meth:`GnssProducts.sv_index`).
+    sat : ndarray of int, shape (n,)
+        Index into the satellite axis of the observation file (for PCO tables).
+    """
+
+    epoch: np.ndarray
+    isv: np.ndarray
+    sat: np.ndarray
+
+
+@dataclass
+class ModelResult:
+    """Modelled quantities per pair.
+
+    Attributes
+    ----------
+    code_m, phase_m : ndarray, shape (n,)
+        Modelled ionosphere-free code and phase without receiver clock and ambiguity [m].
+    los_gcrf : ndarray, shape (n, 3)
+        Unit vector receiver -> transmitter (GCRF).
+    el_deg, az_deg : ndarray, shape (n,)
+        Antenna-frame elevation above the body X-Y plane and azimuth from +X to +Y [deg].
+    z_body_gcrf : ndarray, shape (n, 3)
+        Body +Z axis at the epoch (GCRF), for the PCO-Z partial.
+    valid : ndarray of bool, shape (n,)
+        False where the products give no orbit or clock.
+    """
+
+    code_m: np.ndarray
+    phase_m: np.ndarray
+    los_gcrf: np.ndarray
+    el_deg: np.ndarray
+    az_deg: np.ndarray
+    z_body_gcrf: np.ndarray
+    valid: np.ndarray
+
+
+def nominal_axes_inertial(pos_m: np.ndarray, vel_m_s: np.ndarray) -> np.ndarray:
+    """Nominal body axes (rows X, Y, Z), shape (n, 3, 3), from inertial position/velocity."""
+    z = -pos_m / np.linalg.norm(pos_m, axis=-1, keepdims=True)
+    y = np.cross(z, vel_m_s)
+    y /= np.linalg.norm(y, axis=-1, keepdims=True)
+    return np.stack([np.cross(y, z), y, z], axis=-2)
+
+
+def _rot3(angle_rad: np.ndarray, vec: np.ndarray) -> np.ndarray:
+    """Coordinates of ``vec`` in axes rotated by ``angle`` about Z (R3(angle) @ vec)."""
+    c, s = np.cos(angle_rad), np.sin(angle_rad)
+    return np.stack([c * vec[:, 0] + s * vec[:, 1], -s * vec[:, 0] + c * vec[:, 1],
+                     vec[:, 2]], axis=-1)
+
+
+def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
+                  vel_leo_gcrf_m_s: np.ndarray, rot_gcrf_itrf: np.ndarray,
+                  products: GnssProducts, sun_itrf_m: np.ndarray, *,
+                  leo_pco_body_m: np.ndarray | None = None,
+                  sat_pco_body_m: np.ndarray | None = None,
+                  sat_pcv_m=None, nl_wavelength_m: float = 0.0) -> ModelResult:
+    """Model ionosphere-free code and phase (module docstring).
+
+    Parameters
+    ----------
+    pairs : Pairs
+    t_rx_s : ndarray, shape (m,)
+        True reception times of the epochs [s since ``products.ref``, GPS time].
+    pos_leo_gcrf_m, vel_leo_gcrf_m_s : ndarray, shape (m, 3)
+        LEO centre of mass at the true reception times (GCRF) [m, m/s].
+    rot_gcrf_itrf : ndarray, shape (m, 3, 3)
+        ITRF -> GCRF rotation at the epochs.
+    products : GnssProducts
+    sun_itrf_m : ndarray, shape (m, 3)
+        Earth-fixed Sun position at the epochs [m] (GNSS yaw attitude).
+    leo_pco_body_m : ndarray, shape (3,), optional
+        Ionosphere-free LEO antenna PCO in the body frame [m].
+    sat_pco_body_m : ndarray, shape (s_obs, 3), optional
+        Ionosphere-free transmitter PCO per observation-file satellite (``pairs.sat``) [m].
+    sat_pcv_m : callable, optional
+        ``sat_pcv_m(sat_index, nadir_deg) -> m``: ionosphere-free transmitter PCV.
+    nl_wavelength_m : float
+        Narrow-lane wavelength ``c/(f1+f2)`` scaling the wind-up [m] (0: no wind-up).
+
+    Returns
+    -------
+    ModelResult
+    """
+    ep, isv = pairs.epoch, pairs.isv
+    axes = nominal_axes_inertial(pos_leo_gcrf_m, vel_leo_gcrf_m_s)          # (m, 3, 3)
+    rx = pos_leo_gcrf_m[ep]
+    if leo_pco_body_m is not None:
+        rx = rx + np.einsum("nij,i->nj", axes[ep], leo_pco_body_m)
+    rot = rot_gcrf_itrf[ep]
+    t_rx = t_rx_s[ep]
+    rx_itrf = np.einsum("nji,nj->ni", rot, rx)                               # R^T rx
+    tau = np.full(ep.size, 0.075)
+    for _ in range(_LIGHT_TIME_ITERATIONS):
+        sv_itrf, sv_vel_itrf, _ = products.position(isv, t_rx - tau)
+        sv_now = _rot3(OMEGA_EARTH_RAD_S * tau, sv_itrf)
+        tau = np.linalg.norm(sv_now - rx_itrf, axis=-1) / C_LIGHT_M_S
+    valid = np.isfinite(sv_itrf).all(axis=-1)
+    # placeholders for pairs without products (flagged invalid), keeping the arithmetic finite
+    sv_itrf = np.where(valid[:, None], sv_itrf, 3.0 * rx_itrf)
+    sv_vel_itrf = np.where(valid[:, None], sv_vel_itrf, 0.0)
+    sv_axes_itrf = gnss_body_axes(sv_itrf, sun_itrf_m[ep])                   # (n, 3, 3)
+    if sat_pco_body_m is not None:
+        sv_itrf = sv_itrf + np.einsum("nij,ni->nj", sv_axes_itrf, sat_pco_body_m[pairs.sat])
+        sv_now = _rot3(OMEGA_EARTH_RAD_S * tau, sv_itrf)
+    vec_itrf = sv_now - rx_itrf
+    rho = np.linalg.norm(vec_itrf, axis=-1)
+    los_itrf = vec_itrf / np.where(rho > 0, rho, 1.0)[:, None]
+    los = np.einsum("nij,nj->ni", rot, los_itrf)
+    clk = products.clock(isv, t_rx - tau)
+    valid &= np.isfinite(clk)
+    clk = np.where(valid, clk, 0.0)
+    clk = clk + relativistic_clock_s(sv_itrf, sv_vel_itrf)
+    geometric = rho + shapiro_delay_m(sv_now, rx_itrf) - C_LIGHT_M_S * clk
+    if sat_pcv_m is not None:
+        nadir = np.degrees(np.arccos(np.clip(
+            -np.sum(los_itrf * sv_axes_itrf[:, 2], axis=-1), -1.0, 1.0)))
+        geometric = geometric + np.where(valid, sat_pcv_m(pairs.sat, nadir), 0.0)
+    body = np.einsum("nij,nj->ni", axes[ep], los)
+    el = np.degrees(np.arcsin(np.clip(-body[:, 2], -1.0, 1.0)))
+    az = np.degrees(np.arctan2(body[:, 1], body[:, 0])) % 360.0
+    phase = geometric.copy()
+    if nl_wavelength_m:
+        sv_axes = np.einsum("nij,nkj->nki", rot, sv_axes_itrf)               # GCRF rows
+        wind = windup_cycles(-los, axes[ep, 0], -axes[ep, 1], sv_axes[:, 0], sv_axes[:, 1])
+        wind[valid] = unwrap_windup(wind[valid], isv[valid], ep[valid])
+        phase += nl_wavelength_m * wind
+    return ModelResult(code_m=geometric, phase_m=phase, los_gcrf=los, el_deg=el, az_deg=az,
+                       z_body_gcrf=axes[ep, 2], valid=valid)

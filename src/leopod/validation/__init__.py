@@ -1,0 +1,1 @@
+"""Independent validation of estimated orbits: satellite laser ranging, overlaps, references."""
