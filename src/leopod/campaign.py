@@ -8,9 +8,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from leopod.time import days_between, parse_date_id, template_fields
+import datetime as _dt
 
-__all__ = ["campaign_days", "expand_template", "library_files", "satellite_ids"]
+from leopod.time import date_id, days_between, parse_date_id, template_fields
+
+__all__ = ["arc_days", "campaign_days", "expand_template", "library_files", "resolve_model_paths",
+           "satellite_ids"]
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -76,3 +79,57 @@ def library_files(*parts: str) -> list[str]:
         else:
             raise FileNotFoundError(f"no leopod module or package '{part}'")
     return sorted(str(f) for f in files)
+
+
+_PACKAGE_PREFIX = "satkit:"
+_PATH_KEYS = {"field", "ocean", "space_weather", "ephemeris"}
+
+
+def _package_file(name: str) -> str:
+    import satkit_data
+
+    path = Path(satkit_data.__file__).resolve().parent / "data" / name
+    if not path.exists():
+        raise FileNotFoundError(f"satkit-data has no file '{name}'")
+    return str(path)
+
+
+def resolve_model_paths(forces: dict) -> dict:
+    """Force configuration with ``satkit:<file>`` entries replaced by installed file paths.
+
+    Parameters
+    ----------
+    forces : dict
+        Sections of :func:`leopod.dynamics.force_model.build_force_model`; the keys
+        ``field``, ``ocean``, ``space_weather`` and ``ephemeris`` may name a file of the
+        satkit-data package as ``satkit:EGM96.gfc``.
+
+    Returns
+    -------
+    dict
+        A copy with resolved paths (other values unchanged).
+    """
+    out = {}
+    for name, section in forces.items():
+        if isinstance(section, dict):
+            section = {k: (_package_file(v[len(_PACKAGE_PREFIX):])
+                           if k in _PATH_KEYS and isinstance(v, str)
+                           and v.startswith(_PACKAGE_PREFIX) else v)
+                       for k, v in section.items()}
+        out[name] = section
+    return out
+
+
+def arc_days(config: dict, date: str) -> list[str]:
+    """Campaign days whose data an arc centred on ``date`` uses (the day and, when the arc
+    reaches into them, its neighbours inside the campaign)."""
+    day = parse_date_id(date)
+    pod = config.get("pod", {})
+    days = set(campaign_days(config))
+    out = []
+    if pod.get("arc_before_s", 0) > 0:
+        out.append(date_id(day - _dt.timedelta(days=1)))
+    out.append(date)
+    if pod.get("arc_after_s", 0) > 0:
+        out.append(date_id(day + _dt.timedelta(days=1)))
+    return [d for d in out if d in days]

@@ -83,8 +83,10 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
     Path
         The written file.
     """
+    # datetime variables get their units from the encoding (TIME_UNITS)
     missing = [name for name, var in ds.data_vars.items()
-               if "units" not in var.attrs or "long_name" not in var.attrs]
+               if "long_name" not in var.attrs
+               or ("units" not in var.attrs and not np.issubdtype(var.dtype, np.datetime64))]
     if missing:
         raise ValueError(f"{path}: variables without 'units'/'long_name': {missing}")
     out = ds.copy()

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.io._text import FormatError, read_lines
-from leopod.io.bias_sinex import osb, read_bias_sinex
+from leopod.io.bias_sinex import osb, read_bias_sinex, write_bias_sinex
 
 WHU = "products_2008-279_whu/WHU0IGSFIN_20082790000_01D_01D_ABS.BIA.Z"
 COD = "products_2023-189_cod_osb/COD0OPSFIN_20231890000_01D_01D_OSB.BIA"
@@ -205,3 +206,82 @@ def test_broken_header_and_blocks(shared_data, tmp_path):
     _expect(_broken(shared_data, tmp_path, lambda lines: lines[1:]), 1, "%=BIA")
     no_solution = _broken(shared_data, tmp_path, lambda lines: lines[:43] + lines[174:])
     _expect(no_solution, None, "+BIAS/SOLUTION")
+
+
+# --------------------------------------------------------------------------------------------
+# Writer: round trips (authority: the reader, and the layout of the real WHU/CODE files)
+
+
+@pytest.mark.shared
+@pytest.mark.parametrize("name", [WHU, COD])
+def test_write_roundtrip_real_files(shared_data, tmp_path, name):
+    # real file -> Dataset -> written file -> the same Dataset (values, coordinates, attrs)
+    ds = read_bias_sinex(shared_data / name)
+    path = tmp_path / "roundtrip.bia"
+    write_bias_sinex(ds, path)
+    xr.testing.assert_identical(read_bias_sinex(path), ds)
+
+
+@pytest.mark.shared
+def test_write_layout_matches_real_whu_file(shared_data, tmp_path):
+    real = read_lines(shared_data / WHU)
+    path = tmp_path / "whu.bia"
+    write_bias_sinex(read_bias_sinex(shared_data / WHU), path, decimals=3)
+    ours = read_lines(path)
+    solution_header = next(line for line in real if line.startswith("*BIAS SVN_"))
+    # header line: the same fields; WHU writes the day end as 2008:279:86400, we (like CODE)
+    # as 2008:280:00000, the same instant
+    assert ours[0] == real[0].replace("2008:279:86400", "2008:280:00000")
+    # block lines of the real file that the writer reproduces character for character
+    for line in (" OBSERVATION_SAMPLING                              30",
+                 " PARAMETER_SPACING                              86400",
+                 " DETERMINATION_METHOD                    COMBINED_ANALYSIS",
+                 " BIAS_MODE                               ABSOLUTE",
+                 " TIME_SYSTEM                             G",
+                 " DESCRIPTION        PRIDE Lab, GNSS Research Center, Wuhan University",
+                 solution_header, "-BIAS/SOLUTION", "%=ENDBIA"):
+        assert line in ours, line
+    # records: same text up to the window end, same value and std columns
+    rec_real = real[real.index(solution_header) + 1]
+    rec_ours = ours[ours.index(solution_header) + 1]
+    assert rec_ours[:50] == rec_real[:50]
+    assert rec_ours[65:103] == rec_real[65:103]
+
+
+def test_write_constructed_cycles_stamps_and_blanks(tmp_path):
+    records = [_record("G01", "L2W", "2020:001:00000", "", "cyc", 0.25),
+               _record("G01", "L2W", "2020:001:03600", "", "cyc", -0.125)]
+    ds = read_bias_sinex(_write(tmp_path, records))
+    out = tmp_path / "written.bia.gz"
+    write_bias_sinex(ds, out)
+    back = read_bias_sinex(out)
+    assert back.attrs["bias_timing"] == "epoch" and list(back.unit.values) == ["cyc", "cyc"]
+    np.testing.assert_allclose(back.value_s, ds.value_s, rtol=1e-12)
+    assert np.isnan(back.slope_s_per_s).all()
+    assert np.isnat(back.end.values).all()
+
+
+def test_write_errors(tmp_path):
+    good = read_bias_sinex(_write(tmp_path, [_record("G01", "C1W", "2020:001:00000",
+                                                     "2020:002:00000", "ns", 1.0)]))
+    bad_value = good.copy(deep=True)
+    bad_value["value_s"][:] = np.nan
+    bad_unit = good.assign_coords(unit=("bias", ["cyc"]))   # cycles of a code observable
+    bad_time = good.assign_coords(start=("bias", [np.datetime64("2020-01-01T00:00:00.5")]))
+    long_prn = good.assign_coords(prn=("bias", ["G001"]))
+    for ds, match in ((bad_value, "not finite"), (bad_unit, "unit 'cyc'"),
+                      (bad_time, "whole second"), (long_prn, "PRN")):
+        with pytest.raises(ValueError, match=match):
+            write_bias_sinex(ds, tmp_path / "bad.bia")
+        assert not (tmp_path / "bad.bia").exists()   # no partial output
+
+
+def test_write_open_bounds(tmp_path):
+    ds = read_bias_sinex(_write(tmp_path, [_record("G01", "C1W", "0000:000:00000",
+                                                   "0000:000:00000", "ns", 1.5)]))
+    out = tmp_path / "open.bia"
+    write_bias_sinex(ds, out)
+    assert " 0000:000:00000 0000:000:00000 ns" in out.read_text()
+    back = read_bias_sinex(out)
+    xr.testing.assert_equal(back, ds)   # values and coordinates (the writer adds TIME_SYSTEM)
+    assert {k: back.attrs[k] for k in ds.attrs} == ds.attrs

@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from leopod.io._text import FormatError
-from leopod.io.wlbias import read_wl_bias
+from leopod.io.clock import read_rinex_clock, write_rinex_clock
+from leopod.io.wlbias import read_wl_bias, wl_bias_records, write_wl_bias
 
 
 def _wl(sv, epoch, values, comment=False):
@@ -90,3 +92,70 @@ def test_wl_errors(tmp_path):
     err = _expect(_write(tmp_path, _grg_clock_file([good, good])), 4, "WL")
     assert "G01" in err.message
     _expect(_write(tmp_path, _grg_clock_file([])), None, "WL")
+
+
+# --------------------------------------------------------------------------------------------
+# Writer (authority: the documented record layout, as built by _wl above, and the reader)
+
+
+def _wl_dataset():
+    times = np.array(["2016-01-01T00:00", "2016-01-02T00:00:30.25"], dtype="datetime64[ns]")
+    values = np.array([[-0.123, 2.718281828459045, np.nan], [0.25, -3.5e-5, 1.0]])
+    sigma = np.array([[np.nan, 0.01, np.nan], [0.02, np.nan, np.nan]])
+    return xr.Dataset({"wl_bias_cyc": (("time", "sv"), values),
+                       "wl_bias_sigma_cyc": (("time", "sv"), sigma)},
+                      coords={"time": times, "sv": ["G01", "G05", "C19"]})
+
+
+def test_write_records_have_the_documented_layout():
+    lines = wl_bias_records(_wl_dataset())
+    # columns 1-40 as the constructed records; values in Fortran E19.12 ("-0.123...E+00",
+    # as RINEX clock files and the reader docstring write them)
+    for line, (sv, epoch, values) in zip(lines, (("G01", EPOCH, [-0.123]),
+                                                 ("G05", EPOCH, [2.718281828459045, 0.01]),
+                                                 ("G01", (2016, 1, 2, 0, 0, 30.25),
+                                                  [0.25, 0.02]))):
+        assert line[:40] == _wl(sv, epoch, values)[:40]
+        np.testing.assert_allclose([float(v) for v in line[40:].split()], values, rtol=1e-12)
+    assert lines[0][40:] == "-0.123000000000E+00"
+    assert len(lines) == 5   # the NaN (time, sv) is skipped
+    assert max(len(line) for line in lines if line[34:37] == "  1") <= 60   # fits a COMMENT
+
+
+def test_write_roundtrip(tmp_path):
+    ds = _wl_dataset()
+    for name in ("wl.txt", "wl.txt.gz"):
+        write_wl_bias(ds, tmp_path / name)
+        back = read_wl_bias(tmp_path / name)
+        ref = ds.sel(sv=sorted(ds.sv.values))
+        np.testing.assert_array_equal(back.time.values, ref.time.values)
+        # E19.12: 12 significant digits
+        np.testing.assert_allclose(back.wl_bias_cyc, ref.wl_bias_cyc, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(back.wl_bias_sigma_cyc, ref.wl_bias_sigma_cyc, rtol=1e-12)
+
+
+def test_write_into_grg_style_clock_header(tmp_path):
+    # GRG style: the WL records as COMMENT lines of a RINEX clock file; both readers agree
+    ds = _wl_dataset().isel(time=[0])
+    clk = xr.Dataset({"clk_s": (("time", "sv"), [[1.25e-4, -3.5e-5, 2.0e-6]])},
+                     coords={"time": ds.time.values, "sv": ["C19", "G01", "G05"]},
+                     attrs={"time_system": "GPS"})
+    path = tmp_path / "grg.clk"
+    write_rinex_clock(clk, path, comments=tuple(
+        line for line in wl_bias_records(ds) if line[34:37] == "  1"))
+    wl = read_wl_bias(path)
+    assert list(wl.sv.values) == ["G01"]
+    assert wl.wl_bias_cyc.item() == pytest.approx(-0.123, rel=1e-12)
+    np.testing.assert_allclose(read_rinex_clock(path).clk_s.values, clk.clk_s.values,
+                               rtol=1e-11)
+
+
+def test_write_errors(tmp_path):
+    ds = _wl_dataset()
+    with pytest.raises(ValueError, match="G001"):
+        write_wl_bias(ds.assign_coords(sv=["G001", "G05", "C19"]), tmp_path / "bad.txt")
+    with pytest.raises(ValueError, match="no finite"):
+        write_wl_bias(ds * np.nan, tmp_path / "bad.txt")
+    with pytest.raises(ValueError, match="wl_bias_cyc"):
+        write_wl_bias(ds.drop_vars("wl_bias_cyc"), tmp_path / "bad.txt")
+    assert not (tmp_path / "bad.txt").exists()

@@ -2,6 +2,7 @@
 from snakemake.utils import validate
 
 from leopod.campaign import (
+    arc_days,
     campaign_days,
     expand_template,
     library_files,
@@ -51,6 +52,7 @@ def all_targets():
         [
             "results/quality/{sat}/{date}.nc",
             "results/quality/{sat}/{date}_summary.html",
+            "results/float_pod/{sat}/{date}.sp3",
         ],
         sat=SATS,
         date=DAYS,
@@ -70,3 +72,24 @@ def sat_sp3_id(wildcards):
 def sat_title(wildcards):
     """Title of a satellite-day for figures."""
     return f"{sat_config(wildcards).get('name', wildcards.sat)} {wildcards.date}"
+
+
+def float_pod_inputs(wildcards):
+    """Ingest/quality outputs and GNSS products of the days of the arc of a satellite-day."""
+    days = arc_days(config, wildcards.date)
+    sat = wildcards.sat
+    files = {
+        "obs": [f"results/ingest/{sat}/{d}_obs.nc" for d in days],
+        "leo": [f"results/ingest/{sat}/{d}_leo.nc" for d in days],
+        "quality": [f"results/quality/{sat}/{d}.nc" for d in days],
+        "orbit": [expand_template(config["products"]["gnss_orbit"], d, sat) for d in days],
+        "clock": [expand_template(config["products"]["gnss_clock"], d, sat) for d in days],
+    }
+    if config["products"].get("antex"):
+        files["antex"] = expand_template(config["products"]["antex"], wildcards.date, sat)
+    return files
+
+
+def sat_pod_sp3_id(wildcards):
+    """Satellite id written into the float-POD SP3 file."""
+    return sat_config(wildcards).get("pod_sp3_id", "L01")

@@ -1,4 +1,5 @@
-"""A simple, self-consistent simulated world: Earth rotation, GPS constellation, LEO, clocks.
+"""A simple, self-consistent simulated world: Earth rotation, GPS and BDS-3 constellations, LEO,
+clocks.
 
 This is the first stage of the closed-loop simulator: orbits are analytic (circular orbits
 with the secular J2 drift of node and argument of latitude), so the default campaign runs
@@ -18,9 +19,21 @@ import numpy as np
 
 from leopod.constants import GM_EARTH_M3_S2, OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
 
-__all__ = ["CircularOrbit", "gps_constellation", "earth_fixed", "RandomWalkClock"]
+__all__ = ["BDS3_MEO_ALTITUDE_M", "BDS3_MEO_INCLINATION_DEG", "BDS3_MEO_PRNS", "CircularOrbit",
+           "RandomWalkClock", "beidou3_constellation", "earth_fixed", "gps_constellation",
+           "walker_constellation"]
 
 _J2 = 1.0826359e-3  # Earth dynamic form factor, IERS Conventions 2010 Table 1.1
+
+#: BDS-3 MEO nominal altitude [m] and inclination [deg]: 21 528 km, 55°, Walker 24/3/1
+#: (Yang Y. et al. 2019, "Introduction to BeiDou-3 navigation satellite system", Navigation
+#: 66(1):7-18, doi:10.1002/navi.291).
+BDS3_MEO_ALTITUDE_M = 21_528.0e3
+BDS3_MEO_INCLINATION_DEG = 55.0
+#: PRNs of the 24 BDS-3 MEO satellites of the nominal constellation, C19-C30, C32-C37,
+#: C41-C46 (IGS MGEX BeiDou constellation status, mgex.igs.org/IGS_MGEX_Status_BDS.php;
+#: C38-C40 are the BDS-3 IGSO satellites).
+BDS3_MEO_PRNS = tuple(f"C{k:02d}" for k in (*range(19, 31), *range(32, 38), *range(41, 47)))
 
 
 @dataclass(frozen=True)
@@ -88,6 +101,58 @@ def gps_constellation() -> dict[str, CircularOrbit]:
                                               90.0 * slot + 15.0 * plane, j2=True)
             k += 1
     return sats
+
+
+def walker_constellation(ids, n_planes: int, phasing: int, a_m: float, inc_deg: float,
+                         raan0_deg: float = 0.0, j2: bool = True) -> dict[str, CircularOrbit]:
+    """Walker delta constellation T/P/F of circular orbits (Walker 1984, J. Br. Interplanet.
+    Soc. 37:559-572).
+
+    T = len(ids) satellites in P = ``n_planes`` planes (S = T/P each): plane p has the node
+    ``Ω_p = Ω_0 + 360° p / P``; satellite s of plane p has the argument of latitude at t = 0
+    ``u = 360° s / S + 360° F p / T`` (F = ``phasing``). ``ids`` fill plane 0 slot 0..S-1,
+    then plane 1, ...
+
+    Parameters
+    ----------
+    ids : sequence of str
+        Satellite ids, T of them (a multiple of ``n_planes``).
+    n_planes, phasing : int
+        P and F (0 <= F < P).
+    a_m, inc_deg, raan0_deg : float
+        Semi-major axis [m], inclination [deg], node of plane 0 [deg].
+    j2 : bool
+        Secular J2 rates (:class:`CircularOrbit`).
+
+    Returns
+    -------
+    dict of str to CircularOrbit
+    """
+    ids = list(ids)
+    total = len(ids)
+    if total == 0 or total % n_planes or not 0 <= phasing < n_planes:
+        raise ValueError(f"Walker {total}/{n_planes}/{phasing} is not a valid constellation")
+    per_plane = total // n_planes
+    sats = {}
+    for k, sat in enumerate(ids):
+        plane, slot = divmod(k, per_plane)
+        raan_deg = raan0_deg + 360.0 * plane / n_planes
+        u0_deg = 360.0 * slot / per_plane + 360.0 * phasing * plane / total
+        sats[sat] = CircularOrbit(a_m, inc_deg, raan_deg % 360.0, u0_deg % 360.0, j2=j2)
+    return sats
+
+
+def beidou3_constellation() -> dict[str, CircularOrbit]:
+    """The nominal BDS-3 MEO constellation: Walker 24/3/1, a = R_E + 21 528 km ≈ 27 906 km,
+    i = 55°, with the secular J2 drift (Yang et al. 2019; Keplerian period 12 h 53 min,
+    13 revolutions in 7 sidereal days).
+
+    Satellites are the 24 MEO PRNs of :data:`BDS3_MEO_PRNS`, assigned in PRN order to the
+    slots of planes A, B, C (8 each): the PRN of each slot is nominal, not the operational
+    assignment.
+    """
+    return walker_constellation(BDS3_MEO_PRNS, 3, 1, R_EARTH_EQUATOR_M + BDS3_MEO_ALTITUDE_M,
+                                BDS3_MEO_INCLINATION_DEG)
 
 
 def earth_fixed(t_s, pos_in: np.ndarray, vel_in: np.ndarray | None = None, theta0_rad: float = 0.0):

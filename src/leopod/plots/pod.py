@@ -1,0 +1,301 @@
+"""Figures of the float POD step.
+
+Each function takes a Dataset written by the float POD and writes one PNG:
+
+- post-fit code and phase residuals versus time and versus antenna elevation, with RMS per
+  elevation bin (the usual residual diagnostics of reduced-dynamic POD, e.g. seed 000);
+- a sky map of the mean phase residual in the antenna frame (azimuth 0° = +X = flight
+  direction, the convention of seed 000 Figs. 7–9 and of :mod:`leopod.plots.quality`), a first
+  look at antenna phase-centre variations before an empirical PCV map is estimated;
+- the difference of the a-priori (code-only) orbit to the estimated orbit in radial, along-track
+  and cross-track, with the formal sigmas of the estimate.
+
+RMS values are computed from the finite values only (unused and rejected observations are NaN
+in the residual Dataset). The PNGs carry no software or time stamp, so repeated runs give
+identical bytes.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import matplotlib.ticker as mticker
+import matplotlib.transforms as mtransforms
+import numpy as np
+import xarray as xr
+
+__all__ = [
+    "plot_apriori_difference",
+    "plot_residual_skymap",
+    "plot_residuals_elevation",
+    "plot_residuals_time",
+    "rms_by_bin",
+]
+
+_DPI = 110
+_M_TO_MM = 1e3
+"""Metres to millimetres (display unit of phase residuals and formal sigmas)."""
+_BIN_DEG = 5.0
+"""Width of the elevation bins and of the sky-map cells [deg]."""
+_PANELS = (("phase", _M_TO_MM, "mm"), ("code", 1.0, "m"))
+"""(kind, factor from m to the display unit, display unit) of the two residual panels."""
+_RTN = ("R", "T", "N")
+_RTN_NAMES = {"R": "radial", "T": "along-track", "N": "cross-track"}
+
+
+def _save(fig, path) -> None:
+    fig.savefig(path, dpi=_DPI, metadata={"Software": None})
+    plt.close(fig)
+
+
+def _heading(title: str, what: str) -> str:
+    return f"{title}: {what}" if title else what
+
+
+def _rms(values: np.ndarray) -> float:
+    """Root mean square of the finite entries of ``values``; NaN when there are none."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(np.sqrt(np.mean(v * v))) if v.size else float("nan")
+
+
+def _hours_of_day(time: np.ndarray) -> tuple[np.ndarray, str]:
+    """Hours since 00:00 of the day that holds the middle epoch of ``time`` (datetime64).
+
+    A 30-h arc from 21:00 of the previous day to 03:00 of the next thus runs from −3 h to 27 h
+    and the nominal day spans 0–24 h. Returns the hours, shape (n,), and an axis label.
+    """
+    t = np.asarray(time, dtype="datetime64[ns]")
+    if t.size == 0:
+        return np.zeros(0), "hours of day"
+    middle = t[0] + (t[-1] - t[0]) // 2
+    midnight = middle.astype("datetime64[D]")
+    hours = (t - midnight) / np.timedelta64(1, "h")
+    return hours, f"hours since {midnight} 00:00 (GPS time)"
+
+
+def rms_by_bin(values, coordinate, edges) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Root mean square of ``values`` in bins of ``coordinate``.
+
+    ``rms_k = sqrt(sum(v_i**2) / n_k)`` over the pairs with ``edges[k] <= coordinate_i <
+    edges[k+1]`` (the last bin also holds ``coordinate_i == edges[-1]``, as ``numpy.histogram``);
+    pairs where either value is not finite are ignored.
+
+    Parameters
+    ----------
+    values, coordinate : array_like, same shape (any)
+        Values (e.g. residuals [m]) and the coordinate they are binned by (e.g. elevation [deg]).
+    edges : array_like, shape (k+1,)
+        Monotonically increasing bin edges, in the unit of ``coordinate``.
+
+    Returns
+    -------
+    centres : ndarray, shape (k,)
+        Bin centres, unit of ``coordinate``.
+    rms : ndarray, shape (k,)
+        RMS per bin, unit of ``values``; NaN for empty bins.
+    counts : ndarray of int, shape (k,)
+        Number of finite pairs per bin.
+    """
+    v = np.asarray(values, dtype=float).ravel()
+    x = np.asarray(coordinate, dtype=float).ravel()
+    if v.shape != x.shape:
+        raise ValueError(f"values and coordinate differ in size: {v.size} vs {x.size}")
+    edges = np.asarray(edges, dtype=float)
+    ok = np.isfinite(v) & np.isfinite(x)
+    counts, _ = np.histogram(x[ok], bins=edges)
+    sum_sq, _ = np.histogram(x[ok], bins=edges, weights=v[ok] ** 2)
+    rms = np.full(counts.shape, np.nan)
+    np.sqrt(np.divide(sum_sq, counts, out=rms, where=counts > 0), out=rms, where=counts > 0)
+    return 0.5 * (edges[:-1] + edges[1:]), rms, counts
+
+
+def _symmetric_limit(values: np.ndarray, fallback: float) -> float:
+    """Largest absolute finite value (5 % margin), or ``fallback`` when there is none."""
+    v = np.abs(np.asarray(values, dtype=float))
+    v = v[np.isfinite(v)]
+    return 1.05 * float(v.max()) if v.size and v.max() > 0 else fallback
+
+
+def _n_rejected(res: xr.Dataset, kind: str) -> int:
+    return int(np.count_nonzero(res[f"{kind}_rejected"].values == 1))
+
+
+def plot_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
+    """Post-fit phase [mm] and code [m] residuals versus time, coloured by satellite.
+
+    Each panel states the RMS of the finite residuals, their number and the number of
+    observations rejected as outliers; red ticks on the lower axis mark epochs that hold a
+    rejected observation.
+
+    Parameters
+    ----------
+    res : xarray.Dataset
+        Residual Dataset of the float POD: ``code_residual_m``, ``phase_residual_m``,
+        ``code_rejected``, ``phase_rejected`` (time, sv).
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title (e.g. satellite and date).
+    """
+    hours, xlabel = _hours_of_day(res.time.values)
+    n_sv = res.sizes["sv"]
+    colour_index = np.broadcast_to(np.arange(n_sv), (hours.size, n_sv))
+    t = np.broadcast_to(hours[:, None], (hours.size, n_sv))
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
+    for ax, (kind, scale, unit) in zip(axes, _PANELS):
+        r = res[f"{kind}_residual_m"].values * scale
+        ok = np.isfinite(r)
+        ax.scatter(t[ok], r[ok], c=colour_index[ok], cmap="tab20", vmin=0, vmax=max(n_sv - 1, 1),
+                   s=2, rasterized=True)
+        rejected = (res[f"{kind}_rejected"].values == 1).any(axis=1)
+        ax.plot(hours[rejected], np.zeros(np.count_nonzero(rejected)), "|", color="red", ms=6,
+                transform=mtransforms.blended_transform_factory(ax.transData, ax.transAxes))
+        lim = _symmetric_limit(r, 1.0)
+        ax.set_ylim(-lim, lim)
+        ax.set_ylabel(f"{kind} residual [{unit}]")
+        ax.set_title(f"{kind}: RMS {_rms(r):.3g} {unit}, {np.count_nonzero(ok)} used, "
+                     f"{_n_rejected(res, kind)} rejected", fontsize=9, loc="left")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel(xlabel)
+    fig.suptitle(_heading(title, "float POD post-fit residuals"))
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def plot_residuals_elevation(res: xr.Dataset, path, title: str = "") -> None:
+    """Post-fit phase [mm] and code [m] residuals versus antenna elevation, with RMS per bin.
+
+    The red line is the RMS in 5° elevation bins (:func:`rms_by_bin`), drawn at the bin centres.
+
+    Parameters
+    ----------
+    res : xarray.Dataset
+        Residual Dataset of the float POD: ``code_residual_m``, ``phase_residual_m``, ``el_deg``
+        (time, sv) [deg], elevation above the antenna (body X–Y) plane.
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    el = res.el_deg.values
+    low = min(float(np.nanmin(el)) if np.isfinite(el).any() else 0.0, 0.0)
+    edges = np.arange(np.floor(low / _BIN_DEG) * _BIN_DEG, 90.0 + _BIN_DEG / 2, _BIN_DEG)
+    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for ax, (kind, scale, unit) in zip(axes, _PANELS):
+        r = res[f"{kind}_residual_m"].values * scale
+        ok = np.isfinite(r) & np.isfinite(el)
+        ax.scatter(el[ok], r[ok], s=1, alpha=0.25, color="tab:blue", rasterized=True)
+        centres, rms, _ = rms_by_bin(r, el, edges)
+        ax.plot(centres, rms, "o-", color="tab:red", ms=3, label=f"RMS per {_BIN_DEG:g}° bin")
+        lim = _symmetric_limit(r[ok], 1.0)
+        ax.set_ylim(-lim, lim)
+        ax.set_ylabel(f"{kind} residual [{unit}]")
+        ax.set_title(f"{kind}: RMS {_rms(r):.3g} {unit}", fontsize=9, loc="left")
+        ax.legend(fontsize=8, loc="upper right")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("elevation in the antenna frame [deg]")
+    axes[-1].set_xlim(edges[0], 90)
+    fig.suptitle(_heading(title, "float POD residuals vs elevation"))
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def _cell_means(values: np.ndarray, az_deg: np.ndarray, el_deg: np.ndarray,
+                az_edges: np.ndarray, el_edges: np.ndarray) -> np.ndarray:
+    """Mean of ``values`` per (azimuth, elevation) cell, shape (n_az, n_el); NaN when empty."""
+    ok = np.isfinite(values) & np.isfinite(az_deg) & np.isfinite(el_deg)
+    az = np.mod(az_deg[ok], 360.0)
+    counts, _, _ = np.histogram2d(az, el_deg[ok], bins=(az_edges, el_edges))
+    sums, _, _ = np.histogram2d(az, el_deg[ok], bins=(az_edges, el_edges), weights=values[ok])
+    means = np.full(counts.shape, np.nan)
+    np.divide(sums, counts, out=means, where=counts > 0)
+    return means
+
+
+def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
+    """Antenna-frame polar map of the mean phase residual [mm] in 5° × 5° cells.
+
+    Azimuth is the polar angle with 0° at the top (+X, flight direction) increasing clockwise
+    toward +Y; elevation is radial with 90° (antenna boresight) at the centre. Observations
+    below the antenna plane (negative elevation) are left out. The colour scale is symmetric
+    about zero (98th percentile of |cell mean|).
+
+    Parameters
+    ----------
+    res : xarray.Dataset
+        Residual Dataset of the float POD: ``phase_residual_m``, ``el_deg``, ``az_deg``
+        (time, sv) [deg].
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    az_edges = np.arange(0.0, 360.0 + _BIN_DEG / 2, _BIN_DEG)
+    el_edges = np.arange(0.0, 90.0 + _BIN_DEG / 2, _BIN_DEG)
+    means = _cell_means(res.phase_residual_m.values * _M_TO_MM, res.az_deg.values,
+                        res.el_deg.values, az_edges, el_edges)
+    finite = np.abs(means[np.isfinite(means)])
+    vmax = float(np.percentile(finite, 98)) if finite.size and finite.max() > 0 else 1.0
+    fig = plt.figure(figsize=(6.5, 6))
+    ax = fig.add_subplot(projection="polar")
+    ax.set_theta_zero_location("N")
+    ax.set_theta_direction(-1)
+    mesh = ax.pcolormesh(np.radians(az_edges), 90.0 - el_edges, np.ma.masked_invalid(means.T),
+                         cmap="RdBu_r", vmin=-vmax, vmax=vmax, shading="flat", rasterized=True)
+    fig.colorbar(mesh, ax=ax, shrink=0.7, pad=0.1, label="mean phase residual [mm]")
+    ax.set_rlim(0, 90)
+    ax.set_yticks([30, 60])
+    ax.set_yticklabels(["60°", "30°"])
+    ax.set_rlabel_position(112.5)
+    ax.grid(alpha=0.3)
+    ax.set_title(_heading(title, f"mean phase residual, {_BIN_DEG:g}° × {_BIN_DEG:g}° cells")
+                 + "\n(antenna frame, azimuth 0° = +X = flight direction)", fontsize=10)
+    _save(fig, path)
+
+
+def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
+    """A-priori minus estimated orbit in R/T/N [m] and formal sigmas of the estimate [mm].
+
+    Upper panel: ``apriori_diff_rtn_m`` per component with its RMS (finite values) in the
+    legend; lower panel: ``sigma_rtn_m`` per component on a logarithmic axis.
+
+    Parameters
+    ----------
+    orbit : xarray.Dataset
+        Orbit Dataset of the float POD: ``apriori_diff_rtn_m`` and ``sigma_rtn_m`` (time, rtn)
+        [m], with ``rtn`` labels "R", "T", "N".
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    hours, xlabel = _hours_of_day(orbit.time.values)
+    fig, (ax, ax_sig) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
+    any_sigma = False
+    for comp in _RTN:
+        diff = orbit.apriori_diff_rtn_m.sel(rtn=comp).values
+        ax.plot(hours, diff, lw=0.8,
+                label=f"{comp} ({_RTN_NAMES[comp]}): RMS {_rms(diff):.3f} m")
+        sigma = orbit.sigma_rtn_m.sel(rtn=comp).values * _M_TO_MM
+        ok = np.isfinite(sigma) & (sigma > 0)
+        any_sigma |= bool(ok.any())
+        ax_sig.plot(hours[ok], sigma[ok], lw=0.8, label=comp)
+    ax.set_ylabel("a priori − estimated [m]")
+    ax.grid(alpha=0.3)
+    if any_sigma:
+        ax_sig.set_yscale("log")
+        ax_sig.yaxis.set_major_formatter(mticker.LogFormatter())
+        ax_sig.yaxis.set_minor_formatter(mticker.LogFormatter(labelOnlyBase=False,
+                                                              minor_thresholds=(2, 0.5)))
+    ax_sig.set_ylabel("formal sigma [mm]")
+    for a in (ax, ax_sig):
+        a.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=3,
+                 frameon=False)
+    ax_sig.grid(alpha=0.3, which="both")
+    ax_sig.set_xlabel(xlabel)
+    fig.suptitle(_heading(title, "a-priori (code-only) orbit minus float POD orbit, R/T/N"))
+    fig.tight_layout()
+    _save(fig, path)

@@ -1,0 +1,522 @@
+"""Truth LEO orbit of the closed-loop simulator, integrated with the dynamics engine.
+
+The truth is a sun-synchronous, near-circular orbit (by default HY-2B-like: 971 km, LTAN
+18:00, i.e. a dawn–dusk orbit) integrated in the GCRF with
+:func:`leopod.dynamics.integrator.integrate` under a force model that deliberately differs
+from what an estimator will use:
+
+* gravity EGM96 (satkit-data) to degree 150 (estimators: EGM2008 to 120, another field and
+  another degree);
+* solid Earth tides (IERS 2010 steps 1-2), solid Earth and ocean pole tides; ocean tides only
+  when a FES2004 file is given;
+* Sun and Moon (DE421), relativity (IERS 2010 eq. 10.12);
+* drag: cannonball with NRLMSISE-00 density (CelesTrak space weather of satkit-data) and a
+  drag scale factor that varies from one 90-min interval to the next,
+  ``s_k = 1 + 0.15 sin(2π t_k / 1 d) + N(0, 0.05²)`` (t_k: midpoint of interval k since
+  the start of the arc);
+* solar radiation pressure: cannonball with the conical Earth shadow, scale 1;
+* unmodelled stochastic accelerations: piecewise constant in R, T, N over 10-min intervals,
+  drawn from N(0, σ²) with σ = (2, 5, 3)·1e-8 m/s² (an ``empirical`` section with
+  ``directions: [R, T, N]``, ``terms: [const]``, not estimated).
+
+The per-interval values enter the integration as the force-model parameter vector (in the
+order of ``ForceModel.parameters``), not as a-priori values, so they are exact and stored
+with the orbit. All draws come from ``numpy.random.SeedSequence(seed)``: the same seed gives
+bit-identical orbits.
+
+Time: the force model's reference epoch is the arc start ``t_start`` (a GPS-time label) and
+its time argument is TT seconds since then, which equal GPS seconds since ``t_start`` (TT − GPST
+is constant; :func:`leopod.time.seconds_since`).
+
+Magnitudes along the default orbit (2019-01-01, 6 h, RMS): drag 3e-10 m/s², SRP 4e-8 m/s²,
+stochastic accelerations 6e-8 m/s², Sun and Moon 9e-7 m/s²; the gravity difference EGM96 to
+150 minus EGM2008 to 120 is 2.5e-7 m/s² (mostly degrees 10-30; ITU_GRACE16 of satkit-data
+instead of EGM96 would give 8e-9 m/s²).
+
+Cost: an 80-h arc with 10-s outputs takes ~13 s on one core (80 000 force evaluations of
+~150 µs, MSIS drag being half of it; restarts at the 480 interval boundaries cost a third).
+"""
+
+from __future__ import annotations
+
+import logging
+import time as _time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import erfa
+import numpy as np
+import xarray as xr
+
+from leopod.constants import (
+    GM_EARTH_M3_S2,
+    GPST_MINUS_TAI_S,
+    R_EARTH_EQUATOR_M,
+    SECONDS_PER_DAY,
+    TT_MINUS_TAI_S,
+)
+from leopod.dynamics.force_model import apriori_parameters, build_force_model, interval_edges
+from leopod.dynamics.forces import ForceModel
+from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
+from leopod.dynamics.third_body import Ephemeris
+from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
+from leopod.io.sp3 import write_sp3
+from leopod.netcdf import write_netcdf
+from leopod.simulate.world import _J2, CircularOrbit
+from leopod.time import J2000_TT, from_seconds, seconds_since
+from leopod.timescales import EarthOrientation
+
+__all__ = [
+    "HY2B_ALTITUDE_M", "HY2B_LTAN_H", "HY2B_MASS_KG", "SUN_SYNCHRONOUS_NODE_RATE_RAD_S",
+    "TruthDynamics", "TruthForces", "default_models", "initial_state_sun_synchronous",
+    "intermediate_to_gcrf_matrix", "simulate_truth_orbit", "sun_synchronous_inclination_deg",
+    "truth_force_config", "write_truth_files",
+]
+
+log = logging.getLogger(__name__)
+
+#: HY-2B mean altitude [m]: 971 km (ILRS mission page HY-2B; seed 000 sec. II-A: "about 970 km").
+HY2B_ALTITUDE_M = 971.0e3
+#: HY-2B local time of the ascending node [h]: dawn–dusk orbit with the descending node at
+#: 06:00 (HY-2 series, eoPortal "HY-2A"; not confirmed for HY-2B by a primary source).
+HY2B_LTAN_H = 18.0
+#: HY-2 spacecraft mass [kg] (seed 001 sec. 1, HY-2A: 1575 kg; HY-2B assumed alike).
+HY2B_MASS_KG = 1575.0
+#: Tropical year [s], 365.2421897 d (Vallado, Fundamentals of Astrodynamics and Applications,
+#: 4th ed. 2013, ch. 3, time systems).
+TROPICAL_YEAR_S = 365.2421897 * SECONDS_PER_DAY
+#: Node rate of a sun-synchronous orbit, 360° per tropical year [rad/s] (Vallado 2013,
+#: ch. 11, sun-synchronous orbits; ≈ 0.9856°/d).
+SUN_SYNCHRONOUS_NODE_RATE_RAD_S = 2.0 * np.pi / TROPICAL_YEAR_S
+#: Hours of local solar time per radian of right ascension.
+_HOURS_PER_RAD = 12.0 / np.pi
+_NOON_H = 12.0
+_TT_MINUS_GPST_S = TT_MINUS_TAI_S - GPST_MINUS_TAI_S
+_XYZ = ["x", "y", "z"]
+_RTN = ["R", "T", "N"]
+
+
+# ----------------------------------------------------------------------- initial state
+
+
+def sun_synchronous_inclination_deg(a_m: float, eccentricity: float = 0.0) -> float:
+    """Inclination [deg] whose secular J2 node rate equals the Sun's mean motion.
+
+    ``Ω̇ = −(3/2) n J2 (R/p)² cos i`` (secular J2 node rate, Vallado 2013, eq. 9-41),
+    ``n = sqrt(GM/a³)``, ``p = a (1 − e²)``, set equal to
+    :data:`SUN_SYNCHRONOUS_NODE_RATE_RAD_S` (Vallado 2013, ch. 11, sun-synchronous orbits).
+
+    Parameters
+    ----------
+    a_m : float
+        Semi-major axis [m].
+    eccentricity : float
+        Eccentricity.
+
+    Returns
+    -------
+    float
+        Inclination [deg] (retrograde, > 90°).
+
+    Raises
+    ------
+    ValueError
+        If no inclination gives the rate (a above ~12 350 km for a circular orbit).
+    """
+    n = np.sqrt(GM_EARTH_M3_S2 / a_m**3)
+    p = a_m * (1.0 - eccentricity**2)
+    cos_i = -SUN_SYNCHRONOUS_NODE_RATE_RAD_S / (1.5 * n * _J2 * (R_EARTH_EQUATOR_M / p) ** 2)
+    if abs(cos_i) > 1.0:
+        raise ValueError(f"no sun-synchronous inclination for a = {a_m} m")
+    return float(np.degrees(np.arccos(cos_i)))
+
+
+def _tt_j2000_s(epoch) -> np.ndarray:
+    """TT seconds since J2000.0 of GPS-time labels."""
+    return seconds_since(np.atleast_1d(epoch), J2000_TT) + _TT_MINUS_GPST_S
+
+
+def intermediate_to_gcrf_matrix(epoch) -> np.ndarray:
+    """Rotation Q (3, 3) from the celestial intermediate frame (equator of the CIP, origin at
+    the CIO) to the GCRF at a GPS epoch: ``Q = c2ixys(X, Y, s)ᵀ`` with the IAU 2006/2000A X, Y,
+    s (IERS Conventions 2010, eqs. 5.7, 5.10; celestial pole offsets dX, dY < 1 mas ignored)."""
+    x, y, s = cip_xys(np.atleast_1d(np.datetime64(epoch, "ns")), step_s=None)
+    return erfa.c2ixys(x[0], y[0], s[0]).T
+
+
+def initial_state_sun_synchronous(epoch, altitude_m: float = HY2B_ALTITUDE_M,
+                                  ltan_h: float = HY2B_LTAN_H, *,
+                                  inclination_deg: float | None = None, u0_deg: float = 0.0,
+                                  ephemeris: Ephemeris | None = None) -> np.ndarray:
+    """GCRF state of a circular sun-synchronous orbit at an epoch.
+
+    The orbit is set up on the true equator of date (of the CIP, about which J2 makes the node
+    precess; the CIP is ~0.1° off the GCRF pole in 2019, which would change the node rate by
+    up to ±1.5% if ignored) and rotated to the GCRF with :func:`intermediate_to_gcrf_matrix`.
+    Radius ``a = R_E + altitude`` (R_E equatorial, IERS 2010), circular speed ``sqrt(GM/a)``
+    (an osculating circular state: J2 then gives the orbit an eccentricity of ~1e-3, like real
+    HY-2B's 0.00117), inclination from :func:`sun_synchronous_inclination_deg` unless given,
+    node from the local time of the ascending node: ``Ω = α_sun + (LTAN − 12 h)·15°/h`` with
+    α_sun the right ascension of the Sun on the same equator (so the LTAN is apparent solar
+    time, within the equation of time, ≤ 16.5 min, of mean solar time). The rotation of the
+    equator (~1e-11 rad/s) is neglected in the velocity.
+
+    Parameters
+    ----------
+    epoch : datetime64
+        Epoch (GPS-time label).
+    altitude_m : float
+        Altitude above the equatorial radius [m].
+    ltan_h : float
+        Local time of the ascending node [h] (6: dawn, 18: dusk ascending node).
+    inclination_deg : float, optional
+        Inclination to the true equator [deg] (default: sun-synchronous).
+    u0_deg : float
+        Argument of latitude at the epoch [deg] (0: at the ascending node).
+    ephemeris : Ephemeris, optional
+        Sun ephemeris (default DE421).
+
+    Returns
+    -------
+    ndarray, shape (6,)
+        GCRF position [m] and velocity [m/s].
+    """
+    a_m = R_EARTH_EQUATOR_M + float(altitude_m)
+    inc = sun_synchronous_inclination_deg(a_m) if inclination_deg is None else inclination_deg
+    q = intermediate_to_gcrf_matrix(epoch)
+    sun = q.T @ (ephemeris or Ephemeris()).sun_m(_tt_j2000_s(epoch))[0]
+    raan_rad = np.arctan2(sun[1], sun[0]) + (ltan_h - _NOON_H) / _HOURS_PER_RAD
+    orbit = CircularOrbit(a_m, float(inc), float(np.degrees(raan_rad) % 360.0), float(u0_deg),
+                          j2=False)
+    pos, vel = orbit.inertial(0.0)
+    return np.concatenate([q @ pos, q @ vel])
+
+
+# ----------------------------------------------------------------------------- forces
+
+
+@dataclass(frozen=True)
+class TruthDynamics:
+    """Settings of the truth force model (defaults: HY-2B-like cannonball).
+
+    Attributes
+    ----------
+    gravity_degree : int
+        Maximum degree of the gravity field.
+    mass_kg : float
+        Spacecraft mass [kg].
+    drag_area_m2, srp_area_m2 : float
+        Cross-sections for drag and radiation pressure [m²] (illustrative values for a
+        box-wing satellite with ~10 m² of Sun-pointing arrays).
+    drag_coefficient, reflectivity_coefficient : float
+        C_D and C_R (M&G 2000, sec. 3.5.1 and 3.4.1).
+    drag_interval_s : float
+        Length of the intervals of constant drag scale [s].
+    drag_scale_amplitude, drag_scale_period_s, drag_scale_sigma : float
+        ``s_k = 1 + amplitude sin(2π t_k / period) + N(0, sigma²)``.
+    stochastic_interval_s : float
+        Length of the intervals of constant stochastic acceleration [s].
+    stochastic_sigma_rtn_m_s2 : tuple of float
+        Standard deviations of the stochastic accelerations in R, T, N [m/s²].
+    """
+
+    gravity_degree: int = 150
+    mass_kg: float = HY2B_MASS_KG
+    drag_area_m2: float = 5.0
+    srp_area_m2: float = 10.0
+    drag_coefficient: float = 2.3
+    reflectivity_coefficient: float = 1.3
+    drag_interval_s: float = 5400.0
+    drag_scale_amplitude: float = 0.15
+    drag_scale_period_s: float = SECONDS_PER_DAY
+    drag_scale_sigma: float = 0.05
+    stochastic_interval_s: float = 600.0
+    stochastic_sigma_rtn_m_s2: tuple[float, float, float] = (2e-8, 5e-8, 3e-8)
+
+
+def default_models() -> dict[str, Path | None]:
+    """Installed model files: EGM96 and CelesTrak space weather from satkit-data, no ocean
+    tides (keys ``gravity_field``, ``space_weather``, ``ocean_tides``)."""
+    import satkit_data
+
+    data = Path(satkit_data.__file__).parent / "data"
+    return {"gravity_field": data / "EGM96.gfc", "space_weather": data / "SW-All.csv",
+            "ocean_tides": None}
+
+
+@dataclass(frozen=True, eq=False)
+class TruthForces:
+    """Truth force-model configuration and the values of its per-interval parameters.
+
+    Attributes
+    ----------
+    config : dict
+        Configuration for :func:`leopod.dynamics.force_model.build_force_model`.
+    span_s : float
+        Length of the arc [s] (force-model time runs from 0 to ``span_s``).
+    drag_edges_s : ndarray, shape (n_drag + 1,)
+        Interval boundaries of the drag scale [s since the arc start].
+    drag_scale : ndarray, shape (n_drag,)
+        Drag scale factor per interval.
+    stochastic_edges_s : ndarray, shape (n_stoch + 1,)
+        Interval boundaries of the stochastic accelerations [s since the arc start].
+    stochastic_acc_rtn_m_s2 : ndarray, shape (n_stoch, 3)
+        Stochastic accelerations in R, T, N per interval [m/s²].
+    values : dict of str to float
+        The same values under their force-model parameter names (``drag_scale_k``,
+        ``emp_const_R_k``, ``emp_const_T_k``, ``emp_const_N_k``).
+    """
+
+    config: dict
+    span_s: float
+    drag_edges_s: np.ndarray
+    drag_scale: np.ndarray
+    stochastic_edges_s: np.ndarray
+    stochastic_acc_rtn_m_s2: np.ndarray
+    values: dict[str, float] = field(init=False, repr=False)
+
+    def __post_init__(self):
+        values = {f"drag_scale_{k}": float(s) for k, s in enumerate(self.drag_scale)}
+        for k, acc in enumerate(self.stochastic_acc_rtn_m_s2):
+            values.update({f"emp_const_{axis}_{k}": float(a) for axis, a in zip(_RTN, acc)})
+        object.__setattr__(self, "values", values)
+
+    def parameter_vector(self, force_model: ForceModel) -> np.ndarray:
+        """Parameters (P,) of ``force_model`` (built from :attr:`config`): the truth values
+        of the drag scales and stochastic accelerations, the a priori values otherwise
+        (SRP scale 1).
+
+        Raises
+        ------
+        ValueError
+            If a truth parameter is not in the force model (config and arc do not match).
+        """
+        params = apriori_parameters(force_model)
+        index = {name: i for i, name in enumerate(force_model.parameters)}
+        missing = sorted(set(self.values) - set(index))
+        if missing:
+            raise ValueError(f"truth parameters not in the force model: {missing[:5]}")
+        for name, value in self.values.items():
+            params[index[name]] = value
+        return params
+
+
+def _drag_scales(edges_s: np.ndarray, dyn: TruthDynamics, rng: np.random.Generator):
+    """``1 + A sin(2π t_mid / P) + N(0, σ²)`` per interval."""
+    mid = 0.5 * (edges_s[:-1] + edges_s[1:])
+    periodic = dyn.drag_scale_amplitude * np.sin(2.0 * np.pi * mid / dyn.drag_scale_period_s)
+    return 1.0 + periodic + rng.normal(0.0, dyn.drag_scale_sigma, mid.size)
+
+
+def truth_force_config(span_s: float, *, seed: int, dynamics: TruthDynamics | None = None,
+                       models: Mapping[str, object] | None = None) -> TruthForces:
+    """Truth force model of an arc of ``span_s`` seconds and its random parameter values.
+
+    Parameters
+    ----------
+    span_s : float
+        Arc length [s] (intervals start at the arc start; the last one may be shorter).
+    seed : int
+        Seed of the drag-scale noise and of the stochastic accelerations (two independent
+        streams spawned from ``numpy.random.SeedSequence(seed)``).
+    dynamics : TruthDynamics, optional
+        Force settings (default HY-2B-like).
+    models : mapping, optional
+        Overrides of :func:`default_models`: ``gravity_field`` (ICGEM path or Dataset),
+        ``space_weather`` (CelesTrak CSV), ``ocean_tides`` (FES2004 path or None).
+
+    Returns
+    -------
+    TruthForces
+    """
+    dyn = TruthDynamics() if dynamics is None else dynamics
+    files = {**default_models(), **dict(models or {})}
+    drag_rng, stoch_rng = (np.random.default_rng(s)
+                           for s in np.random.SeedSequence(seed).spawn(2))
+    drag_edges = interval_edges(0.0, span_s, dyn.drag_interval_s)
+    stoch_edges = interval_edges(0.0, span_s, dyn.stochastic_interval_s)
+    sigma = np.asarray(dyn.stochastic_sigma_rtn_m_s2, dtype=float)
+    config = {
+        # the truth needs no partials: a degree-2 gradient keeps the force model cheap
+        "gravity": {"field": files["gravity_field"], "max_degree": dyn.gravity_degree,
+                    "gradient_degree": 2},
+        "tides": {"solid": True, "solid_pole": True, "ocean_pole": True,
+                  "ocean": files["ocean_tides"]},
+        "third_body": {"sun": True, "moon": True},
+        "relativity": {"lense_thirring": True, "de_sitter": True},
+        "drag": {"area_m2": dyn.drag_area_m2, "mass_kg": dyn.mass_kg,
+                 "drag_coefficient": dyn.drag_coefficient, "density": "msis",
+                 "space_weather": files["space_weather"], "interval_s": dyn.drag_interval_s,
+                 "estimate": False},
+        "srp": {"area_m2": dyn.srp_area_m2, "mass_kg": dyn.mass_kg,
+                "reflectivity_coefficient": dyn.reflectivity_coefficient, "estimate": False},
+        "empirical": {"interval_s": dyn.stochastic_interval_s, "directions": list(_RTN),
+                      "terms": ["const"], "estimate": False},
+    }
+    return TruthForces(config=config, span_s=float(span_s), drag_edges_s=drag_edges,
+                       drag_scale=_drag_scales(drag_edges, dyn, drag_rng),
+                       stochastic_edges_s=stoch_edges,
+                       stochastic_acc_rtn_m_s2=stoch_rng.normal(
+                           0.0, 1.0, (stoch_edges.size - 1, 3)) * sigma)
+
+
+# ------------------------------------------------------------------------------ orbit
+
+
+def _field_label(field_source) -> str:
+    if isinstance(field_source, xr.Dataset):
+        return str(field_source.attrs.get("modelname", "gravity field Dataset"))
+    return Path(field_source).name
+
+
+def _force_attrs(forces: TruthForces, dyn: TruthDynamics, integrator_step_s: float) -> dict:
+    """Global attributes describing the truth forces (netCDF-compatible values)."""
+    cfg = forces.config
+    ocean = cfg["tides"]["ocean"]
+    return {
+        "gravity_field": _field_label(cfg["gravity"]["field"]),
+        "gravity_max_degree": int(dyn.gravity_degree),
+        "tides": "solid Earth (IERS 2010 steps 1-2), solid Earth pole, ocean pole"
+                 + (f", ocean ({Path(ocean).name}, degree 30)" if ocean is not None else ""),
+        "third_body": "Sun and Moon point masses (DE421)",
+        "relativity": "IERS 2010 eq. 10.12 (Schwarzschild, Lense-Thirring, de Sitter)",
+        "drag": "cannonball, NRLMSISE-00 (pymsis), space weather "
+                + Path(cfg["drag"]["space_weather"]).name,
+        "drag_cd_area_mass_m2_kg": dyn.drag_coefficient * dyn.drag_area_m2 / dyn.mass_kg,
+        "drag_interval_s": dyn.drag_interval_s,
+        "drag_scale_model": (f"1 + {dyn.drag_scale_amplitude} sin(2 pi t_mid / "
+                             f"{dyn.drag_scale_period_s} s) + N(0, {dyn.drag_scale_sigma}^2)"),
+        "srp": "cannonball, conical Earth shadow, scale 1",
+        "srp_cr_area_mass_m2_kg": (dyn.reflectivity_coefficient * dyn.srp_area_m2
+                                   / dyn.mass_kg),
+        "stochastic_acceleration": "piecewise constant in R, T, N, N(0, sigma^2) per interval",
+        "stochastic_interval_s": dyn.stochastic_interval_s,
+        "stochastic_sigma_rtn_m_s2": np.asarray(dyn.stochastic_sigma_rtn_m_s2, dtype=float),
+        "integrator": (f"Gauss-Jackson order {DEFAULT_ORDER} (PEC), step {integrator_step_s} s, "
+                       "restarts at interval boundaries"),
+        "earth_orientation": "IAU 2006/2000A, EOP of astropy-iers-data",
+    }
+
+
+def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
+                         altitude_m: float = HY2B_ALTITUDE_M, ltan_h: float = HY2B_LTAN_H,
+                         inclination_deg: float | None = None, u0_deg: float = 0.0,
+                         dynamics: TruthDynamics | None = None,
+                         models: Mapping[str, object] | None = None,
+                         integrator_step_s: float = DEFAULT_STEP_S,
+                         eop: EarthOrientation | None = None) -> xr.Dataset:
+    """Integrate the truth orbit over [t_start, t_end] (module docstring).
+
+    Parameters
+    ----------
+    t_start, t_end : datetime64
+        Arc (GPS-time labels); the initial state is at ``t_start``.
+    seed : int
+        Seed of the random truth parameters (:func:`truth_force_config`).
+    step_s : float
+        Output sampling [s]; epochs ``t_start + k step_s`` up to ``t_end``.
+    altitude_m, ltan_h, inclination_deg, u0_deg
+        Initial orbit (:func:`initial_state_sun_synchronous`).
+    dynamics : TruthDynamics, optional
+        Force settings.
+    models : mapping, optional
+        Model files (:func:`truth_force_config`).
+    integrator_step_s : float
+        Gauss–Jackson step [s] (5 s resolves a degree-150 field even at 400 km).
+    eop : EarthOrientation, optional
+        EOP (default: installed IERS data).
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinates ``time`` (GPS), ``xyz``, ``rtn``, ``drag_interval_start`` and
+        ``stochastic_interval_start`` (GPS); variables ``pos_gcrf_m``, ``vel_gcrf_m_s``,
+        ``pos_itrf_m``, ``vel_itrf_m_s`` (time, xyz), ``drag_scale`` (drag_interval_start),
+        ``stochastic_acc_rtn_m_s2`` (stochastic_interval_start, rtn); attributes describing
+        the initial orbit and the forces. Ready for :func:`leopod.netcdf.write_netcdf`.
+    """
+    t0 = np.datetime64(t_start, "ns")
+    span_s = float(seconds_since(np.datetime64(t_end, "ns"), t0))
+    if not span_s > 0.0 or not step_s > 0.0:
+        raise ValueError(f"need t_end > t_start and step_s > 0 (got {t_start}, {t_end}, "
+                         f"{step_s})")
+    dyn = TruthDynamics() if dynamics is None else dynamics
+    forces = truth_force_config(span_s, seed=seed, dynamics=dyn, models=models)
+    model = build_force_model(forces.config, t0, 0.0, span_s, eop=eop)
+    params = forces.parameter_vector(model)
+    state0 = initial_state_sun_synchronous(t0, altitude_m, ltan_h,
+                                           inclination_deg=inclination_deg, u0_deg=u0_deg)
+    t_out = step_s * np.arange(int(np.floor(span_s / step_s + 1e-9)) + 1)
+    clock = _time.perf_counter()
+    traj = integrate(model, 0.0, state0, params, t_out, step_s=integrator_step_s,
+                     with_partials=False)
+    log.info("truth orbit %s + %.1f h: %d force evaluations, %.1f s", t0, span_s / 3600.0,
+             traj.n_evaluations, _time.perf_counter() - clock)
+    times = from_seconds(t_out, t0)
+    pos, vel = traj.states[:, :3], traj.states[:, 3:]
+    pos_ef, vel_ef = gcrf_to_itrf(times, pos, vel, eop=eop)
+    h = intermediate_to_gcrf_matrix(t0).T @ np.cross(state0[:3], state0[3:])
+    attrs = {
+        "title": "leopod truth orbit (closed-loop simulator)", "time_system": "GPS",
+        "arc_start": str(t0), "arc_end": str(np.datetime64(t_end, "ns")), "seed": int(seed),
+        "altitude_m": float(altitude_m), "ltan_h": float(ltan_h),
+        "inclination_cip_equator_deg": float(np.degrees(np.arccos(h[2] / np.linalg.norm(h)))),
+        "raan_from_cio_deg": float(np.degrees(np.arctan2(h[0], -h[1])) % 360.0),
+        "u0_deg": float(u0_deg), "initial_state_gcrf_m_m_s": state0,
+        **_force_attrs(forces, dyn, integrator_step_s),
+    }
+    gcrf, itrf = "GCRF (IERS 2010)", "ITRF (IERS 2010, EOP)"
+    variables = {
+        "pos_gcrf_m": _vector(pos, "m", gcrf, "true centre-of-mass position"),
+        "vel_gcrf_m_s": _vector(vel, "m s-1", gcrf, "true inertial velocity"),
+        "pos_itrf_m": _vector(pos_ef, "m", itrf, "true centre-of-mass position"),
+        "vel_itrf_m_s": _vector(vel_ef, "m s-1", itrf, "true Earth-fixed velocity"),
+        "drag_scale": (("drag_interval_start",), forces.drag_scale,
+                       {"units": "1", "long_name": "true drag scale factor per interval "
+                                                   "(from its start to the next start)"}),
+        "stochastic_acc_rtn_m_s2": (("stochastic_interval_start", "rtn"),
+                                    forces.stochastic_acc_rtn_m_s2,
+                                    {"units": "m s-2", "long_name": "true unmodelled "
+                                     "acceleration in R, T, N per interval"}),
+    }
+    coords = {"time": times, "xyz": _XYZ, "rtn": _RTN,
+              "drag_interval_start": from_seconds(forces.drag_edges_s[:-1], t0),
+              "stochastic_interval_start": from_seconds(forces.stochastic_edges_s[:-1], t0)}
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def _vector(values: np.ndarray, units: str, frame: str, long_name: str) -> tuple:
+    """A (time, xyz) variable with its attributes."""
+    return ("time", "xyz"), values, {"units": units, "long_name": long_name,
+                                     "reference_frame": frame}
+
+
+def write_truth_files(ds: xr.Dataset, sp3_path, nc_path, sat_id: str) -> None:
+    """Write a truth orbit as SP3-d (ITRF position and velocity, every epoch) and netCDF.
+
+    SP3-d stores positions in km with 6 decimals (1 mm) and velocities in dm/s with 6
+    decimals (1e-7 m/s): the SP3 orbit equals the netCDF one to ≤ 0.5 mm per coordinate
+    (≤ 0.87 mm in 3D) and ≤ 5e-8 m/s; the netCDF file is lossless.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`simulate_truth_orbit`.
+    sp3_path, nc_path : path
+        Output files.
+    sat_id : str
+        Three-character SP3 satellite id (e.g. ``"L01"``).
+    """
+    sp3 = xr.Dataset({"pos_m": (("time", "sv", "xyz"), ds["pos_itrf_m"].values[:, None, :]),
+                      "vel_m_s": (("time", "sv", "xyz"), ds["vel_itrf_m_s"].values[:, None, :])},
+                     coords={"time": ds["time"].values, "sv": [sat_id], "xyz": _XYZ},
+                     attrs={"time_system": "GPS"})
+    write_sp3(sp3, sp3_path, agency="SIM", orbit_type="FIT", coordinate_system="ITRF",
+              comments=(f"leopod truth orbit of {sat_id}, centre of mass, seed {ds.attrs['seed']}",
+                        (f"gravity {ds.attrs['gravity_field']} to degree "
+                         f"{ds.attrs['gravity_max_degree']}, NRLMSISE-00 drag, SRP, tides"),
+                        "random drag scale per interval and stochastic RTN accelerations"))
+    write_netcdf(ds, nc_path, step="simulate", time_system="GPS",
+                 reference_frame="GCRF and ITRF (per variable)",
+                 title=f"leopod truth orbit {sat_id}")

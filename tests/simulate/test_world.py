@@ -1,0 +1,94 @@
+"""Tests of the nominal constellations of leopod.simulate.world (BDS-3 MEO, Walker).
+
+Authorities: the published BDS-3 MEO constellation (Yang et al. 2019, Navigation 66(1):7-18:
+altitude 21 528 km, inclination 55°, Walker 24/3/1, ground track repeating after 13
+revolutions in 7 sidereal days), the MGEX list of BDS-3 MEO PRNs, Kepler's third law, Walker's
+definition of a delta constellation (Walker 1984) checked on node and argument of latitude
+recomputed from the position and velocity vectors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from leopod.constants import GM_EARTH_M3_S2, R_EARTH_EQUATOR_M
+from leopod.dynamics.empirical import argument_of_latitude
+from leopod.simulate.world import beidou3_constellation, walker_constellation
+
+#: Sidereal day [s] (IERS Conventions 2010, Table 1.2 note: 86164.0905 s mean sidereal day).
+SIDEREAL_DAY_S = 86_164.0905
+
+
+@pytest.fixture(scope="module")
+def bds():
+    return beidou3_constellation()
+
+
+#: Tolerance of angles recomputed from r × v [deg]: the velocity of CircularOrbit includes the
+#: secular J2 node drift (Ω̇ ≈ 1e-4 n for BDS-3), which tilts r × v by up to 0.003°.
+ANGLE_ATOL_DEG = 0.005
+
+
+def _states(orbits):
+    pos, vel = zip(*(o.inertial(0.0) for o in orbits.values()))
+    return np.array(pos), np.array(vel)
+
+
+def _node_deg(pos, vel):
+    h = np.cross(pos, vel)
+    return np.degrees(np.arctan2(h[:, 0], -h[:, 1])) % 360.0
+
+
+def test_bds3_prns_are_the_24_meo_satellites(bds):
+    # authority: IGS MGEX BDS status — BDS-3 MEO PRNs C19-C30, C32-C37, C41-C46
+    expected = [f"C{k:02d}" for k in [*range(19, 31), *range(32, 38), *range(41, 47)]]
+    assert sorted(bds) == expected
+
+
+def test_bds3_radius_and_inclination(bds):
+    pos, vel = _states(bds)
+    # authority: Yang et al. (2019): altitude 21 528 km (a ≈ 27 906 km), inclination 55°
+    assert np.allclose(np.linalg.norm(pos, axis=1), 27_906.1e3, atol=1.0e3)
+    h = np.cross(pos, vel)
+    inc_deg = np.degrees(np.arccos(h[:, 2] / np.linalg.norm(h, axis=1)))
+    assert np.allclose(inc_deg, 55.0, atol=ANGLE_ATOL_DEG)
+
+
+def test_bds3_period_repeats_in_seven_sidereal_days(bds):
+    a_m = np.linalg.norm(next(iter(bds.values())).inertial(0.0)[0])
+    # authority: Kepler's third law, T = 2π sqrt(a³/GM) ≈ 12 h 53 min (Yang et al. 2019)
+    period_s = 2.0 * np.pi * np.sqrt(a_m**3 / GM_EARTH_M3_S2)
+    assert abs(period_s - (12 * 3600 + 53 * 60)) < 60.0
+    # authority: the BDS-3 MEO ground track repeats after 13 revolutions in 7 sidereal days
+    assert abs(13 * period_s - 7 * SIDEREAL_DAY_S) < 60.0
+
+
+def test_bds3_speed_is_circular(bds):
+    pos, vel = _states(bds)
+    # authority: circular orbit, |v| = sqrt(GM/a) (J2 drift changes it by < 1e-4)
+    v_circ = np.sqrt(GM_EARTH_M3_S2 / np.linalg.norm(pos, axis=1))
+    assert np.allclose(np.linalg.norm(vel, axis=1), v_circ, rtol=1e-4)
+
+
+def test_bds3_walker_24_3_1_spacing(bds):
+    pos, vel = _states(bds)
+    node = _node_deg(pos, vel)
+    u = np.degrees(argument_of_latitude(pos, vel)) % 360.0
+    planes = np.round(node / 120.0).astype(int) % 3
+    # authority: Walker 24/3/1: 3 planes 120° apart, 8 satellites per plane 45° apart,
+    # satellites of adjacent planes shifted by F·360°/T = 15°
+    assert np.allclose((node - 120.0 * planes + 180.0) % 360.0 - 180.0, 0.0, atol=ANGLE_ATOL_DEG)
+    assert np.bincount(planes).tolist() == [8, 8, 8]
+    for p in range(3):
+        phase = (u[planes == p] - 15.0 * p) % 45.0
+        assert np.allclose(np.minimum(phase, 45.0 - phase), 0.0, atol=ANGLE_ATOL_DEG)
+        assert np.unique(np.round((u[planes == p] - 15.0 * p) % 360.0 / 45.0) % 8).size == 8
+
+
+def test_walker_rejects_inconsistent_patterns():
+    # authority: Walker T/P/F needs T divisible by P and 0 <= F < P
+    with pytest.raises(ValueError):
+        walker_constellation(["C01", "C02", "C03"], 2, 0, R_EARTH_EQUATOR_M + 2e7, 55.0)
+    with pytest.raises(ValueError):
+        walker_constellation(["C01", "C02"], 2, 2, R_EARTH_EQUATOR_M + 2e7, 55.0)

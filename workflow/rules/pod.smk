@@ -1,0 +1,54 @@
+# float_pod: reduced-dynamic orbit from ionosphere-free code and phase with float ambiguities
+# (30-h arcs centred on the day by default, using the neighbouring days when they exist).
+rule float_pod:
+    params:
+        signals=config["signals"],
+        pod=config["pod"],
+        pco_body_m=sat_pco,
+        title=sat_title,
+        sp3_id=sat_pod_sp3_id,
+    input:
+        unpack(float_pod_inputs),
+        code=library_files("estimation", "dynamics", "gnss", "orbit", "frames", "io", "plots"),
+    output:
+        orbit="results/float_pod/{sat}/{date}_orbit.nc",
+        sp3="results/float_pod/{sat}/{date}.sp3",
+        residuals="results/float_pod/{sat}/{date}_residuals.nc",
+        parameters="results/float_pod/{sat}/{date}_parameters.nc",
+        ambiguities="results/float_pod/{sat}/{date}_ambiguities.nc",
+        res_time=report(
+            "results/float_pod/{sat}/{date}_residuals_time.png",
+            caption="../report/pod_residuals_time.rst",
+            category="Float POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs time"},
+        ),
+        res_elevation=report(
+            "results/float_pod/{sat}/{date}_residuals_elevation.png",
+            caption="../report/pod_residuals_elevation.rst",
+            category="Float POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs elevation"},
+        ),
+        res_skymap=report(
+            "results/float_pod/{sat}/{date}_residual_skymap.png",
+            caption="../report/pod_residual_skymap.rst",
+            category="Float POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "phase residual map"},
+        ),
+        apriori=report(
+            "results/float_pod/{sat}/{date}_apriori_rtn.png",
+            caption="../report/pod_apriori_rtn.rst",
+            category="Float POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "RTN vs a-priori"},
+        ),
+    log:
+        "logs/float_pod/{sat}/{date}.log",
+    benchmark:
+        "benchmarks/float_pod/{sat}/{date}.tsv"
+    threads: 1
+    resources:
+        mem_mb=6000,
+        runtime=30,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/float_pod.py"
