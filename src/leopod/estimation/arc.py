@@ -30,7 +30,7 @@ from leopod.estimation.outputs import (
 from leopod.orbit.products import GnssProducts
 from leopod.time import parse_date_id, seconds_since
 
-__all__ = ["ArcOutputs", "arc_limits", "merge_days", "run_arc", "SETTINGS_KEYS"]
+__all__ = ["SETTINGS_KEYS", "ArcOutputs", "arc_limits", "merge_days", "run_arc"]
 
 log = logging.getLogger(__name__)
 
@@ -56,8 +56,8 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
     """Nominal arc ``[00:00 − before, 24:00 + after]`` of a day (GPS time, datetime64[ns])."""
     day = np.datetime64(parse_date_id(date), "ns")
     one_day = np.timedelta64(86400, "s")
-    return (day - np.timedelta64(int(round(arc_before_s * 1e9)), "ns"),
-            day + one_day + np.timedelta64(int(round(arc_after_s * 1e9)), "ns"))
+    return (day - np.timedelta64(round(arc_before_s * 1e9), "ns"),
+            day + one_day + np.timedelta64(round(arc_after_s * 1e9), "ns"))
 
 
 def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:

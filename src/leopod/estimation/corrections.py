@@ -17,7 +17,8 @@ import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, GM_EARTH_M3_S2
 
-__all__ = ["windup_cycles", "unwrap_windup", "shapiro_delay_m", "relativistic_clock_s"]
+__all__ = ["relativistic_clock_s", "shapiro_delay_distances_m", "shapiro_delay_m", "unwrap_windup",
+           "windup_cycles"]
 
 
 def _dipole(x: np.ndarray, y: np.ndarray, k: np.ndarray, sign: float) -> np.ndarray:
@@ -89,13 +90,29 @@ def unwrap_windup(windup_cyc: np.ndarray, track: np.ndarray, order: np.ndarray) 
     return out
 
 
+def shapiro_delay_distances_m(r1_m, r2_m, rho_m):
+    """Gravitational delay of one light path in the Earth's field [m].
+
+    ``Δ = (1 + γ) GM/c² ln((r1 + r2 + ρ) / (r1 + r2 − ρ))`` with γ = 1 (IERS Conventions 2010,
+    eq. 11.17, Earth term only: in the geocentric frame the Sun's term is not applied).
+
+    Parameters
+    ----------
+    r1_m, r2_m : array_like
+        Geocentric distances of the two ends of the path [m].
+    rho_m : array_like
+        Length of the path [m].
+    """
+    r12 = np.asarray(r1_m, dtype=float) + np.asarray(r2_m, dtype=float)
+    rho = np.asarray(rho_m, dtype=float)
+    return 2.0 * GM_EARTH_M3_S2 / C_LIGHT_M_S**2 * np.log((r12 + rho) / (r12 - rho))
+
+
 def shapiro_delay_m(pos_tx_m: np.ndarray, pos_rx_m: np.ndarray) -> np.ndarray:
-    """Gravitational signal delay of the Earth [m], shape (n,) (IERS 2010 eq. 11.17)."""
-    r_tx = np.linalg.norm(pos_tx_m, axis=-1)
-    r_rx = np.linalg.norm(pos_rx_m, axis=-1)
-    rho = np.linalg.norm(pos_tx_m - pos_rx_m, axis=-1)
-    return 2.0 * GM_EARTH_M3_S2 / C_LIGHT_M_S**2 * np.log((r_tx + r_rx + rho)
-                                                         / (r_tx + r_rx - rho))
+    """Gravitational signal delay [m], shape (n,), between geocentric positions (n, 3)."""
+    return shapiro_delay_distances_m(np.linalg.norm(pos_tx_m, axis=-1),
+                                     np.linalg.norm(pos_rx_m, axis=-1),
+                                     np.linalg.norm(pos_tx_m - pos_rx_m, axis=-1))
 
 
 def relativistic_clock_s(pos_m: np.ndarray, vel_m_s: np.ndarray) -> np.ndarray:

@@ -45,7 +45,7 @@ from leopod.orbit.products import GnssProducts
 from leopod.time import seconds_since
 from leopod.timescales import EarthOrientation
 
-__all__ = ["PodSettings", "PodObservations", "PodResult", "float_pod", "pulse_epochs"]
+__all__ = ["PodObservations", "PodResult", "PodSettings", "float_pod", "pulse_epochs"]
 
 log = logging.getLogger(__name__)
 

@@ -11,17 +11,17 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from leopod.estimation.float_pod import PodObservations
 from leopod.gnss import signals
 from leopod.gnss.combinations import ionosphere_free, narrow_lane_wavelength_m
 from leopod.orbit.gnss_attitude import satellite_pco_if
-from leopod.estimation.float_pod import PodObservations
 
-__all__ = ["pod_observations", "satellite_antenna", "receiver_pco_if"]
+__all__ = ["pod_observations", "receiver_pco_if", "satellite_antenna"]
 
 
 def _on_grid(times: np.ndarray, sampling_s: float) -> np.ndarray:
     ns = times.astype("datetime64[ns]").astype("int64")
-    step = int(round(sampling_s * 1e9))
+    step = round(sampling_s * 1e9)
     return ns % step == 0
 
 

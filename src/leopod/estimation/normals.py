@@ -28,7 +28,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-__all__ = ["Rows", "NormalEquations", "accumulate", "solve", "epoch_clocks"]
+__all__ = ["NormalEquations", "Rows", "accumulate", "epoch_clocks", "solve"]
 
 
 @dataclass
@@ -59,7 +59,7 @@ class Rows:
     n_epochs: int
     n_amb: int
 
-    def subset(self, keep: np.ndarray) -> "Rows":
+    def subset(self, keep: np.ndarray) -> Rows:
         """The rows where ``keep`` is True."""
         return Rows(self.a_o[keep], self.amb[keep], self.epoch[keep], self.misclosure[keep],
                     self.weight[keep], self.n_epochs, self.n_amb)

@@ -38,7 +38,7 @@ from leopod.estimation.corrections import (
 from leopod.orbit.gnss_attitude import gnss_body_axes
 from leopod.orbit.products import GnssProducts
 
-__all__ = ["Pairs", "ModelResult", "nominal_axes_inertial", "compute_model"]
+__all__ = ["ModelResult", "Pairs", "compute_model", "nominal_axes_inertial"]
 
 _LIGHT_TIME_ITERATIONS = 3
 

@@ -55,11 +55,11 @@ import xarray as xr
 
 from leopod.constants import (
     C_LIGHT_M_S,
-    GM_EARTH_M3_S2,
     OMEGA_EARTH_RAD_S,
     WGS84_A_M,
     WGS84_INV_F,
 )
+from leopod.estimation.corrections import shapiro_delay_distances_m as shapiro_delay_m
 from leopod.frames.attitude import body_to_ef, nominal_body_axes
 from leopod.orbit.interpolate import interpolate_table
 
@@ -112,8 +112,6 @@ _SVP_A, _SVP_B, _SVP_C, _SVP_D = 1.2378847e-5, -1.9121316e-2, 33.93711047, -6.34
 _ENH_ALPHA, _ENH_BETA_HPA, _ENH_GAMMA = 1.00062, 3.14e-6, 5.6e-7
 _KELVIN_0C = 273.15
 _PA_PER_HPA = 100.0
-#: Shapiro delay factor (1 + γ) GM/c² [m] with γ = 1 (IERS Conventions 2010, eq. 11.17).
-_SHAPIRO_M = 2.0 * GM_EARTH_M3_S2 / C_LIGHT_M_S**2
 
 
 # ---------------------------------------------------------------------------- troposphere
@@ -265,24 +263,6 @@ def mendes_pavlis_delay_m(el_rad, lat_rad, height_m, pressure_hpa, temperature_k
 
 
 # ----------------------------------------------------------------------------- relativity
-def shapiro_delay_m(r1_m, r2_m, rho_m):
-    """Relativistic (Shapiro) delay of one light path in the Earth's field [m].
-
-    ``Δ = (1 + γ) GM/c² ln((r1 + r2 + ρ) / (r1 + r2 − ρ))`` with γ = 1 (IERS Conventions 2010,
-    eq. 11.17, Earth term only: in the geocentric frame the Sun's term is not applied).
-
-    Parameters
-    ----------
-    r1_m, r2_m : array_like
-        Geocentric distances of the two ends of the path [m].
-    rho_m : array_like
-        Length of the path [m].
-    """
-    r12 = np.asarray(r1_m, dtype=float) + np.asarray(r2_m, dtype=float)
-    rho = np.asarray(rho_m, dtype=float)
-    return _SHAPIRO_M * np.log((r12 + rho) / (r12 - rho))
-
-
 # ------------------------------------------------------------------------------- geometry
 def geodetic_lat_height(pos_m):
     """Geodetic latitude [rad] and ellipsoidal height [m] of Earth-fixed positions (n, 3).
