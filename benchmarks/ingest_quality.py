@@ -36,16 +36,30 @@ def _inputs(tmp: Path):
         return ("GRACE-A 2007-080 (real, 10 s)", GRACE / "graa0800.07o.gz", GRACE / "cod14193.sp3.gz",
                 GRACE / "cod14193.clk.gz", GRACE / "igs05_1402.atx.gz",
                 {"L1": [-0.0004, -0.0004, -0.4514], "L2": [-0.0004, -0.0004, -0.4757]})
+    from dataclasses import replace
+
     from leopod.simulate.campaign import (
-        SimulationSettings,
         simulate_gnss_products,
         simulate_leo_day,
+        simulate_truth,
+        simulate_world_truth,
     )
-    s = SimulationSettings(interval_s=10.0)
-    simulate_gnss_products("2019-001", "2019-001", s, tmp / "g.sp3", tmp / "g.clk")
-    simulate_leo_day("2019-001", "2019-001", "sim", s, tmp / "o.rnx", tmp / "t.sp3", tmp / "t.nc")
+    from leopod.simulate.settings import SimulationSettings
+
+    day, sat = "2019-001", "sim"
+    s = replace(SimulationSettings(), interval_s=10.0)
+    pco = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37]}
+    truth = simulate_truth(s, sat, day, day)
+    biases = simulate_world_truth(s, [sat], day, day, biases_path=tmp / "b.nc",
+                                  stations_path=tmp / "s.snx")
+    simulate_gnss_products(day, s, day, day, biases, orbit=tmp / "g.sp3", clock=tmp / "g.clk",
+                           integer_clock=tmp / "g_int.clk", wl_bias=tmp / "g.wsb",
+                           osb=tmp / "g.bia")
+    simulate_leo_day(day, sat, s, day, day, truth, biases, pco, rinex3=tmp / "o.rnx",
+                     rinex2=tmp / "o.obs", truth_sp3=tmp / "t.sp3", truth_nc=tmp / "t.nc",
+                     crd=tmp / "o.crd")
     return ("simulated day (../shared absent, 10 s)", tmp / "o.rnx", tmp / "g.sp3", tmp / "g.clk",
-            None, s.model.pco_body_m)
+            None, pco)
 
 
 def run_once(tmp: Path) -> dict[str, float]:

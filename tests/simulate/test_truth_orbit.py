@@ -63,7 +63,7 @@ def truth() -> xr.Dataset:
 
 @pytest.fixture(scope="module")
 def one_day():
-    """The HY-2B initial state integrated for one day in EGM96 to degree 8 (60-s outputs)."""
+    """The HY-2B initial state integrated for one day in ITU_GRACE16 to degree 8 (60-s outputs)."""
     model = build_force_model({"gravity": {"field": default_models()["gravity_field"],
                                            "max_degree": 8}}, T0, 0.0, DAY_S)
     state0 = initial_state_sun_synchronous(T0)

@@ -1,10 +1,12 @@
-"""Tests of the nominal constellations of leopod.simulate.world (BDS-3 MEO, Walker).
+"""Tests of leopod.simulate.world: nominal constellations (BDS-3 MEO, Walker), Kepler orbits.
 
 Authorities: the published BDS-3 MEO constellation (Yang et al. 2019, Navigation 66(1):7-18:
 altitude 21 528 km, inclination 55°, Walker 24/3/1, ground track repeating after 13
 revolutions in 7 sidereal days), the MGEX list of BDS-3 MEO PRNs, Kepler's third law, Walker's
 definition of a delta constellation (Walker 1984) checked on node and argument of latitude
-recomputed from the position and velocity vectors.
+recomputed from the position and velocity vectors; for KeplerOrbit the circular limit
+(CircularOrbit), vis-viva, finite differences and the relativistic clock formula of
+IS-GPS-200.
 """
 
 from __future__ import annotations
@@ -14,7 +16,13 @@ import pytest
 
 from leopod.constants import GM_EARTH_M3_S2, R_EARTH_EQUATOR_M
 from leopod.dynamics.empirical import argument_of_latitude
-from leopod.simulate.world import beidou3_constellation, walker_constellation
+from leopod.estimation.corrections import relativistic_clock_s
+from leopod.simulate.world import (
+    CircularOrbit,
+    KeplerOrbit,
+    beidou3_constellation,
+    walker_constellation,
+)
 
 #: Sidereal day [s] (IERS Conventions 2010, Table 1.2 note: 86164.0905 s mean sidereal day).
 SIDEREAL_DAY_S = 86_164.0905
@@ -92,3 +100,64 @@ def test_walker_rejects_inconsistent_patterns():
         walker_constellation(["C01", "C02", "C03"], 2, 0, R_EARTH_EQUATOR_M + 2e7, 55.0)
     with pytest.raises(ValueError):
         walker_constellation(["C01", "C02"], 2, 2, R_EARTH_EQUATOR_M + 2e7, 55.0)
+
+
+# ------------------------------------------------------------------------- KeplerOrbit
+#: A GPS-like ellipse (a 26 560 km, e 0.015, i 55°) without and with the J2 drift.
+KEPLER = {"a_m": 26_560e3, "eccentricity": 0.015, "inc_deg": 55.0, "raan_deg": 40.0,
+          "argp_deg": 70.0, "m0_deg": 10.0}
+
+
+def test_kepler_circular_limit_is_circular_orbit():
+    # e = 0: same motion as CircularOrbit with u0 = ω0 + M0 (the J2 rates of both reduce to
+    # the same secular rates, Vallado eq. 9-41)
+    t = np.linspace(0.0, 2 * 86400.0, 97)
+    kep = KeplerOrbit(**{**KEPLER, "eccentricity": 0.0})
+    circ = CircularOrbit(KEPLER["a_m"], 55.0, 40.0, 80.0)
+    for got, want in zip(kep.inertial(t), circ.inertial(t)):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-6)
+
+
+def _eccentric_anomaly(t):
+    """E(t) of the two-body KEPLER orbit by fixed-point iteration of Kepler's equation."""
+    mean = np.radians(KEPLER["m0_deg"]) + np.sqrt(GM_EARTH_M3_S2 / KEPLER["a_m"]**3) * t
+    ecc = mean.copy()
+    for _ in range(30):
+        ecc = mean + KEPLER["eccentricity"] * np.sin(ecc)
+    return ecc
+
+
+def test_kepler_vis_viva_and_radius():
+    # two-body motion (j2 off): vis-viva v²/2 − GM/r = −GM/(2a), r = a (1 − e cos E)
+    orbit = KeplerOrbit(**KEPLER, j2=False)
+    t = np.linspace(0.0, 43_200.0, 1001)
+    pos, vel = orbit.inertial(t)
+    r = np.linalg.norm(pos, axis=-1)
+    energy = 0.5 * np.sum(vel**2, axis=-1) - GM_EARTH_M3_S2 / r
+    np.testing.assert_allclose(energy, -GM_EARTH_M3_S2 / (2 * KEPLER["a_m"]), rtol=1e-12)
+    want = KEPLER["a_m"] * (1 - KEPLER["eccentricity"] * np.cos(_eccentric_anomaly(t)))
+    np.testing.assert_allclose(r, want, rtol=0, atol=1e-6)
+
+
+def test_kepler_velocity_is_the_derivative_of_position():
+    # central differences (h = 0.1 s: truncation a n³ h² / 6 ~ 1.4e-7 m/s, rounding
+    # ~3e-8 m/s), with the J2 drift
+    orbit = KeplerOrbit(**KEPLER)
+    t = np.linspace(0.0, 86400.0, 13)
+    _, vel = orbit.inertial(t)
+    fd = (orbit.inertial(t + 0.1)[0] - orbit.inertial(t - 0.1)[0]) / 0.2
+    np.testing.assert_allclose(vel, fd, rtol=0, atol=1e-6)
+
+
+def test_kepler_relativistic_clock_term():
+    # IS-GPS-200 20.3.3.3.3.1: Δt_r = F e sqrt(a) sin E with F = −2 sqrt(GM)/c², which
+    # equals −2 r·v/c² (leopod.estimation.corrections.relativistic_clock_s)
+    orbit = KeplerOrbit(**KEPLER, j2=False)
+    t = np.linspace(0.0, 43_200.0, 25)
+    pos, vel = orbit.inertial(t)
+    ecc = _eccentric_anomaly(t)
+    c = 299_792_458.0
+    want = (-2.0 * np.sqrt(GM_EARTH_M3_S2) / c**2 * KEPLER["eccentricity"]
+            * np.sqrt(KEPLER["a_m"]) * np.sin(ecc))
+    np.testing.assert_allclose(relativistic_clock_s(pos, vel), want, rtol=0, atol=1e-15)
+    assert np.max(np.abs(want)) * c > 9.0            # ~10 m at e = 0.015

@@ -1,14 +1,107 @@
-# simulate: the optional data source of simulated satellites. Writes the same file formats as
-# real archives (RINEX, SP3, RINEX clock) under resources/simulate/, plus the truth.
+# simulate: the optional data source of simulated satellites (leopod.simulate.campaign). Writes
+# the file formats of real archives under resources/simulate/ (RINEX 3 and 2, SP3, RINEX clock,
+# integer-recovery clock + wide-lane biases, Bias-SINEX, CRD, SINEX) with the truth beside them.
+
+
+# The truth orbit of one satellite over the whole campaign, and its code-bias map(s).
+rule simulate_truth:
+    params:
+        settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
+    input:
+        code=library_files(
+            "simulate/campaign.py",
+            "simulate/settings.py",
+            "simulate/truth_orbit.py",
+            "simulate/world.py",
+            "simulate/code_bias_map.py",
+            "dynamics",
+            "frames",
+            "io/icgem.py",
+            "io/space_weather.py",
+            "io/fes.py",
+            "netcdf.py",
+            "time.py",
+            "timescales.py",
+            "constants.py",
+        ),
+    output:
+        truth="resources/simulate/{sat}/truth_orbit.nc",
+        code_bias_map="resources/simulate/{sat}/code_bias_map.nc",
+    log:
+        "logs/simulate_truth/{sat}.log",
+    benchmark:
+        "benchmarks/simulate_truth/{sat}.tsv"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=20,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/simulate_truth.py"
+
+
+# The campaign's true code/phase biases (GNSS satellites, every simulated receiver) and the
+# SLR station coordinates.
+rule simulate_world:
+    params:
+        settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
+        # the satellites whose files the simulate rules write
+        sats=[s for s in SATS if config["satellites"][s].get("source") == "simulate"],
+    input:
+        code=library_files(
+            "simulate/campaign.py",
+            "simulate/settings.py",
+            "simulate/biases.py",
+            "simulate/world.py",
+            "io",
+            "netcdf.py",
+        ),
+    output:
+        biases="resources/simulate/biases_truth.nc",
+        stations="resources/simulate/slr_stations.snx",
+    log:
+        "logs/simulate_world/simulate_world.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/simulate_world.py"
+
+
+# GNSS orbits, clocks and ambiguity-resolution products of one day.
 rule simulate_gnss:
     params:
-        world_start=config["start_date"],
         settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
     input:
-        code=library_files("simulate", "io"),
+        biases=rules.simulate_world.output.biases,
+        code=library_files(
+            "simulate/campaign.py",
+            "simulate/settings.py",
+            "simulate/biases.py",
+            "simulate/world.py",
+            "io",
+            "frames",
+            "gnss/signals.py",
+            "netcdf.py",
+            "time.py",
+            "timescales.py",
+        ),
     output:
         orbit="resources/simulate/gnss/{date}.sp3",
         clock="resources/simulate/gnss/{date}.clk",
+        integer_clock="resources/simulate/gnss/{date}_int.clk",
+        wl_bias="resources/simulate/gnss/{date}.wsb",
+        osb="resources/simulate/gnss/{date}.bia",
     log:
         "logs/simulate_gnss/{date}.log",
     benchmark:
@@ -23,16 +116,35 @@ rule simulate_gnss:
         "../../scripts/simulate_gnss.py"
 
 
+# Onboard observations, the day's truth and the SLR normal points of one satellite-day.
 rule simulate:
     params:
-        world_start=config["start_date"],
         settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
+        pco_body_m=sat_pco,
     input:
-        code=library_files("simulate", "io"),
+        truth=rules.simulate_truth.output.truth,
+        biases=rules.simulate_world.output.biases,
+        code=library_files(
+            "simulate",
+            "io",
+            "estimation/corrections.py",
+            "estimation/obsmodel.py",
+            "orbit",
+            "frames",
+            "gnss",
+            "validation/slr_model.py",
+            "netcdf.py",
+            "time.py",
+            "timescales.py",
+        ),
     output:
-        obs="resources/simulate/{sat}/{date}.rnx",
+        rinex3="resources/simulate/{sat}/{date}.rnx",
+        rinex2="resources/simulate/{sat}/{date}.obs",
         truth_sp3="resources/simulate/{sat}/{date}_truth.sp3",
         truth_nc="resources/simulate/{sat}/{date}_truth.nc",
+        crd="resources/simulate/{sat}/{date}.crd",
     log:
         "logs/simulate/{sat}/{date}.log",
     benchmark:

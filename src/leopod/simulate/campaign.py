@@ -1,168 +1,471 @@
-"""Write one simulated day in the standard file formats, with its truth.
+"""A simulated campaign in the standard file formats, with its truth (closed-loop simulator).
 
-Files: onboard observations (RINEX 2.11), GNSS orbits (SP3-d, 15 min, 00:00–24:00) and
-clocks (RINEX clock 3.00, 30 s), the LEO truth orbit (SP3-d, 10 s, centre of mass) and a
-truth netCDF (ambiguities per pass, true ranges and elevations). All days of a campaign are
-cut from one continuous world that starts at the campaign's first day, so arcs of
-consecutive days join without jumps.
+One continuous world per campaign: its epoch is 00:00 GPS time of the first day; the GNSS
+constellations (:mod:`leopod.simulate.world`, inertial frame = GCRF), their clocks, the
+receiver clocks, the code and phase biases (:mod:`leopod.simulate.biases`) and each LEO's truth
+orbit (:mod:`leopod.simulate.truth_orbit`) span the whole campaign, so the files of
+consecutive days join without jumps. Days are written independently: each starts a new
+tracking session (new ambiguities at 00:00).
+
+Files (the rules of ``workflow/rules/simulate.smk``):
+
+* per satellite (:func:`simulate_truth`, :func:`code_bias_map_truth`): the truth orbit of the
+  campaign (netCDF, GCRF and ITRF, 10 s) and the code-bias map(s) on a 5° grid;
+* per campaign (:func:`simulate_world_truth`): the true biases (GNSS satellites and every
+  LEO receiver) and the SLR stations (SINEX);
+* per day (:func:`simulate_gnss_products`): GNSS orbits (SP3-d, 15 min, 00:00-24:00, ITRF),
+  clocks (RINEX clock, 30 s), integer-recovery clocks with the CNES/CLS ``WL`` records in
+  their header, the wide-lane biases alone, and Bias-SINEX OSBs;
+* per satellite and day (:func:`simulate_leo_day`): observations (RINEX 3.04 with every
+  simulated system, RINEX 2.11 with GPS), the day's truth (SP3 and netCDF with the orbit
+  and, per observation, ambiguities, passes, angles, ranges, wind-up, ionosphere, clocks) and
+  the SLR normal points of the UTC day (CRD 2).
+
+Settings: :class:`leopod.simulate.settings.SimulationSettings`. Randomness: each stream comes
+from :meth:`SimulationSettings.rng` with a label naming its use (``"truth/<sat>"``,
+``"gnss-orbit/<sv>"``, ``"gnss-clock/<sv>"``, ``"gnss-walk/<sv>"``, ``"rx-clock/<sat>"``,
+``"biases/gnss"``, ``"biases/rx/<sat>"``, ``"obs/<sat>/<date>"``, ``"slr/<sat>/<date>"``), so a
+file depends only on the master seed and its own label: the same seed gives the same files
+whatever the order in which jobs run.
 """
 
 from __future__ import annotations
 
-import datetime as _dt
 import logging
-import zlib
-from dataclasses import dataclass, field
+import time as _time
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 import xarray as xr
 
-from leopod.constants import R_EARTH_EQUATOR_M
+from leopod.campaign import resolve_model_paths
+from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
+from leopod.io.antex import read_antex
+from leopod.io.bias_sinex import write_bias_sinex
 from leopod.io.clock import write_rinex_clock
 from leopod.io.rinex_obs import write_rinex_obs
 from leopod.io.sp3 import write_sp3
+from leopod.io.wlbias import wl_bias_records, write_wl_bias
 from leopod.netcdf import write_netcdf
-from leopod.simulate.observations import ObservationModel, simulate_observations
-from leopod.simulate.world import CircularOrbit, RandomWalkClock, earth_fixed, gps_constellation
-from leopod.time import parse_date_id
+from leopod.simulate.biases import (
+    SimulatedBiases,
+    ar_products,
+    integer_clock_s,
+    simulate_biases,
+    truth_dataset,
+)
+from leopod.simulate.code_bias_map import CodeBiasMap
+from leopod.simulate.observations import GnssWorld, simulate_observations
+from leopod.simulate.settings import DEFAULT_PCO_BODY_M, SimulationSettings
+from leopod.simulate.slr import simulate_normal_points, write_normal_points, write_station_sinex
+from leopod.simulate.truth_orbit import simulate_truth_orbit, write_truth_files
+from leopod.simulate.world import (
+    CircularOrbit,
+    KeplerOrbit,
+    RandomWalkClock,
+    beidou3_constellation,
+    gps_constellation,
+)
+from leopod.time import parse_date_id, seconds_since
 
-__all__ = ["SimulationSettings", "simulate_gnss_products", "simulate_leo_day"]
+__all__ = ["biases_for", "code_bias_map_truth", "gnss_world", "receiver_clock",
+           "simulate_gnss_products", "simulate_leo_day", "simulate_truth", "simulate_world_truth",
+           "write_code_bias_maps", "write_truth_orbit"]
 
 log = logging.getLogger(__name__)
 
+_DAY = np.timedelta64(86_400, "s")
+_NS_PER_S = 1_000_000_000
+#: Extra span of the clocks' pre-drawn random walks beyond the last day [s].
+_CLOCK_SPAN_MARGIN_S = 7200.0
+#: Truth orbit around each day handed to the SLR simulation [s] (> two-way light time).
+_SLR_TRUTH_MARGIN_S = 120.0
+#: Receiver-bias variables of :func:`leopod.simulate.biases.truth_dataset` (per LEO).
+_RX_BIAS_VARS = ("code_bias_rx_m", "phase_bias_rx_cyc", "wl_bias_rx_cyc", "if_phase_bias_rx_m",
+                 "if_code_bias_rx_m")
+_CONSTELLATIONS = {"G": gps_constellation, "C": beidou3_constellation}
 
-@dataclass(frozen=True)
-class SimulationSettings:
-    """World and receiver of a simulated campaign (defaults: an HY-2B-like satellite).
 
-    Attributes
+# --------------------------------------------------------------------------------- world
+
+
+def _epoch(day: str) -> np.datetime64:
+    """00:00 GPS time of a day given as YYYY-DDD or YYYY-MM-DD."""
+    return np.datetime64(parse_date_id(day), "ns")
+
+
+def _span_s(world_start: str, world_end: str) -> float:
+    """Length of the clocks' pre-drawn random walks [s]."""
+    days = (_epoch(world_end) - _epoch(world_start)) / _DAY + 1.0
+    return float(days) * 86_400.0 + _CLOCK_SPAN_MARGIN_S
+
+
+def gnss_world(settings: SimulationSettings, world_start: str, world_end: str) -> GnssWorld:
+    """The GNSS constellations of the simulated systems and their product clocks.
+
+    Parameters
     ----------
-    altitude_km, inclination_deg, raan_deg, u0_deg : float
-        Circular LEO orbit at the world epoch (HY-2B: ≈970 km, 99.34°, seed 000 sec. II-A).
-    interval_s : float
-        Observation sampling [s].
-    seed : int
-        Master seed; each day and satellite derive their own from it.
-    marker : str
-        Four-character marker name of the RINEX file.
-    model : ObservationModel
+    settings : SimulationSettings
+    world_start, world_end : str
+        First and last day of the campaign (the clocks span them).
+
+    Returns
+    -------
+    GnssWorld
+        The slots of :func:`gps_constellation` / :func:`beidou3_constellation` as
+        :class:`KeplerOrbit` with random eccentricities below ``gnss_eccentricity_max`` and
+        random perigees (label ``gnss-orbit/<sv>``); clocks with a
+        uniform offset and drift and a random walk with nodes on the clock-product grid.
     """
-
-    altitude_km: float = 970.0
-    inclination_deg: float = 99.34
-    raan_deg: float = 30.0
-    u0_deg: float = 0.0
-    interval_s: float = 30.0
-    seed: int = 2018
-    marker: str = "SIML"
-    model: ObservationModel = field(default_factory=ObservationModel)
-
-    @classmethod
-    def from_config(cls, cfg: dict) -> "SimulationSettings":
-        """Build from the ``simulate`` block of a campaign config (unknown keys are errors)."""
-        cfg = dict(cfg or {})
-        model_cfg = cfg.pop("observations", {}) or {}
-        try:
-            return cls(**cfg, model=ObservationModel(**model_cfg))
-        except TypeError as err:
-            raise ValueError(f"config 'simulate': {err}") from None
-
-
-def _day_seed(master: int, sat: str, date: str) -> int:
-    return (master * 1_000_003 + zlib.crc32(f"{sat}/{date}".encode())) % (2**32)
+    unknown = sorted(set(settings.systems) - set(_CONSTELLATIONS))
+    if unknown:
+        raise ValueError(f"no simulated constellation for systems {unknown} (known: "
+                         f"{', '.join(_CONSTELLATIONS)})")
+    orbits = {}
+    for system in sorted(settings.systems):
+        for sv, nominal in _CONSTELLATIONS[system]().items():
+            orbits[sv] = _eccentric(nominal, settings.gnss_eccentricity_max,
+                                    settings.rng(f"gnss-orbit/{sv}"))
+    c = settings.clocks
+    span = _span_s(world_start, world_end)
+    clocks = {}
+    for sv in sorted(orbits):
+        rng = settings.rng(f"gnss-clock/{sv}")
+        clocks[sv] = RandomWalkClock(
+            bias_s=float(rng.uniform(-c.gnss_bias_max_s, c.gnss_bias_max_s)),
+            drift_s_s=float(rng.uniform(-c.gnss_drift_max_s_s, c.gnss_drift_max_s_s)),
+            walk_s_sqrt_s=c.gnss_walk_s_sqrt_s, seed=settings.int_seed(f"gnss-walk/{sv}"),
+            step_s=settings.products.clock_interval_s, span_s=span)
+    return GnssWorld(epoch=_epoch(world_start), orbits=orbits, clocks=clocks)
 
 
-def _world(settings: SimulationSettings, span_s: float):
-    """The GNSS constellation, its product clocks, the P1-C1 DCBs and the receiver clock."""
-    gnss = gps_constellation()
-    clocks = {k: RandomWalkClock(bias_s=1e-4 * np.sin(j), drift_s_s=1e-12 * np.cos(3 * j),
-                                 walk_s_sqrt_s=2e-13, seed=settings.seed + j, span_s=span_s)
-              for j, k in enumerate(sorted(gnss))}
-    rx_clock = RandomWalkClock(bias_s=3e-4, drift_s_s=5e-10, walk_s_sqrt_s=3e-11,
-                               seed=settings.seed + 1000, span_s=span_s)
-    rng_dcb = np.random.default_rng(settings.seed + 2000)
-    dcb = {k: float(rng_dcb.normal(0, 1e-9)) for k in sorted(gnss)}
-    return gnss, clocks, dcb, rx_clock
+def _eccentric(nominal: CircularOrbit, e_max: float, rng: np.random.Generator) -> KeplerOrbit:
+    """The nominal slot with a random eccentricity in [0, e_max) and perigee, and the same
+    argument of latitude at t = 0 (to first order in e)."""
+    e = float(rng.uniform(0.0, e_max))
+    argp = float(rng.uniform(0.0, 360.0))
+    return KeplerOrbit(nominal.a_m, e, nominal.inc_deg, nominal.raan_deg, argp,
+                       (nominal.u0_deg - argp) % 360.0, j2=nominal.j2)
 
 
-def _day(date: str, world_start: str):
-    """Offset of the day from the world epoch [s] and its 00:00 as datetime64."""
-    day = parse_date_id(date)
-    offset = (day - parse_date_id(world_start)).days * 86400.0
-    if offset < 0:
-        raise ValueError(f"day {date} is before the simulated world's start {world_start}")
-    return offset, np.datetime64(_dt.datetime(day.year, day.month, day.day), "ns")
+def receiver_clock(settings: SimulationSettings, sat: str, world_start: str,
+                   world_end: str) -> RandomWalkClock:
+    """Receiver clock of a LEO [s] as a function of world time."""
+    c = settings.clocks
+    return RandomWalkClock(bias_s=c.rx_bias_s, drift_s_s=c.rx_drift_s_s,
+                           walk_s_sqrt_s=c.rx_walk_s_sqrt_s,
+                           seed=settings.int_seed(f"rx-clock/{sat}"),
+                           step_s=settings.interval_s, span_s=_span_s(world_start, world_end))
 
 
-def _times(t0: np.datetime64, n: int, step_s: float) -> np.ndarray:
-    return t0 + (np.arange(n) * round(step_s * 1e9)).astype("timedelta64[ns]")
+def _code_bias_maps(settings: SimulationSettings) -> list[CodeBiasMap]:
+    return [CodeBiasMap.from_config(m) for m in settings.code_bias_maps]
 
 
-def simulate_gnss_products(date: str, world_start: str, settings: SimulationSettings,
-                           out_orbit, out_clock) -> None:
-    """Write the simulated GNSS orbits (SP3-d, 15 min, 00:00-24:00) and clocks (30 s) of a day."""
-    offset, t0 = _day(date, world_start)
-    gnss, clocks, _, _ = _world(settings, offset + 2 * 86400.0)
-    ids = sorted(gnss)
-    t_sp3 = offset + np.arange(0.0, 86400.0 + 1, 900.0)
-    pos = np.stack([earth_fixed(t_sp3, gnss[k].inertial(t_sp3)[0])[0] for k in ids], axis=1)
-    clk_sp3 = np.stack([clocks[k](t_sp3) for k in ids], axis=1)
-    orbit = xr.Dataset({"pos_m": (("time", "sv", "xyz"), pos), "clk_s": (("time", "sv"), clk_sp3)},
-                       coords={"time": _times(t0, t_sp3.size, 900.0), "sv": ids, "xyz": ["x", "y", "z"]})
-    write_sp3(orbit, out_orbit, agency="SIM", orbit_type="FIT", coordinate_system="SIMEF",
-              comments=(f"leopod simulated GNSS orbits, world start {world_start}",))
-    t_clk = offset + np.arange(0.0, 86400.0, 30.0)
-    clock = xr.Dataset({"clk_s": (("time", "sv"), np.stack([clocks[k](t_clk) for k in ids], axis=1))},
-                       coords={"time": _times(t0, t_clk.size, 30.0), "sv": ids})
-    write_rinex_clock(clock, out_clock, analysis_center="SIM",
-                      comments=("leopod simulated satellite clocks (P1/P2 ionosphere-free)",))
+def code_bias_map_truth(settings: SimulationSettings, step_deg: float = 5.0) -> xr.Dataset:
+    """The code-bias maps on a cell-centred grid (:meth:`CodeBiasMap.grid`), one variable
+    ``code_bias_<signal>_m`` (el, az) [m] per map, its model and mean in the attributes."""
+    out = xr.Dataset(attrs={"title": "simulated antenna-frame code-bias maps (truth)",
+                            "signals": " ".join(m.signal for m in _code_bias_maps(settings))})
+    for m in _code_bias_maps(settings):
+        grid = m.grid(step_deg)
+        var = grid["code_bias_m"]
+        var.attrs.update({k: v for k, v in grid.attrs.items() if k != "frame"})
+        out[f"code_bias_{m.signal}_m"] = var
+        out.attrs["frame"] = grid.attrs["frame"]
+    return out
 
 
-def simulate_leo_day(date: str, world_start: str, sat: str, settings: SimulationSettings,
-                     out_obs, out_truth_sp3, out_truth_nc) -> None:
-    """Simulate one day of a LEO's onboard observations and write them with the truth.
+# --------------------------------------------------------------------------------- truth
+
+
+def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, world_end: str,
+                   *, eop=None) -> xr.Dataset:
+    """The truth orbit of one LEO over the campaign (00:00 of the first day to 24:00 of the
+    last, plus ``orbit.margin_s`` on both sides), :func:`simulate_truth_orbit` with the
+    settings' dynamics and models and the seed of label ``truth/<sat>``."""
+    o = settings.orbit
+    margin = np.timedelta64(round(o.margin_s * _NS_PER_S), "ns")
+    t_start = _epoch(world_start) - margin
+    t_end = _epoch(world_end) + _DAY + margin
+    models = resolve_model_paths({"m": dict(settings.models)})["m"]
+    clock = _time.perf_counter()
+    truth = simulate_truth_orbit(
+        t_start, t_end, seed=settings.int_seed(f"truth/{sat}"), step_s=o.step_s,
+        altitude_m=o.altitude_km * 1e3, ltan_h=o.ltan_h, inclination_deg=o.inclination_deg,
+        u0_deg=o.u0_deg, dynamics=settings.dynamics, eop=eop,
+        models={"gravity_field": models["field"], "space_weather": models["space_weather"],
+                "ocean_tides": models.get("ocean")})
+    truth.attrs["satellite"] = sat
+    log.info("truth orbit of %s: %s to %s, %d epochs, %.1f s", sat, t_start, t_end,
+             truth.sizes["time"], _time.perf_counter() - clock)
+    return truth
+
+
+def _campaign_biases(settings: SimulationSettings, svs: Sequence[str], sat: str | None,
+                     world_start: str) -> SimulatedBiases:
+    """GNSS satellite biases (label ``biases/gnss``), receiver biases of ``sat`` (label
+    ``biases/rx/<sat>``)."""
+    signals = settings.signal_codes()
+    epoch = _epoch(world_start)
+    sat_part = simulate_biases(svs, signals, settings.rng("biases/gnss"), epoch=epoch,
+                               settings=settings.biases)
+    if sat is None:
+        return sat_part
+    rx_part = simulate_biases(svs, signals, settings.rng(f"biases/rx/{sat}"), epoch=epoch,
+                              settings=settings.biases)
+    return replace(sat_part, code_rx_m=rx_part.code_rx_m, phase_rx_cyc=rx_part.phase_rx_cyc)
+
+
+def simulate_world_truth(settings: SimulationSettings, sats: Sequence[str], world_start: str,
+                         world_end: str, *, biases_path, stations_path) -> xr.Dataset:
+    """Write the campaign's true biases (netCDF) and the SLR station coordinates (SINEX).
+
+    Returns
+    -------
+    xarray.Dataset
+        :func:`leopod.simulate.biases.truth_dataset` of the GNSS satellite biases, with the
+        receiver variables of every LEO along a ``leo`` dimension (read back with
+        :func:`biases_for`).
+    """
+    svs = gnss_world(settings, world_start, world_end).svs
+    ds = truth_dataset(_campaign_biases(settings, svs, None, world_start)).drop_vars(
+        list(_RX_BIAS_VARS))
+    rx = [truth_dataset(_campaign_biases(settings, svs, sat, world_start))[list(_RX_BIAS_VARS)]
+          for sat in sats]
+    ds = xr.merge([ds, xr.concat(rx, dim=xr.DataArray(list(sats), dims="leo", name="leo"))],
+                  combine_attrs="override")
+    ds.attrs["title"] = "simulated code and phase biases (truth)"
+    write_netcdf(ds, biases_path, step="simulate_world", time_system="GPS",
+                 title="simulated code and phase biases (truth)")
+    write_station_sinex(settings.slr.station_list, stations_path, _epoch(world_start))
+    log.info("biases of %d GNSS satellites and %d receivers; %d SLR stations", len(svs),
+             len(sats), len(settings.slr.station_list))
+    return ds
+
+
+def biases_for(truth: xr.Dataset, sat: str | None = None) -> SimulatedBiases:
+    """:class:`SimulatedBiases` from the file of :func:`simulate_world_truth` (receiver part of
+    LEO ``sat``; with ``sat=None`` the receiver biases are NaN)."""
+    def bare(da):
+        return xr.DataArray(da.values, dims=da.dims,
+                            coords={d: da[d].values for d in da.dims})
+
+    systems = [str(s) for s in truth["system"].values]
+    if sat is None:
+        code_rx = xr.full_like(bare(truth["code_bias_rx_m"].isel(leo=0)), np.nan)
+        phase_rx = xr.full_like(bare(truth["phase_bias_rx_cyc"].isel(leo=0)), np.nan)
+    else:
+        code_rx = bare(truth["code_bias_rx_m"].sel(leo=sat, drop=True))
+        phase_rx = bare(truth["phase_bias_rx_cyc"].sel(leo=sat, drop=True))
+    return SimulatedBiases(
+        code_sat_m=bare(truth["code_bias_sat_m"]), phase_sat_cyc=bare(truth["phase_bias_sat_cyc"]),
+        phase_drift_sat_cyc_s=bare(truth["phase_drift_sat_cyc_s"]), code_rx_m=code_rx,
+        phase_rx_cyc=phase_rx, epoch=np.datetime64(truth.attrs["epoch"], "ns"),
+        phase_pairs={s: tuple(truth.attrs[f"phase_pair_{s}"].split()) for s in systems})
+
+
+def _day_biases(biases: SimulatedBiases, day0: np.datetime64) -> SimulatedBiases:
+    """The same biases with their reference epoch (and drifting phase biases) at ``day0``."""
+    phase = biases.sat_phase_cyc_at([day0]).isel(time=0, drop=True)
+    return replace(biases, epoch=day0, phase_sat_cyc=phase)
+
+
+# ------------------------------------------------------------------------- GNSS products
+
+
+def _grid(day0: np.datetime64, step_s: float, end_inclusive: bool) -> np.ndarray:
+    n = round(86_400.0 / step_s) + (1 if end_inclusive else 0)
+    return day0 + np.arange(n) * np.timedelta64(round(step_s * _NS_PER_S), "ns")
+
+
+def simulate_gnss_products(date: str, settings: SimulationSettings, world_start: str,
+                           world_end: str, biases_truth: xr.Dataset, *, orbit, clock,
+                           integer_clock, wl_bias, osb, eop=None) -> None:
+    """Write the GNSS products of one day.
 
     Parameters
     ----------
     date : str
         Day ``YYYY-DDD``.
-    world_start : str
-        First day of the campaign (the world's epoch, 00:00 GPST).
-    sat : str
-        Satellite id (used for seeds and names).
     settings : SimulationSettings
-    out_obs, out_truth_sp3, out_truth_nc : path
-        RINEX 2.11 observations, SP3 truth orbit (10 s), truth netCDF.
+    world_start, world_end : str
+        First and last day of the campaign.
+    biases_truth : xarray.Dataset
+        From :func:`simulate_world_truth`.
+    orbit, clock, integer_clock, wl_bias, osb : path
+        SP3-d (``orbit_interval_s``, 00:00-24:00 inclusive, ITRF centre of mass, clocks in
+        the P records), RINEX clock 3.00 (``clock_interval_s``, 00:00-23:59:30), the
+        integer-recovery clocks with the ``WL`` records as header comments (CNES/CLS style),
+        the ``WL`` records alone, Bias-SINEX (satellite code and phase OSBs, one day window).
+        Clocks refer to the ionosphere-free combination of the clock-reference codes and
+        exclude the periodic relativistic term (IGS convention).
+    eop : EarthOrientation, optional
     """
-    offset, t0 = _day(date, world_start)
-    gnss, clocks, dcb, rx_clock = _world(settings, offset + 2 * 86400.0)
-    leo = CircularOrbit(R_EARTH_EQUATOR_M + settings.altitude_km * 1e3, settings.inclination_deg,
-                        settings.raan_deg, settings.u0_deg)
-    t_obs = offset + np.arange(0.0, 86400.0, settings.interval_s)
-    obs = simulate_observations(t_obs, leo, gnss, clocks, rx_clock, dcb, settings.model,
-                                seed=_day_seed(settings.seed, sat, date))
-    obs = obs.assign_coords(time=_times(t0, t_obs.size, settings.interval_s))
-    rinex = obs[["C1", "P1", "P2", "L1", "L2", "L1_lli", "L2_lli"]]
-    rinex.attrs = {"marker_name": settings.marker, "receiver_type": "LEOPOD SIMULATOR",
-                   "antenna_type": "SIMULATED", "interval_s": settings.interval_s,
-                   "time_system": "GPS", "obs_types_G": "L1 L2 P1 P2 C1"}
-    write_rinex_obs(rinex, out_obs, version=2.11,
-                    header={"comments": [f"leopod simulated {sat} {date} seed {settings.seed}",
-                                         "phase wind-up, GNSS antenna offsets not simulated"]})
-    t_leo = offset + np.arange(0.0, 86400.0, 10.0)
-    p_ef, v_ef = earth_fixed(t_leo, *leo.inertial(t_leo))
-    truth = xr.Dataset({"pos_m": (("time", "sv", "xyz"), p_ef[:, None, :]),
-                        "vel_m_s": (("time", "sv", "xyz"), v_ef[:, None, :])},
-                       coords={"time": _times(t0, t_leo.size, 10.0), "sv": ["L01"],
-                               "xyz": ["x", "y", "z"]})
-    write_sp3(truth, out_truth_sp3, agency="SIM", orbit_type="FIT", coordinate_system="SIMEF",
-              comments=(f"leopod simulated truth orbit of {sat} (centre of mass)",))
-    truth_nc = truth.isel(sv=0, drop=True)
-    truth_nc["pos_m"].attrs = {"units": "m", "long_name": "true LEO centre-of-mass position (Earth-fixed)"}
-    truth_nc["vel_m_s"].attrs = {"units": "m s-1", "long_name": "true LEO velocity (Earth-fixed)"}
-    extra = obs[["true_range_if_m", "amb_L1_cyc", "amb_L2_cyc", "pass_true", "el_deg",
-                 "rx_clock_true_s"]].rename({"time": "obs_time"})
-    write_netcdf(xr.merge([truth_nc, extra]), out_truth_nc, step="simulate", time_system="GPS",
-                 reference_frame="SIMEF (simulated Earth-fixed)", title=f"simulation truth {sat} {date}")
-    log.info("simulated %s %s: %d epochs, %d tracked observations, %d passes", sat, date,
-             t_obs.size, int(np.isfinite(obs.L1.values).sum()), int(obs.pass_true.max()) + 1)
+    day0 = _epoch(date)
+    world = gnss_world(settings, world_start, world_end)
+    svs = world.svs
+    p = settings.products
+    t_orbit = _grid(day0, p.orbit_interval_s, True)
+    t_s = np.repeat(seconds_since(t_orbit, world.epoch)[:, None], len(svs), axis=1)
+    pos_gcrf, _ = world.state_gcrf(svs, t_s)
+    rot, _ = gcrf_from_itrf_matrices(t_orbit, eop)
+    pos_itrf = np.einsum("nji,nsj->nsi", rot, pos_gcrf)
+    sp3 = xr.Dataset({"pos_m": (("time", "sv", "xyz"), pos_itrf),
+                      "clk_s": (("time", "sv"), world.clock_s(svs, t_s))},
+                     coords={"time": t_orbit, "sv": svs, "xyz": ["x", "y", "z"]},
+                     attrs={"time_system": "GPS"})
+    write_sp3(sp3, orbit, agency=p.agency, orbit_type="FIT", coordinate_system="ITRF",
+              comments=(f"leopod simulated GNSS orbits (centre of mass), seed {settings.seed}",))
+    t_clock = _grid(day0, p.clock_interval_s, False)
+    t_s = np.repeat(seconds_since(t_clock, world.epoch)[:, None], len(svs), axis=1)
+    clk = xr.DataArray(world.clock_s(svs, t_s), dims=("time", "sv"),
+                       coords={"time": t_clock, "sv": svs})
+    systems = "/".join(sorted(settings.systems))
+    write_rinex_clock(xr.Dataset({"clk_s": clk}, attrs={"time_system": "GPS"}), clock,
+                      analysis_center=p.agency,
+                      comments=(f"leopod simulated {systems} satellite clocks",
+                                "ionosphere-free clock-reference codes, no relativity"))
+    biases = _day_biases(biases_for(biases_truth), day0)
+    products = ar_products(biases, agency=p.agency)
+    records = wl_bias_records(products.wl)
+    write_rinex_clock(xr.Dataset({"clk_s": integer_clock_s(clk, biases)},
+                                 attrs={"time_system": "GPS"}), integer_clock,
+                      analysis_center=p.agency,
+                      comments=("leopod simulated integer-recovery clocks (CNES/CLS style)",
+                                "WL: wide-lane satellite biases, HMW/lam_WL = N + w_r - WL",
+                                *records))
+    write_wl_bias(products.wl, wl_bias)
+    write_bias_sinex(products.osb, osb)
+    log.info("GNSS products %s: %d satellites (%s), %d orbit and %d clock epochs, %d OSB "
+             "records", date, len(svs), systems, t_orbit.size, t_clock.size,
+             products.osb.sizes["bias"])
+
+
+# ---------------------------------------------------------------------------- LEO day
+
+
+def _rinex_header(settings: SimulationSettings, sat: str, date: str) -> dict:
+    return {"marker_name": settings.marker, "receiver_type": "LEOPOD SIMULATOR",
+            "antenna_type": "SIMULATED", "observer": "leopod", "agency": "leopod",
+            "comments": [f"leopod simulated {sat} {date}, seed {settings.seed}",
+                         "truth orbit: dynamics engine, see the _truth.nc file"]}
+
+
+def _rinex_dataset(obs: xr.Dataset, codes: dict, svs: list, interval_s: float) -> xr.Dataset:
+    names = [c for cs in codes.values() for c in cs]
+    keep = list(dict.fromkeys(names)) + [f"{c}_lli" for c in dict.fromkeys(names)
+                                         if f"{c}_lli" in obs]
+    ds = obs[keep].sel(sv=svs)
+    ds.attrs = {"interval_s": interval_s, "time_system": "GPS",
+                **{f"obs_types_{s}": " ".join(c) for s, c in codes.items()}}
+    return ds
+
+
+def _slr_day(truth: xr.Dataset, day0: np.datetime64, settings: SimulationSettings,
+             rng: np.random.Generator) -> xr.Dataset:
+    """Normal points of the UTC day of ``day0`` from the truth around it."""
+    margin = np.timedelta64(round(_SLR_TRUTH_MARGIN_S * _NS_PER_S), "ns")
+    window = truth[["pos_itrf_m", "vel_itrf_m_s"]].sel(time=slice(day0 - margin,
+                                                                   day0 + _DAY + margin))
+    nps = simulate_normal_points(window, settings.slr.retro_offset_body_m,
+                                 stations=settings.slr.station_list,
+                                 settings=settings.slr.settings, rng=rng)
+    t = nps["time"].values
+    return nps.isel(point=np.flatnonzero((t >= day0) & (t < day0 + _DAY)))
+
+
+def _truth_day(truth: xr.Dataset, obs: xr.Dataset, day0: np.datetime64) -> xr.Dataset:
+    """Orbit of the day [00:00, 24:00) and the per-observation truth."""
+    orbit = truth[["pos_gcrf_m", "vel_gcrf_m_s", "pos_itrf_m", "vel_itrf_m_s"]].sel(
+        time=slice(day0, day0 + _DAY - np.timedelta64(1, "ns")))
+    names = [v for v in obs.data_vars if v.startswith(("amb_", "range_", "code_bias_map_"))]
+    names += ["pass_true", "el_deg", "az_deg", "windup_cyc", "stec_tecu", "shapiro_m",
+              "clk_sv_true_s", "clk_rx_true_s"]
+    per_obs = obs[names].rename(time="obs_time")
+    ds = xr.merge([orbit, per_obs], combine_attrs="override")
+    ds.attrs = dict(truth.attrs)
+    return ds
+
+
+def simulate_leo_day(date: str, sat: str, settings: SimulationSettings, world_start: str,
+                     world_end: str, truth: xr.Dataset, biases_truth: xr.Dataset,
+                     pco_body_m: Mapping[str, Sequence[float]] | None = None, *,
+                     rinex3, rinex2=None, truth_sp3, truth_nc, crd=None,
+                     eop=None) -> xr.Dataset:
+    """Simulate and write one day of a LEO's onboard observations, its truth and SLR data.
+
+    Parameters
+    ----------
+    date : str
+        Day ``YYYY-DDD``.
+    sat : str
+        Satellite id (labels of the random streams and of the receiver biases).
+    settings : SimulationSettings
+    world_start, world_end : str
+        First and last day of the campaign.
+    truth : xarray.Dataset
+        Truth orbit of the satellite (:func:`simulate_truth`) covering the day.
+    biases_truth : xarray.Dataset
+        From :func:`simulate_world_truth`.
+    pco_body_m : mapping, optional
+        Antenna PCO per band name in the body frame [m] (default
+        :data:`DEFAULT_PCO_BODY_M`); must name every simulated band.
+    rinex3, rinex2, truth_sp3, truth_nc, crd : path
+        Outputs: RINEX 3.04 (all systems), RINEX 2.11 (GPS; skipped if None), truth SP3-d
+        (10 s, ITRF centre of mass) and netCDF (module docstring), CRD 2 normal points of the
+        UTC day (skipped if None).
+    eop : EarthOrientation, optional
+
+    Returns
+    -------
+    xarray.Dataset
+        The observations with their truth (:func:`leopod.simulate.observations.
+        simulate_observations`).
+    """
+    clock = _time.perf_counter()
+    day0 = _epoch(date)
+    interval = np.timedelta64(round(settings.interval_s * _NS_PER_S), "ns")
+    times = day0 + np.arange(round(86_400.0 / settings.interval_s)) * interval
+    world = gnss_world(settings, world_start, world_end)
+    antex = read_antex(settings.gnss_antex) if settings.gnss_antex else None
+    obs = simulate_observations(
+        times, truth, world, receiver_clock(settings, sat, world_start, world_end),
+        biases_for(biases_truth, sat), settings.signal_codes(),
+        DEFAULT_PCO_BODY_M if pco_body_m is None else pco_body_m, _code_bias_maps(settings),
+        settings.observations, settings.rng(f"obs/{sat}/{date}"), antex=antex, eop=eop)
+    codes = settings.signal_codes()
+    header = _rinex_header(settings, sat, date)
+    write_rinex_obs(_rinex_dataset(obs, codes, list(obs.sv.values), settings.interval_s),
+                    rinex3, version=3.04, header=header)
+    gps = [s for s in obs.sv.values if s[0] == "G"]
+    if rinex2 is not None and gps:
+        write_rinex_obs(_rinex_dataset(obs, {"G": codes["G"]}, gps, settings.interval_s),
+                        rinex2, version=2.11, header=header)
+    write_truth_files(_truth_day(truth, obs, day0), truth_sp3, truth_nc, settings.leo_sp3_id)
+    n_np = 0
+    if crd is not None:
+        nps = _slr_day(truth, day0, settings, settings.rng(f"slr/{sat}/{date}"))
+        write_normal_points(nps, crd, day0)
+        n_np = nps.sizes["point"]
+    tracked = np.isfinite(obs["el_deg"].values)
+    log.info("simulated %s %s: %d epochs, %d observations of %d satellites, %d passes, "
+             "%d slips, %d SLR normal points, %.1f s", sat, date, times.size,
+             int(tracked.sum()), int(tracked.any(axis=0).sum()), obs.attrs["n_passes"],
+             obs.attrs["n_slips"], n_np, _time.perf_counter() - clock)
+    return obs
+
+
+def write_truth_orbit(truth: xr.Dataset, path) -> None:
+    """Write the campaign truth orbit of :func:`simulate_truth` as netCDF."""
+    write_netcdf(truth, path, step="simulate_truth", time_system="GPS",
+                 reference_frame="GCRF and ITRF (per variable)",
+                 title=f"leopod truth orbit {truth.attrs.get('satellite', '')}".strip())
+
+
+def write_code_bias_maps(settings: SimulationSettings, path) -> None:
+    """Write :func:`code_bias_map_truth` as netCDF."""
+    write_netcdf(code_bias_map_truth(settings), path, step="simulate_truth",
+                 reference_frame="antenna (body) frame", title="simulated code-bias maps")
+

@@ -1,213 +1,517 @@
-"""Onboard GNSS observations of a simulated LEO, with their truth.
+"""Onboard GNSS code and phase of a simulated LEO, with their truth (closed-loop simulator).
 
-For every receiver epoch the generator solves the light time in the inertial frame, selects
-the satellites above the antenna horizon (at most ``channels``, highest first), and forms
-code and phase on two frequencies:
+For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS satellite
+``s`` the generator works in the GCRF (the inertial frame of
+:meth:`leopod.simulate.world.CircularOrbit.inertial` *is* the GCRF of this world):
 
-``P_f = ρ_f + c (dt_rx − dt_sv) + I_f + b_f + ε_P``
-``Φ_f = ρ_f + c (dt_rx − dt_sv) − I_f + λ_f N_f + ε_Φ``
+* true reception time ``t = t_read − dt_rx`` (receiver clock, a random walk at the µs level);
+* LEO centre of mass at ``t`` from the truth orbit (GCRF, 10th-order Lagrange interpolation
+  of position and velocity, :func:`leopod.orbit.interpolate.interpolate_table`); antenna
+  phase centre of band ``b`` = centre of mass + the body-frame PCO of the band rotated with the
+  nominal attitude (:func:`leopod.estimation.obsmodel.nominal_axes_inertial`);
+* transmission time ``t − τ`` by light-time iteration on the exact analytic GNSS orbit in the
+  GCRF (no Sagnac term is needed in an inertial frame); transmitter phase centre = centre of
+  mass + ANTEX PCO of the band (yaw-steering attitude,
+  :func:`leopod.orbit.gnss_attitude.gnss_body_axes`, with the Sun of
+  :func:`~leopod.orbit.gnss_attitude.sun_position_ef` rotated to the GCRF) — zero, i.e. the
+  SP3 centre of mass, unless an ANTEX file is given; then also the nadir-dependent PCV;
+* satellite clock ``dt^s = dt^s_product(t − τ) + Δt_rel`` with the periodic relativistic term
+  ``Δt_rel = −2 r·v/c²`` (IS-GPS-200 20.3.3.3.3.1, :func:`leopod.estimation.corrections.
+  relativistic_clock_s`): the clock *products* exclude it, as IGS products do;
+* Shapiro delay (IERS Conventions 2010 eq. 11.17) on code and phase;
+* phase wind-up (Wu et al. 1993; Kouba 2009 sec. 5.3) in cycles, equal on both frequencies,
+  with receiver dipole axes ``x = body X``, ``y = −body Y`` and the transmitter's yaw-steering
+  X/Y axes — the arguments the estimator uses (module docstring of
+  :mod:`leopod.estimation.obsmodel`), made continuous along each track;
+* first-order ionosphere ``I_b = 40.3·10¹⁶ STEC / f_b²`` [m] (STEC in TECU) from a thin shell
+  ``shell_height_m`` above the LEO: ``STEC = VTEC / cos z'`` with ``sin z' = r/(r + h)
+  cos e`` (e the local elevation at the LEO) and a day/night VTEC
+  ``V_night + (V_day − V_night) max(0, r̂·ŝ)`` (ŝ the Sun direction);
+* code and phase biases of :mod:`leopod.simulate.biases` and integer ambiguities per pass.
 
-with ``ρ_f`` the geometric range from the transmitter to the frequency's receiver phase
-centre (body-frame offset rotated by the nominal attitude), ``dt_sv`` the true satellite clock
-(product clock plus the periodic relativistic term −2 r·v/c², IS-GPS-200 20.3.3.3.3.1),
-``I_f = 40.3 STEC / f²`` from a thin-shell TEC model above the LEO, ``b_f`` satellite code
-biases of the C/A code relative to P1 (P1−C1 DCB), integer ambiguities that change at every
-acquisition and cycle slip, and white noise whose standard deviation grows at low elevation.
+Observation equations (metres; ``λ_b`` wavelength, ``ρ_b`` geometric range between the phase
+centres of band ``b``, ``w`` wind-up [cycles], ``m_i`` the antenna-frame code-bias map of
+signal ``i`` (:class:`leopod.simulate.code_bias_map.CodeBiasMap`), ``ε`` noise)::
 
-Not yet simulated (they come with the full simulator): phase wind-up, GNSS antenna offsets,
-fractional phase biases, antenna-frame code-bias maps, model mismatch of the orbit.
+    P_i = ρ_b + c (dt_rx − dt^s) + δ_shapiro + I_b + d_r,i + d^s_i + m_i(az, el) + ε_P
+    L_i = ρ_b + c (dt_rx − dt^s) + δ_shapiro − I_b + λ_b (N_i + β_r,i + β^s_i + w) + ε_L
+
+Receiver (:mod:`leopod.simulate.tracking`): a sticky channel allocation per system (at most
+``channels`` satellites, tracked from acquisition above the antenna-frame elevation mask until
+they set or a gap breaks the lock; free channels go to the highest untracked satellites);
+random short gaps; cycle slips (integer jumps of the phases, LLI set with probability
+``lli_detected``); a new pass with new random integer ambiguities at each acquisition (LLI
+set); white noise with the elevation-dependent standard deviation ``σ(e) = σ_30 (1 + k exp(−e/10°)) / (1 + k exp(−3))``.
+
+The default code noise levels ``σ_30`` are seed 000's typical 2-min STDs of epoch-differenced
+code minus carrier (C1 0.46, P1 0.09, P2 0.02 m, sec. II-B) divided by √2 (the epoch
+difference doubles the variance); BDS-3 B1C/B2a (0.20 and 0.15 m before the √2) are assumed
+values (seed 002 gives no numbers); phases 1.5 mm.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
 
-from leopod.constants import C_LIGHT_M_S, R_EARTH_EQUATOR_M
+from leopod.constants import C_LIGHT_M_S
+from leopod.estimation.corrections import (
+    relativistic_clock_s,
+    shapiro_delay_m,
+    unwrap_windup,
+    windup_cycles,
+)
+from leopod.estimation.obsmodel import nominal_axes_inertial
+from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.gnss import signals
-from leopod.simulate.world import CircularOrbit, RandomWalkClock
+from leopod.orbit.gnss_attitude import gnss_body_axes, sun_position_ef
+from leopod.orbit.interpolate import interpolate_table
+from leopod.simulate.biases import SimulatedBiases
+from leopod.simulate.code_bias_map import CodeBiasMap
+from leopod.simulate.tracking import passes, track
+from leopod.simulate.world import CircularOrbit, KeplerOrbit, RandomWalkClock
+from leopod.time import seconds_since
 
-__all__ = ["ObservationModel", "simulate_observations"]
+__all__ = ["DEFAULT_NOISE_M", "GnssWorld", "ObservationSettings", "simulate_observations"]
 
-_TEC_TO_M_HZ2 = 40.3e16  # ionospheric delay factor: I = 40.3 STEC[TECU] 1e16 / f² [m Hz²]
+#: First-order ionospheric delay factor: ``I = 40.3 STEC / f²`` with STEC in electrons/m²,
+#: i.e. 40.3e16 m Hz² per TECU (Hofmann-Wellenhof et al., GNSS, 2008, eq. 5.75).
+_IONO_M_HZ2_PER_TECU = 40.3e16
+#: Light-time iterations (each reduces the error by v/c ~ 1e-5: 0.07 s -> < 1e-15 s).
+_LIGHT_TIME_ITERATIONS = 4
+#: Reference elevation of the noise levels and e-folding elevation of their growth [deg].
+_NOISE_REF_EL_DEG, _NOISE_SCALE_EL_DEG = 30.0, 10.0
+
+_SQRT2 = np.sqrt(2.0)
+#: Default white-noise STD per RINEX 3 code at 30° elevation [m] (module docstring).
+DEFAULT_NOISE_M = {
+    "C1C": 0.46 / _SQRT2, "C1W": 0.09 / _SQRT2, "C2W": 0.02 / _SQRT2,
+    "L1C": 0.0015, "L2W": 0.0015,
+    "C1P": 0.20 / _SQRT2, "C5P": 0.15 / _SQRT2, "L1P": 0.0015, "L5P": 0.0015,
+}
 
 
 @dataclass(frozen=True)
-class ObservationModel:
-    """Settings of the simulated receiver and signals.
+class ObservationSettings:
+    """Receiver, signal-noise and tracking settings of the simulated observations.
 
     Attributes
     ----------
     noise_m : dict
-        Typical white-noise STD per RINEX 2 observation name [m], reached at 30° elevation
-        (where the bulk of the observations lie). The default code values are the typical
-        2-min STDs of epoch-differenced code minus carrier of seed 000 (C1 0.46, P1 0.09,
-        P2 0.02 m) divided by √2, so the quality step should find those numbers again.
+        White-noise STD at 30° antenna elevation per RINEX 3 code [m] (merged over
+        :data:`DEFAULT_NOISE_M`).
     low_elevation_factor : float
-        Noise scales as ``(1 + factor · exp(−el / 10°)) / (1 + factor · exp(−3))``.
+        ``k`` of the elevation dependence (module docstring) [1].
     channels : int
-        Tracking channels (HY-2B: 12).
+        Tracking channels per system (HY-2B: 12 for GPS).
     elevation_mask_deg : float
-        Antenna-frame elevation below which nothing is tracked.
+        Antenna-frame elevation below which nothing is tracked [deg].
     vtec_tecu : tuple of float
-        Night and day vertical TEC above the LEO [TECU].
+        Night and day vertical TEC of the thin shell above the LEO [TECU].
+    shell_height_m : float
+        Height of the thin shell above the LEO [m].
     slip_rate_per_h : float
         Expected cycle slips per hour of tracking of one satellite.
+    slip_max_cyc : int
+        Largest slip per frequency [cycles] (jumps uniform in ±this, not both zero).
     lli_detected : float
         Probability that the receiver flags a slip with the LLI.
     gap_rate_per_h : float
-        Expected short tracking gaps (1–5 epochs) per hour and satellite.
-    pco_body_m : dict
-        Antenna phase-centre offsets per band name in the body frame [m].
+        Expected short tracking gaps per hour and satellite.
+    gap_max_epochs : int
+        Longest gap [epochs] (uniform 1..this).
+    ambiguity_max_cyc : int
+        Ambiguities at acquisition are uniform in ±this [cycles].
     """
 
-    noise_m: dict = field(default_factory=lambda: {
-        "C1": 0.46 / np.sqrt(2), "P1": 0.09 / np.sqrt(2), "P2": 0.02 / np.sqrt(2),
-        "L1": 0.0015, "L2": 0.0015})
+    noise_m: dict = field(default_factory=dict)
     low_elevation_factor: float = 3.0
     channels: int = 12
     elevation_mask_deg: float = 0.0
-    vtec_tecu: tuple = (2.0, 8.0)
+    vtec_tecu: tuple[float, float] = (2.0, 8.0)
+    shell_height_m: float = 400e3
     slip_rate_per_h: float = 0.05
+    slip_max_cyc: int = 50
     lli_detected: float = 0.8
     gap_rate_per_h: float = 0.05
-    pco_body_m: dict = field(default_factory=lambda: {"L1": [0.0, 0.0, -0.35],
-                                                      "L2": [0.0, 0.0, -0.37]})
+    gap_max_epochs: int = 5
+    ambiguity_max_cyc: int = 500
+
+    def __post_init__(self):
+        object.__setattr__(self, "noise_m", {**DEFAULT_NOISE_M, **dict(self.noise_m)})
+        object.__setattr__(self, "vtec_tecu", tuple(self.vtec_tecu))
+
+    def sigma_m(self, code: str, el_deg: np.ndarray) -> np.ndarray:
+        """Noise STD [m] of ``code`` at antenna elevations ``el_deg`` [deg]."""
+        if code not in self.noise_m:
+            raise ValueError(f"no noise level for signal {code} (known: "
+                             f"{', '.join(sorted(self.noise_m))})")
+        k = self.low_elevation_factor
+        scale = ((1.0 + k * np.exp(-np.clip(el_deg, 0.0, 90.0) / _NOISE_SCALE_EL_DEG))
+                 / (1.0 + k * np.exp(-_NOISE_REF_EL_DEG / _NOISE_SCALE_EL_DEG)))
+        return self.noise_m[code] * scale
 
 
-def _nominal_axes_inertial(pos: np.ndarray, vel: np.ndarray) -> np.ndarray:
-    """Rows X, Y, Z of the nominal body frame in inertial coordinates, shape (n, 3, 3)."""
-    z = -pos / np.linalg.norm(pos, axis=-1, keepdims=True)
-    y = np.cross(z, vel)
-    y /= np.linalg.norm(y, axis=-1, keepdims=True)
-    x = np.cross(y, z)
-    return np.stack([x, y, z], axis=-2)
+@dataclass(frozen=True)
+class GnssWorld:
+    """The simulated GNSS constellations and their product clocks.
+
+    Attributes
+    ----------
+    epoch : numpy.datetime64
+        World epoch (GPS time): ``t = 0`` of the orbits and clocks.
+    orbits : dict of str to CircularOrbit or KeplerOrbit
+        Analytic orbits by satellite id; their inertial frame is the GCRF.
+    clocks : dict of str to RandomWalkClock
+        Satellite clocks as in the clock products (without the periodic relativistic term) [s].
+    """
+
+    epoch: np.datetime64
+    orbits: dict[str, CircularOrbit | KeplerOrbit]
+    clocks: dict[str, RandomWalkClock]
+
+    @property
+    def svs(self) -> list[str]:
+        """Satellite ids, sorted."""
+        return sorted(self.orbits)
+
+    def state_gcrf(self, svs: Sequence[str], t_s: np.ndarray):
+        """GCRF position [m] and velocity [m/s], shape (n, s, 3), at world times (n, s) [s]."""
+        pos = np.empty(t_s.shape + (3,))
+        vel = np.empty(t_s.shape + (3,))
+        for j, sv in enumerate(svs):
+            pos[:, j], vel[:, j] = self.orbits[sv].inertial(t_s[:, j])
+        return pos, vel
+
+    def clock_s(self, svs: Sequence[str], t_s: np.ndarray) -> np.ndarray:
+        """Product clocks [s], shape (n, s), at world times (n, s) [s]."""
+        return np.stack([self.clocks[sv](t_s[:, j]) for j, sv in enumerate(svs)], axis=1)
 
 
-def simulate_observations(t_read_s: np.ndarray, leo: CircularOrbit, gnss: dict[str, CircularOrbit],
-                          gnss_clocks: dict[str, RandomWalkClock], rx_clock: RandomWalkClock,
-                          dcb_p1c1_s: dict[str, float], model: ObservationModel, seed: int,
-                          sun_dir_in: np.ndarray = np.array([1.0, 0.0, 0.0])) -> xr.Dataset:
-    """Simulate RINEX-2-like GPS observations (C1 P1 P2 L1 L2) of a LEO.
+# ------------------------------------------------------------------------------ geometry
+
+
+def _leo_at(truth: xr.Dataset, epoch: np.datetime64, t_s: np.ndarray):
+    """Truth GCRF position and velocity of the LEO (n, 3) at world times ``t_s``."""
+    nodes = seconds_since(truth["time"].values, epoch)
+    pos, _ = interpolate_table(nodes, truth["pos_gcrf_m"].values, t_s)
+    vel, _ = interpolate_table(nodes, truth["vel_gcrf_m_s"].values, t_s)
+    if not np.isfinite(pos).all():
+        raise ValueError(f"the truth orbit ({truth['time'].values[0]} to "
+                         f"{truth['time'].values[-1]}) does not cover the reception times")
+    return pos, vel
+
+
+def _light_time(world: GnssWorld, svs, t_rx_s: np.ndarray, rx_m: np.ndarray):
+    """Transmission times (n, s) [world s] and transmitter states at them (GCRF)."""
+    n, s = t_rx_s.size, len(svs)
+    tau = np.full((n, s), 0.075)
+    for _ in range(_LIGHT_TIME_ITERATIONS):
+        pos, _ = world.state_gcrf(svs, t_rx_s[:, None] - tau)
+        tau = np.linalg.norm(pos - rx_m[:, None, :], axis=-1) / C_LIGHT_M_S
+    t_tx = t_rx_s[:, None] - tau
+    pos, vel = world.state_gcrf(svs, t_tx)
+    return t_tx, pos, vel
+
+
+def _antenna_angles(axes: np.ndarray, los: np.ndarray):
+    """Antenna-frame elevation and azimuth [deg] (n, s) of unit lines of sight (n, s, 3)."""
+    body = np.einsum("nij,nsj->nsi", axes, los)
+    el = np.degrees(np.arcsin(np.clip(-body[..., 2], -1.0, 1.0)))
+    az = np.degrees(np.arctan2(body[..., 1], body[..., 0])) % 360.0
+    return el, az
+
+
+def _sat_antenna(antex, svs, epoch, bands_by_sv) -> tuple[dict, dict]:
+    """Per (sv, band): body-frame PCO (3,) [m] and a PCV function of nadir [deg] -> m."""
+    pco, pcv = {}, {}
+    if antex is None:
+        return pco, pcv
+    for sv in svs:
+        try:
+            pattern = antex.satellite(sv, epoch)
+        except KeyError:
+            continue
+        for band in bands_by_sv[sv]:
+            freq = f"{sv[0]}{int(band):02d}"
+            try:
+                pco[sv, band] = np.asarray(pattern.pco_m(freq), dtype=float)
+            except KeyError:
+                continue
+            pcv[sv, band] = (lambda nadir, p=pattern, f=freq:
+                             p.pcv_m(f, nadir, outside="nearest"))
+    return pco, pcv
+
+
+@dataclass
+class _Geometry:
+    """Geometry of all (epoch, satellite) pairs of one day."""
+
+    range_m: dict               # (system, band digit) -> (n, s) [m] incl. GNSS PCV; NaN for
+                                # satellites of other systems
+    el_deg: np.ndarray          # (n, s) antenna frame
+    az_deg: np.ndarray
+    local_el_deg: np.ndarray    # (n, s) above the LEO's local horizontal
+    sv_clock_s: np.ndarray      # (n, s) true satellite clock (product + relativity)
+    shapiro_m: np.ndarray       # (n, s)
+    windup_cyc: np.ndarray      # (n, s) wrapped
+    sun_cos: np.ndarray         # (n,) cosine of the Sun's zenith angle at the sub-LEO point
+
+
+def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m,
+              bands_by_sv, antex, eop) -> _Geometry:
+    """Light time, ranges per band, angles, clocks, Shapiro and wind-up (module docstring)."""
+    axes = nominal_axes_inertial(leo_pos, leo_vel)                         # (n, 3, 3) rows
+    names = _band_names(bands_by_sv)
+    missing = sorted({name for name in names.values() if name not in pco_body_m})
+    if missing:
+        raise ValueError(f"no LEO antenna offset for the bands {missing} (pco_body_m has "
+                         f"{sorted(pco_body_m)})")
+    rx = {key: leo_pos + np.einsum("nij,i->nj", axes, np.asarray(pco_body_m[name], float))
+          for key, name in names.items()}
+    # light time to the centre of mass: for the phase centres (< 0.5 m away) the transmission
+    # time would differ by < 2 ns, i.e. < 8 µm of satellite motion
+    t_tx, sv_pos, sv_vel = _light_time(world, svs, t_rx_s, leo_pos)
+    sun_gcrf, _ = itrf_to_gcrf(times_rx, sun_position_ef(times_rx), eop=eop)
+    sv_axes = gnss_body_axes(sv_pos, sun_gcrf[:, None, :])                 # (n, s, 3, 3)
+    sat_pco, sat_pcv = _sat_antenna(antex, svs, times_rx[0], bands_by_sv)
+    los = sv_pos - leo_pos[:, None, :]
+    los /= np.linalg.norm(los, axis=-1, keepdims=True)
+    nadir = np.degrees(np.arccos(np.clip(-np.sum(los * sv_axes[..., 2, :], axis=-1), -1.0,
+                                         1.0)))
+    system_of = np.array([sv[0] for sv in svs])
+    ranges = {}
+    for key in rx:
+        cols = np.flatnonzero(system_of == key[0])
+        tx = sv_pos.copy()
+        for j in cols:
+            if (svs[j], key[1]) in sat_pco:
+                tx[:, j] += np.einsum("nij,i->nj", sv_axes[:, j], sat_pco[svs[j], key[1]])
+        rho = np.full(los.shape[:2], np.nan)
+        rho[:, cols] = np.linalg.norm(tx[:, cols] - rx[key][:, None, :], axis=-1)
+        for j in cols:
+            if (svs[j], key[1]) in sat_pcv:
+                rho[:, j] += sat_pcv[svs[j], key[1]](nadir[:, j])
+        ranges[key] = rho
+    el, az = _antenna_angles(axes, los)
+    up = leo_pos / np.linalg.norm(leo_pos, axis=-1, keepdims=True)
+    local_el = np.degrees(np.arcsin(np.clip(np.einsum("nsi,ni->ns", los, up), -1.0, 1.0)))
+    clock = world.clock_s(svs, t_tx) + relativistic_clock_s(sv_pos, sv_vel)
+    shapiro = shapiro_delay_m(sv_pos, leo_pos[:, None, :])
+    n, s = t_tx.shape
+    wind = windup_cycles(-los.reshape(-1, 3), np.repeat(axes[:, 0], s, axis=0),
+                         np.repeat(-axes[:, 1], s, axis=0), sv_axes[..., 0, :].reshape(-1, 3),
+                         sv_axes[..., 1, :].reshape(-1, 3)).reshape(n, s)
+    sun_dir = sun_gcrf / np.linalg.norm(sun_gcrf, axis=-1, keepdims=True)
+    return _Geometry(range_m=ranges, el_deg=el, az_deg=az, local_el_deg=local_el,
+                     sv_clock_s=clock, shapiro_m=shapiro, windup_cyc=wind,
+                     sun_cos=np.sum(up * sun_dir, axis=-1))
+
+
+def _band_names(bands_by_sv) -> dict[tuple[str, str], str]:
+    """(system, band digit) -> band name (``L1``, ``B1C``) of every simulated band."""
+    keys = sorted({(sv[0], b) for sv, bands in bands_by_sv.items() for b in bands})
+    return {k: signals.band(*k).name for k in keys}
+
+
+# ----------------------------------------------------------------------------- assemble
+
+
+def _signals_by_sv(svs, signal_codes: Mapping[str, Sequence[str]]):
+    """Per satellite: its codes (C..), its phases (L..) and the band digits of both."""
+    codes, phases, bands = {}, {}, {}
+    for sv in svs:
+        sig = list(signal_codes[sv[0]])
+        codes[sv] = [c for c in sig if c[0] == "C"]
+        phases[sv] = [c for c in sig if c[0] == "L"]
+        bands[sv] = sorted({c[1] for c in sig if c[0] in "CL"})
+    return codes, phases, bands
+
+
+def _stec_tecu(geo: _Geometry, leo_pos: np.ndarray, settings: ObservationSettings):
+    """Slant TEC of the thin shell above the LEO [TECU], (n, s)."""
+    r = np.linalg.norm(leo_pos, axis=-1)[:, None]
+    sin_z = r / (r + settings.shell_height_m) * np.cos(np.radians(geo.local_el_deg))
+    night, day = settings.vtec_tecu
+    vtec = night + (day - night) * np.clip(geo.sun_cos, 0.0, None)[:, None]
+    return vtec / np.sqrt(1.0 - np.clip(sin_z, 0.0, 0.999) ** 2)
+
+
+def _var(values, units: str, long_name: str, dims=("time", "sv")):
+    return dims, values, {"units": units, "long_name": long_name}
+
+
+def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld,
+                          rx_clock: RandomWalkClock, biases: SimulatedBiases,
+                          signal_codes: Mapping[str, Sequence[str]],
+                          pco_body_m: Mapping[str, Sequence[float]],
+                          code_bias_maps: Sequence[CodeBiasMap],
+                          settings: ObservationSettings, rng: np.random.Generator, *,
+                          antex=None, eop=None) -> xr.Dataset:
+    """Simulate the onboard code and phase of a LEO at the receiver epochs ``times``.
 
     Parameters
     ----------
-    t_read_s : ndarray, shape (n,)
-        Receiver epochs (clock readings) [s since the world's epoch].
-    leo : CircularOrbit
-    gnss : dict of CircularOrbit
-        Transmitters by id (``"G01"``).
-    gnss_clocks : dict of RandomWalkClock
-        Product (broadcast-free) clocks of the transmitters [s].
+    times : ndarray of datetime64, shape (n,)
+        Receiver epochs (clock readings, GPS-time labels), equally spaced.
+    truth : xarray.Dataset
+        Truth orbit of :func:`leopod.simulate.truth_orbit.simulate_truth_orbit` (``time``,
+        ``pos_gcrf_m``, ``vel_gcrf_m_s``) covering the reception times.
+    world : GnssWorld
+        Constellations and product clocks.
     rx_clock : RandomWalkClock
-        Receiver clock [s].
-    dcb_p1c1_s : dict
-        P1 − C1 satellite code bias [s]: ``C1 = P1 − c·DCB`` at the satellite.
-    model : ObservationModel
-    seed : int
-        Seed of the random noise, ambiguities, slips and gaps.
-    sun_dir_in : ndarray, shape (3,)
-        Inertial direction of the Sun for the day/night TEC model.
+        Receiver clock offset [s] as a function of world time.
+    biases : SimulatedBiases
+        True code and phase biases (satellites of ``world`` and the receiver).
+    signal_codes : mapping
+        System -> RINEX 3 codes to simulate (e.g. ``{"G": ["C1C", "C1W", "C2W", "L1C",
+        "L2W"]}``); satellites of other systems are left out.
+    pco_body_m : mapping
+        LEO antenna PCO per band name (``"L1"``, ``"B2a"``) in the body frame [m].
+    code_bias_maps : sequence of CodeBiasMap
+        Antenna-frame code-bias maps, each added to its ``signal``.
+    settings : ObservationSettings
+    rng : numpy.random.Generator
+        Source of the gaps, slips, ambiguities and noise.
+    antex : leopod.io.antex.AntexFile, optional
+        GNSS satellite antenna offsets and nadir variations (default none: centre of mass).
+    eop : EarthOrientation, optional
+        For the Sun direction in the GCRF.
 
     Returns
     -------
     xarray.Dataset
-        Schema of :func:`leopod.io.rinex_obs.read_rinex_obs` for RINEX 2 (codes in m, phases
-        in cycles, ``L1_lli``/``L2_lli``) plus truth variables ``true_range_if_m``,
-        ``amb_L1_cyc``, ``amb_L2_cyc`` and ``pass_true`` (time, sv) and ``el_deg`` (time, sv).
+        Dims (time, sv). Observations in the schema of
+        :func:`leopod.io.rinex_obs.read_rinex_obs`: one variable per RINEX 3 code (code [m],
+        phase [cycles]) and ``<phase>_lli`` (int8, -1 where absent). Truth: ``pass_true``
+        (int32, -1 where not tracked), ``amb_<phase>_cyc`` (integers), ``range_<phase>_m``
+        (geometric range of the band's phase centres), ``range_if_m`` (ionosphere-free
+        combination of the two ranges of the system), ``el_deg`` / ``az_deg`` (antenna
+        frame), ``windup_cyc``, ``stec_tecu``, ``shapiro_m``, ``clk_sv_true_s`` (product clock
+        plus relativity), ``code_bias_map_<code>_m``, all NaN where not tracked, and
+        ``clk_rx_true_s`` (time).
     """
-    rng = np.random.default_rng(seed)
-    ids = sorted(gnss)
-    n, s = len(t_read_s), len(ids)
-    f = {"1": signals.frequency_hz("G", "1"), "2": signals.frequency_hz("G", "2")}
-    lam = {k: C_LIGHT_M_S / v for k, v in f.items()}
-    dt_rx = rx_clock(t_read_s)
-    t_true = t_read_s - dt_rx
-    r_rx, v_rx = leo.inertial(t_true)                                    # (n, 3)
-    axes = _nominal_axes_inertial(r_rx, v_rx)                            # (n, 3, 3)
-    pco_in = {b: np.einsum("nji,j->ni", axes, np.asarray(model.pco_body_m[f"L{b}"]))
-              for b in ("1", "2")}
-    # light time per satellite (iterate in the inertial frame)
-    tau = np.full((n, s), 0.07)
-    for _ in range(4):
-        r_tx = np.stack([gnss[k].inertial(t_true - tau[:, j])[0] for j, k in enumerate(ids)], axis=1)
-        tau = np.linalg.norm(r_tx - r_rx[:, None, :], axis=2) / C_LIGHT_M_S
-    r_tx = np.empty((n, s, 3))
-    v_tx = np.empty((n, s, 3))
-    for j, k in enumerate(ids):
-        r_tx[:, j], v_tx[:, j] = gnss[k].inertial(t_true - tau[:, j])
-    los = r_tx - r_rx[:, None, :]
-    unit = los / np.linalg.norm(los, axis=2, keepdims=True)
-    body = np.einsum("nij,nsj->nsi", axes, unit)
-    el = np.degrees(np.arcsin(np.clip(-body[..., 2], -1, 1)))
-    # tracking: above the mask, at most `channels` satellites, highest first
-    visible = el > model.elevation_mask_deg
-    order = np.argsort(-np.where(visible, el, -1e9), axis=1)
-    rank = np.empty_like(order)
-    np.put_along_axis(rank, order, np.arange(s)[None, :].repeat(n, 0), axis=1)
-    tracked = visible & (rank < model.channels)
-    dt = float(np.median(np.diff(t_read_s))) if n > 1 else 30.0
-    # short random gaps
-    p_gap = model.gap_rate_per_h * dt / 3600.0
-    gap_start = tracked & (rng.random((n, s)) < p_gap)
-    for i, j in zip(*np.nonzero(gap_start)):
-        tracked[i:i + rng.integers(1, 6), j] = False
-    # passes: a new one at each acquisition; slips inside with random integer jumps
-    starts = tracked & ~np.vstack([np.zeros((1, s), bool), tracked[:-1]])
-    slips = tracked & ~starts & (rng.random((n, s)) < model.slip_rate_per_h * dt / 3600.0)
-    new_pass = starts | slips
-    pass_true = np.cumsum(new_pass.ravel(order="F")).reshape((n, s), order="F") - 1
-    pass_true = np.where(tracked, pass_true, -1)
-    n_pass = int(new_pass.sum())
-    amb1_pass = rng.integers(-500, 500, n_pass).astype(float)
-    amb2_pass = rng.integers(-500, 500, n_pass).astype(float)
-    amb1 = np.where(tracked, amb1_pass[np.clip(pass_true, 0, None)], np.nan)
-    amb2 = np.where(tracked, amb2_pass[np.clip(pass_true, 0, None)], np.nan)
-    # clocks and relativity
-    dt_sv = np.stack([gnss_clocks[k](t_true - tau[:, j]) for j, k in enumerate(ids)], axis=1)
-    rel = -2.0 * np.einsum("nsc,nsc->ns", r_tx, v_tx) / C_LIGHT_M_S**2
-    clock_m = C_LIGHT_M_S * (dt_rx[:, None] - (dt_sv + rel))
-    # ionosphere: thin shell 400 km above the LEO, day/night VTEC by the Sun angle
-    h_leo = np.linalg.norm(r_rx, axis=1) - R_EARTH_EQUATOR_M
-    r_shell = R_EARTH_EQUATOR_M + h_leo + 400e3
-    cos_zen_shell = np.sqrt(1 - (np.linalg.norm(r_rx, axis=1)[:, None] * np.cos(np.radians(el)) / r_shell[:, None]) ** 2)
-    sun_cos = r_rx @ sun_dir_in / np.linalg.norm(r_rx, axis=1)
-    vtec = model.vtec_tecu[0] + (model.vtec_tecu[1] - model.vtec_tecu[0]) * np.clip(sun_cos, 0, 1)
-    stec = vtec[:, None] / np.clip(cos_zen_shell, 0.1, None)
-    iono = {b: _TEC_TO_M_HZ2 * stec / f[b] ** 2 for b in ("1", "2")}
-    # geometry per frequency phase centre
-    rho = {b: np.linalg.norm(r_tx - (r_rx + pco_in[b])[:, None, :], axis=2) for b in ("1", "2")}
-    noise_scale = ((1.0 + model.low_elevation_factor * np.exp(-np.clip(el, 0, 90) / 10.0))
-                   / (1.0 + model.low_elevation_factor * np.exp(-3.0)))
-    dcb = np.array([dcb_p1c1_s.get(k, 0.0) for k in ids]) * C_LIGHT_M_S
-
-    def noisy(name):
-        return rng.normal(0.0, 1.0, (n, s)) * model.noise_m[name] * noise_scale
-
-    p1 = rho["1"] + clock_m + iono["1"] + noisy("P1")
-    p2 = rho["2"] + clock_m + iono["2"] + noisy("P2")
-    c1 = rho["1"] + clock_m + iono["1"] - dcb[None, :] + noisy("C1")
-    l1 = (rho["1"] + clock_m - iono["1"] + noisy("L1")) / lam["1"] + amb1
-    l2 = (rho["2"] + clock_m - iono["2"] + noisy("L2")) / lam["2"] + amb2
-    lli = np.where(starts | (slips & (rng.random((n, s)) < model.lli_detected)), 1, 0).astype(np.int8)
-    lli = np.where(tracked, lli, -1).astype(np.int8)
-    mask = lambda x: np.where(tracked, x, np.nan)  # noqa: E731
-    rho_if = (f["1"] ** 2 * rho["1"] - f["2"] ** 2 * rho["2"]) / (f["1"] ** 2 - f["2"] ** 2)
-    data = {
-        "C1": (("time", "sv"), mask(c1), {"units": "m", "long_name": "pseudorange C/A L1"}),
-        "P1": (("time", "sv"), mask(p1), {"units": "m", "long_name": "pseudorange P L1"}),
-        "P2": (("time", "sv"), mask(p2), {"units": "m", "long_name": "pseudorange P L2"}),
-        "L1": (("time", "sv"), mask(l1), {"units": "1", "long_name": "carrier phase L1 [cycles]"}),
-        "L2": (("time", "sv"), mask(l2), {"units": "1", "long_name": "carrier phase L2 [cycles]"}),
-        "L1_lli": (("time", "sv"), lli, {"units": "1", "long_name": "loss-of-lock indicator L1"}),
-        "L2_lli": (("time", "sv"), lli.copy(), {"units": "1", "long_name": "loss-of-lock indicator L2"}),
-        "true_range_if_m": (("time", "sv"), mask(rho_if), {"units": "m", "long_name": "true ionosphere-free geometric range"}),
-        "amb_L1_cyc": (("time", "sv"), amb1, {"units": "1", "long_name": "true L1 ambiguity [cycles]"}),
-        "amb_L2_cyc": (("time", "sv"), amb2, {"units": "1", "long_name": "true L2 ambiguity [cycles]"}),
-        "pass_true": (("time", "sv"), pass_true.astype(np.int32), {"units": "1", "long_name": "true pass number (-1: not tracked)"}),
-        "el_deg": (("time", "sv"), np.where(tracked, el, np.nan), {"units": "degree", "long_name": "true antenna-frame elevation"}),
-        "rx_clock_true_s": (("time",), dt_rx, {"units": "s", "long_name": "true receiver clock offset"}),
+    times = np.asarray(times, dtype="datetime64[ns]")
+    svs = [sv for sv in world.svs if sv[0] in signal_codes]
+    if not svs:
+        raise ValueError(f"no simulated satellite of the systems {sorted(signal_codes)}")
+    n, s = times.size, len(svs)
+    dt_s = float((times[1] - times[0]) / np.timedelta64(1, "s")) if n > 1 else 30.0
+    t_read_s = seconds_since(times, world.epoch)
+    clk_rx = rx_clock(t_read_s)
+    t_rx_s = t_read_s - clk_rx
+    times_rx = times - np.round(clk_rx * 1e9).astype("timedelta64[ns]")
+    leo_pos, leo_vel = _leo_at(truth, world.epoch, t_rx_s)
+    codes, phases, bands = _signals_by_sv(svs, signal_codes)
+    geo = _geometry(world, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m, bands, antex,
+                    eop)
+    system_of = np.array([sv[0] for sv in svs])
+    tracked = track(geo.el_deg, system_of, settings, dt_s, rng)
+    phase_codes = {sys: [c for c in signal_codes[sys] if c[0] == "L"] for sys in signal_codes}
+    pas = passes(tracked, system_of, phase_codes, settings, dt_s, rng)
+    # unwrap the wind-up along each tracked satellite (the ambiguity takes the integer part)
+    ep, col = np.nonzero(tracked)
+    windup = np.full((n, s), np.nan)
+    windup[ep, col] = unwrap_windup(geo.windup_cyc[ep, col], col, ep)
+    stec = _stec_tecu(geo, leo_pos, settings)
+    common = C_LIGHT_M_S * (clk_rx[:, None] - geo.sv_clock_s) + geo.shapiro_m
+    data = {}
+    all_codes = sorted({c for sv in svs for c in codes[sv] + phases[sv]})
+    maps = {m.signal: m for m in code_bias_maps}
+    unknown = sorted(set(maps) - {c for c in all_codes if c[0] == "C"})
+    if unknown:
+        raise ValueError(f"code-bias maps for signals that are not simulated: {unknown} "
+                         f"(simulated codes: {[c for c in all_codes if c[0] == 'C']})")
+    phase_time = biases.sat_phase_cyc_at(times)
+    for code in all_codes:
+        cols = np.array([code in codes[sv] + phases[sv] for sv in svs])
+        sys_of = system_of[cols]
+        f = np.array([signals.frequency_hz(sys, code) for sys in sys_of])
+        band = np.stack([geo.range_m[(sys, code[1])][:, j]
+                         for sys, j in zip(sys_of, np.flatnonzero(cols))], axis=1)
+        iono = _IONO_M_HZ2_PER_TECU * stec[:, cols] / f**2
+        noise = rng.normal(0.0, 1.0, (n, s))[:, cols] * settings.sigma_m(code, geo.el_deg[:, cols])
+        rx_bias = np.array([_rx_bias(biases, sys, code) for sys in sys_of])
+        value = np.full((n, s), np.nan)
+        if code[0] == "C":
+            sat_bias = biases.code_sat_m.sel(sv=np.array(svs)[cols], code_signal=code).values
+            val = band + common[:, cols] + iono + rx_bias + sat_bias + noise
+            if code in maps:
+                m = maps[code](geo.az_deg[:, cols], geo.el_deg[:, cols])
+                val = val + m
+                data[f"code_bias_map_{code}_m"] = _var(
+                    _masked(_scatter(m, cols, n, s), tracked), "m",
+                    f"code-bias map value added to {code} (truth)")
+        else:
+            lam = C_LIGHT_M_S / f
+            sat_bias = phase_time.sel(sv=np.array(svs)[cols], phase_signal=code).values
+            amb = pas.ambiguity_cyc[code][:, cols]
+            val = ((band + common[:, cols] - iono + noise) / lam + amb + rx_bias + sat_bias
+                   + windup[:, cols])
+            data[f"{code}_lli"] = (("time", "sv"), np.where(cols[None, :], pas.lli, -1)
+                                   .astype(np.int8),
+                                   {"units": "1", "long_name": f"loss-of-lock indicator {code}"})
+            data[f"amb_{code}_cyc"] = _var(_masked(_scatter(amb, cols, n, s), tracked), "1",
+                                           f"true integer ambiguity of {code} [cycles]")
+            data[f"range_{code}_m"] = _var(_masked(_scatter(band, cols, n, s), tracked), "m",
+                                           f"geometric range between the {code} phase "
+                                           "centres (truth)")
+        value[:, cols] = val
+        kind = "pseudorange" if code[0] == "C" else "carrier phase [cycles]"
+        data[code] = _var(_masked(value, tracked), "m" if code[0] == "C" else "1",
+                          f"{kind} {code}")
+    data["range_if_m"] = _var(_masked(_range_if(geo, svs, phase_codes), tracked), "m",
+                              "ionosphere-free combination of the geometric ranges (truth)")
+    truth_vars = {
+        "el_deg": (geo.el_deg, "degree", "antenna-frame elevation (truth)"),
+        "az_deg": (geo.az_deg, "degree", "antenna-frame azimuth from +X towards +Y (truth)"),
+        "windup_cyc": (windup, "1", "phase wind-up added to every phase [cycles] (truth)"),
+        "stec_tecu": (stec, "TECU", "slant TEC of the thin-shell ionosphere (truth)"),
+        "shapiro_m": (geo.shapiro_m, "m", "Shapiro delay (truth)"),
+        "clk_sv_true_s": (geo.sv_clock_s, "s", ("satellite clock at transmission: product "
+                                                 "clock plus periodic relativity (truth)")),
     }
-    return xr.Dataset(data, coords={"sv": np.array(ids)})
+    for name, (values, units, long_name) in truth_vars.items():
+        data[name] = _var(_masked(values, tracked), units, long_name)
+    data["pass_true"] = (("time", "sv"), pas.pass_id.astype(np.int32),
+                         {"units": "1", "long_name": "true pass number (new at each "
+                                                     "acquisition and slip; -1: not tracked)"})
+    data["clk_rx_true_s"] = (("time",), clk_rx, {"units": "s", "long_name": "true receiver "
+                                                                           "clock offset"})
+    ds = xr.Dataset(data, coords={"time": times, "sv": svs})
+    ds.attrs.update({"n_slips": pas.n_slips,
+                     "n_passes": int(pas.pass_id.max(initial=-1)) + 1,
+                     "interval_s": dt_s, "time_system": "GPS"})
+    return ds
+
+
+def _rx_bias(biases: SimulatedBiases, system: str, code: str) -> float:
+    """Receiver code bias [m] or phase bias [cycles] of ``code``."""
+    if code[0] == "C":
+        return float(biases.code_rx_m.sel(system=system, code_signal=code))
+    return float(biases.phase_rx_cyc.sel(system=system, phase_signal=code))
+
+
+def _scatter(values: np.ndarray, cols: np.ndarray, n: int, s: int) -> np.ndarray:
+    out = np.full((n, s), np.nan)
+    out[:, cols] = values
+    return out
+
+
+def _masked(values: np.ndarray, tracked: np.ndarray) -> np.ndarray:
+    return np.where(tracked, values, np.nan)
+
+
+def _range_if(geo: _Geometry, svs, phase_codes) -> np.ndarray:
+    """Ionosphere-free combination of the two phase-band ranges of each satellite."""
+    n = geo.el_deg.shape[0]
+    out = np.full((n, len(svs)), np.nan)
+    for j, sv in enumerate(svs):
+        p1, p2 = phase_codes[sv[0]][:2]
+        f1, f2 = signals.frequency_hz(sv[0], p1), signals.frequency_hz(sv[0], p2)
+        r1, r2 = geo.range_m[(sv[0], p1[1])][:, j], geo.range_m[(sv[0], p2[1])][:, j]
+        out[:, j] = (f1**2 * r1 - f2**2 * r2) / (f1**2 - f2**2)
+    return out

@@ -42,7 +42,7 @@ from leopod.timescales import gps_to_utc, utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, elevation_rad, slr_range
 
 __all__ = ["DEFAULT_STATIONS", "SlrSettings", "SlrStation", "simulate_normal_points",
-           "write_slr_files"]
+           "write_normal_points", "write_slr_files", "write_station_sinex"]
 
 logger = logging.getLogger(__name__)
 
@@ -395,15 +395,25 @@ def write_slr_files(nps: xr.Dataset, stations: Sequence[SlrStation], crd_path: s
         Output files.
     ref_epoch : datetime64 or str
         Reference epoch of the SINEX positions (UTC).
+    """
+    write_normal_points(nps, crd_path, ref_epoch)
+    write_station_sinex(stations, sinex_path, ref_epoch)
 
-    Notes
-    -----
-    The CRD H1 production time is set to the hour of the last normal point (not the wall
-    clock) so that the file is reproducible.
+
+def write_normal_points(nps: xr.Dataset, crd_path: str | Path, ref_epoch) -> None:
+    """Write normal points as CRD 2.
+
+    The CRD H1 production time is set to the hour of the last normal point (``ref_epoch``
+    when there is none), not the wall clock, so that the file is reproducible.
     """
     last = nps["time"].values.max() if nps.sizes["point"] else np.datetime64(ref_epoch, "ns")
     production = np.datetime64(last, "h").astype(_dt.datetime)
     write_crd(nps, crd_path, version=2, production_time=production)
+
+
+def write_station_sinex(stations: Sequence[SlrStation], sinex_path: str | Path,
+                        ref_epoch) -> None:
+    """Write the station coordinates (fixed, no velocity) at ``ref_epoch`` (UTC) as SINEX."""
     write_sinex_stations(_stations_dataset(stations, ref_epoch), sinex_path, technique="L")
 
 

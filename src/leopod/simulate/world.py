@@ -1,14 +1,15 @@
-"""A simple, self-consistent simulated world: Earth rotation, GPS and BDS-3 constellations, LEO,
-clocks.
+"""GNSS constellations and clocks of the simulated world: analytic orbits and random walks.
 
-This is the first stage of the closed-loop simulator: orbits are analytic (circular orbits
-with the secular J2 drift of node and argument of latitude), so the default campaign runs
-with no external file. The full simulator (truth orbit from the dynamics engine, real
-product sets) replaces these orbit models without changing the observation generator.
+Orbits are circular (or, :class:`KeplerOrbit`, elliptic) with the secular J2 drift of their
+angles, so the GNSS constellations need no external file. Their inertial frame is taken as the GCRF: the
+closed-loop simulator (:mod:`leopod.simulate.observations`) solves the light time in it and
+writes Earth-fixed products with the IERS 2010 transformation
+(:func:`leopod.frames.earth_rotation.gcrf_to_itrf`), the transformation the estimator uses.
+Time ``t`` is GPS seconds since the world's epoch.
 
-Frames: the inertial frame is fixed; Earth-fixed coordinates follow from a rotation about Z
-by ``θ(t) = θ0 + ω t`` with the IERS nominal Earth rotation rate (no precession, nutation or
-polar motion in this world). Time ``t`` is GPS seconds since the world's epoch.
+:func:`earth_fixed` (a rotation about Z by ``θ0 + ω t`` with the nominal Earth rotation rate,
+no precession, nutation or polar motion) is a minimal analytic Earth for tests that need an
+exactly invertible world (e.g. brute-force laser ranging); simulated products do not use it.
 """
 
 from __future__ import annotations
@@ -20,10 +21,11 @@ import numpy as np
 from leopod.constants import GM_EARTH_M3_S2, OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
 
 __all__ = ["BDS3_MEO_ALTITUDE_M", "BDS3_MEO_INCLINATION_DEG", "BDS3_MEO_PRNS", "CircularOrbit",
-           "RandomWalkClock", "beidou3_constellation", "earth_fixed", "gps_constellation",
-           "walker_constellation"]
+           "KeplerOrbit", "RandomWalkClock", "beidou3_constellation", "earth_fixed",
+           "gps_constellation", "walker_constellation"]
 
 _J2 = 1.0826359e-3  # Earth dynamic form factor, IERS Conventions 2010 Table 1.1
+_KEPLER_ITERATIONS = 6  # Newton steps of Kepler's equation (converged to rounding for e <= 0.1)
 
 #: BDS-3 MEO nominal altitude [m] and inclination [deg]: 21 528 km, 55°, Walker 24/3/1
 #: (Yang Y. et al. 2019, "Introduction to BeiDou-3 navigation satellite system", Navigation
@@ -84,6 +86,86 @@ class CircularOrbit:
         dx_dO = np.stack([-sO * cu - cO * su * ci, cO * cu - sO * su * ci, np.zeros_like(u)], axis=-1)
         vel = self.a_m * (dx_du * u_dot + dx_dO * raan_dot)
         return pos, vel
+
+
+@dataclass(frozen=True)
+class KeplerOrbit:
+    """Elliptic orbit with the secular J2 drift of node, perigee and mean anomaly.
+
+    Secular rates (Vallado, Fundamentals of Astrodynamics, 4th ed., eq. 9-41, with
+    ``p = a (1 − e²)``, ``k = (3/4) n J2 (R/p)²``): ``Ω̇ = −2 k cos i``,
+    ``ω̇ = k (4 − 5 sin² i)``, ``Ṁ = n + k √(1 − e²) (2 − 3 sin² i)``; for ``e = 0`` the same
+    motion as :class:`CircularOrbit` with ``u0 = ω0 + M0``. Kepler's equation is solved by
+    Newton's method (Montenbruck & Gill, Satellite Orbits, 2000, eq. 2.49).
+
+    Attributes
+    ----------
+    a_m : float
+        Semi-major axis [m].
+    eccentricity : float
+        Eccentricity (< 1).
+    inc_deg, raan_deg, argp_deg, m0_deg : float
+        Inclination, node, argument of perigee and mean anomaly at t = 0 [deg].
+    j2 : bool
+        Apply the secular J2 rates.
+    """
+
+    a_m: float
+    eccentricity: float
+    inc_deg: float
+    raan_deg: float
+    argp_deg: float
+    m0_deg: float
+    j2: bool = True
+
+    def _rates(self):
+        n = np.sqrt(GM_EARTH_M3_S2 / self.a_m**3)
+        if not self.j2:
+            return n, 0.0, 0.0
+        e2 = self.eccentricity**2
+        s2 = np.sin(np.radians(self.inc_deg)) ** 2
+        k = 0.75 * n * _J2 * (R_EARTH_EQUATOR_M / (self.a_m * (1.0 - e2))) ** 2
+        return (n + k * np.sqrt(1.0 - e2) * (2.0 - 3.0 * s2),
+                -2.0 * k * np.cos(np.radians(self.inc_deg)), k * (4.0 - 5.0 * s2))
+
+    def inertial(self, t_s) -> tuple[np.ndarray, np.ndarray]:
+        """Inertial position [m] and velocity [m/s], shape (..., 3), at times ``t_s`` [s].
+
+        The velocity is the exact time derivative: the Keplerian velocity plus the rotation
+        of the orbit by the node and perigee rates.
+        """
+        t = np.asarray(t_s, dtype=float)
+        m_dot, raan_dot, argp_dot = self._rates()
+        e = self.eccentricity
+        mean = np.radians(self.m0_deg) + m_dot * t
+        ecc = mean.copy()
+        for _ in range(_KEPLER_ITERATIONS):
+            ecc = ecc - (ecc - e * np.sin(ecc) - mean) / (1.0 - e * np.cos(ecc))
+        b = np.sqrt(1.0 - e**2)
+        cos_e, sin_e = np.cos(ecc), np.sin(ecc)
+        # perifocal position and its derivative (dE/dt = Ṁ / (1 − e cos E))
+        xp, yp = self.a_m * (cos_e - e), self.a_m * b * sin_e
+        de = m_dot / (1.0 - e * cos_e)
+        vxp, vyp = -self.a_m * sin_e * de, self.a_m * b * cos_e * de
+        raan = np.radians(self.raan_deg) + raan_dot * t
+        argp = np.radians(self.argp_deg) + argp_dot * t
+        inc = np.radians(self.inc_deg)
+        p_vec, q_vec = _perifocal_axes(raan, argp, inc)
+        pos = xp[..., None] * p_vec + yp[..., None] * q_vec
+        vel = vxp[..., None] * p_vec + vyp[..., None] * q_vec
+        z = np.array([0.0, 0.0, 1.0])
+        normal = np.cross(p_vec, q_vec)
+        vel = vel + raan_dot * np.cross(z, pos) + argp_dot * np.cross(normal, pos)
+        return pos, vel
+
+
+def _perifocal_axes(raan: np.ndarray, argp: np.ndarray, inc: float):
+    """Unit vectors P (to perigee) and Q (90° ahead in the orbit), shape (..., 3)."""
+    co, so, cw, sw = np.cos(raan), np.sin(raan), np.cos(argp), np.sin(argp)
+    ci, si = np.cos(inc), np.sin(inc)
+    p_vec = np.stack([co * cw - so * sw * ci, so * cw + co * sw * ci, sw * si], axis=-1)
+    q_vec = np.stack([-co * sw - so * cw * ci, -so * sw + co * cw * ci, cw * si], axis=-1)
+    return p_vec, q_vec
 
 
 def gps_constellation() -> dict[str, CircularOrbit]:
