@@ -197,7 +197,6 @@ class PodResult:
     sigma0: float
     iterations: int
     converged: bool
-    log_lines: list[str] = field(default_factory=list)
 
     def orbit_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """GCRF state and formal position covariance at epochs [s since ``t_ref``].
