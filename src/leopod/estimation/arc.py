@@ -9,6 +9,7 @@ gives the initial state; :func:`leopod.estimation.float_pod.float_pod`; output d
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from dataclasses import dataclass
 
@@ -30,14 +31,15 @@ from leopod.estimation.outputs import (
 from leopod.orbit.products import GnssProducts
 from leopod.time import parse_date_id, seconds_since
 
-__all__ = ["SETTINGS_KEYS", "ArcOutputs", "arc_limits", "merge_days", "run_arc"]
+__all__ = ["ArcOutputs", "arc_limits", "merge_days", "pod_settings", "run_arc"]
 
 log = logging.getLogger(__name__)
 
-#: Keys of the campaign's ``pod`` section that are PodSettings fields.
-SETTINGS_KEYS = ("code_sigma_m", "phase_sigma_m", "weight_elevation_deg", "min_elevation_deg",
-                 "pulse_interval_s", "pulse_sigma_m_s", "estimate_pco_z", "outlier_k",
-                 "max_iterations", "tolerance_m", "min_phase_obs", "gross_code_m")
+def pod_settings(pod_cfg: dict) -> PodSettings:
+    """PodSettings from the campaign's ``pod`` section (its keys that are PodSettings fields)."""
+    names = {f.name for f in dataclasses.fields(PodSettings)}
+    return PodSettings(**{k: (tuple(v) if isinstance(v, list) else v)
+                          for k, v in pod_cfg.items() if k in names})
 
 
 @dataclass(eq=False)
@@ -134,8 +136,7 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
                     sigma_obs_m=float(pod_cfg.get("apriori_fit_sigma_m", 1.0)), eop=eop)
     log.info("initial dynamic fit to the a-priori orbit: RMS R %.2f T %.2f N %.2f m",
              *fit.rms_rtn_m)
-    settings = PodSettings(**{k: (tuple(pod_cfg[k]) if k == "pulse_sigma_m_s" else pod_cfg[k])
-                              for k in SETTINGS_KEYS if k in pod_cfg})
+    settings = pod_settings(pod_cfg)
     result = float_pod(po, products, force_model, t_ref, fit.state0_gcrf, settings, eop=eop,
                        leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv)
     out_times = output_epochs(po.times[0], po.times[-1], float(pod_cfg["output_step_s"]))

@@ -18,8 +18,16 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["FormatError", "read_lines", "parse_float", "parse_int", "fixed_float", "parse_floats",
-           "calendar_epoch_ns"]
+__all__ = [
+    "FormatError",
+    "calendar_epoch_ns",
+    "fixed_float",
+    "parse_float",
+    "parse_floats",
+    "parse_int",
+    "read_lines",
+    "write_text",
+]
 
 _GZIP_MAGIC = b"\x1f\x8b"
 _COMPRESS_MAGIC = b"\x1f\x9d"
@@ -197,7 +205,7 @@ def parse_floats(texts, line_nos, field, path, *, allow_blank: bool = False) -> 
     if callable(field):
         name = field
     elif isinstance(field, str):
-        name = lambda i: field  # noqa: E731
+        name = lambda i: field
     else:
         name = field.__getitem__
     return np.array([parse_float(t, path, n, name(i), allow_blank=allow_blank)
@@ -221,3 +229,27 @@ def calendar_epoch_ns(ymdhm: tuple[int, int, int, int, int], seconds: float, pat
         raise FormatError(path, line, "second", f"seconds {seconds} outside [0, 60)")
     delta = dt - _UNIX0
     return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + round(seconds * 1e9)
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write an ASCII text file atomically (no partial file on failure); ``.gz`` is compressed.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file; a name ending in ``.gz`` is gzip-compressed.
+    text : str
+        File content (ASCII).
+
+    Returns
+    -------
+    Path
+    """
+    from leopod.netcdf import atomic_path
+
+    path = Path(path)
+    data = text.encode("ascii")
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(gzip.compress(data, compresslevel=6, mtime=0)
+                        if path.suffix == ".gz" else data)
+    return path

@@ -58,7 +58,7 @@ import xarray as xr
 
 from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
 
-__all__ = ["read_antex", "AntexFile", "AntennaPattern"]
+__all__ = ["AntennaPattern", "AntexFile", "read_antex"]
 
 log = logging.getLogger(__name__)
 

@@ -48,7 +48,6 @@ attrs
 
 from __future__ import annotations
 
-import gzip
 from pathlib import Path
 
 import numpy as np
@@ -56,8 +55,7 @@ import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.gnss.signals import frequency_hz
-from leopod.io._text import FormatError, parse_float, parse_int, read_lines
-from leopod.netcdf import atomic_path
+from leopod.io._text import FormatError, parse_float, parse_int, read_lines, write_text
 
 __all__ = ["osb", "read_bias_sinex", "write_bias_sinex"]
 
@@ -434,23 +432,13 @@ def write_bias_sinex(ds: xr.Dataset, path: str | Path, *, decimals: int = 6,
                   "-FILE/COMMENT", _SEPARATOR]
     lines += _description_block(attrs)
     lines += ["+BIAS/SOLUTION", _SOLUTION_HEADER, *records, "-BIAS/SOLUTION", "%=ENDBIA"]
-    _write_text(path, "\n".join(lines) + "\n")
+    write_text(path, "\n".join(lines) + "\n")
 
 
 def _bound(times: np.ndarray, pick) -> str:
     """First or last finite time of the records ("" if all are open)."""
     finite = times[~np.isnat(times)]
     return str(pick(finite)) if finite.size else ""
-
-
-def _write_text(path: str | Path, text: str) -> None:
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        if path.suffix == ".gz":
-            with gzip.open(tmp, "wt", encoding="ascii") as f:
-                f.write(text)
-        else:
-            tmp.write_text(text, encoding="ascii")
 
 
 def _reference_block(attrs) -> list[str]:

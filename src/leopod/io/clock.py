@@ -41,16 +41,21 @@ records of one clock at one epoch.
 
 from __future__ import annotations
 
-import gzip
 import re
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from leopod.io._text import (
-    FormatError, calendar_epoch_ns, parse_float, parse_floats, parse_int, read_lines,
+    FormatError,
+    calendar_epoch_ns,
+    parse_float,
+    parse_floats,
+    parse_int,
+    read_lines,
+    write_text,
 )
 
 __all__ = ["read_rinex_clock", "write_rinex_clock"]
@@ -354,7 +359,7 @@ def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00"
     systems = {s[0] for s in sats}
     system = systems.pop() if len(systems) == 1 else "M"
     kind_text = "C" if version == "3.00" else "CLOCK DATA"
-    now = datetime.now(timezone.utc).strftime("%Y%m%d %H%M%S UTC")
+    now = datetime.now(UTC).strftime("%Y%m%d %H%M%S UTC")
     system_text = system if version == "3.00" else ""
     out = [_label(f"{version:>9s}{'':11s}{kind_text:<20s}{system_text:<20s}",
                   "RINEX VERSION / TYPE"),
@@ -388,9 +393,4 @@ def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00"
                 values = f"  1   {_fortran_e(clk[i, k])}"
             out.append(f"AS {sv:<4s} {epoch}{values}")
     text = "\n".join(out) + "\n"
-    path = Path(path)
-    if path.suffix == ".gz":
-        with gzip.open(path, "wt", encoding="ascii") as f:
-            f.write(text)
-    else:
-        path.write_text(text, encoding="ascii")
+    write_text(path, text)

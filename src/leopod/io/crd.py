@@ -105,9 +105,9 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
-from leopod.io._text import FormatError, parse_float, parse_int, read_lines
+from leopod.io._text import FormatError, parse_float, parse_int, read_lines, write_text
 
-__all__ = ["read_crd", "write_crd", "ilrs_id_to_cospar"]
+__all__ = ["ilrs_id_to_cospar", "read_crd", "write_crd"]
 
 _LOG = logging.getLogger(__name__)
 
@@ -624,14 +624,14 @@ def write_crd(ds: xr.Dataset, path: str | Path, version: int = 2, *,
             if bad:
                 raise ValueError(f"write_crd: CRD 1 allows {width} characters for {name}, "
                                  f"'{bad[0]}' is longer")
-    prod = production_time or _dt.datetime.now(_dt.timezone.utc)
+    prod = production_time or _dt.datetime.now(_dt.UTC)
     out = []
     for pid in np.unique(cols["pass_id"]):
         idx = np.flatnonzero(cols["pass_id"] == pid)
         idx = idx[np.argsort(cols["time"][idx], kind="stable")]
         out += _session_lines(cols, idx, version, prod)
     out.append("H9")
-    Path(path).write_text("\n".join(out) + "\n", encoding="ascii")
+    write_text(path, "\n".join(out) + "\n")
 
 
 def _write_columns(ds: xr.Dataset) -> dict:

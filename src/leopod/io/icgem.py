@@ -55,7 +55,11 @@ import xarray as xr
 from scipy.special import gammaln
 
 from leopod.io._text import (
-    FormatError, parse_float, parse_floats, parse_int, read_lines,
+    FormatError,
+    parse_float,
+    parse_floats,
+    parse_int,
+    read_lines,
 )
 
 __all__ = ["read_icgem"]

@@ -757,7 +757,7 @@ def _header_lines(ds, meta: dict, plan: dict, v2: bool, first: tuple) -> list[st
     """The header section of the output file."""
     systems = list(plan)
     file_sys = "G (GPS)" if v2 else (systems[0] if len(systems) == 1 else "M")
-    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%d %H%M%S UTC")
+    now = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d %H%M%S UTC")
     out = [_hl(f"{2.11 if v2 else 3.04:9.2f}{'':11}{'OBSERVATION DATA':<20}{file_sys:<20}",
                "RINEX VERSION / TYPE"),
            _hl(f"{meta['program']:<20.20}{meta['run_by']:<20.20}{now:<20}",

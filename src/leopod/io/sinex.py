@@ -66,8 +66,11 @@ import xarray as xr
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines
 
 __all__ = [
-    "read_sinex_stations", "read_sinex_eccentricities", "write_sinex_stations",
-    "station_position", "station_eccentricity",
+    "read_sinex_eccentricities",
+    "read_sinex_stations",
+    "station_eccentricity",
+    "station_position",
+    "write_sinex_stations",
 ]
 
 _LOG = logging.getLogger(__name__)
@@ -582,7 +585,7 @@ def write_sinex_stations(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO
                              f"{value:21.14E} {sigma:11.5E}")
     first = np.concatenate([start[~np.isnat(start)], ref]).min()
     last = np.concatenate([end[~np.isnat(end)], ref]).max()
-    now = _sinex_epoch(np.datetime64(_dt.datetime.now(_dt.timezone.utc).replace(tzinfo=None)))
+    now = _sinex_epoch(np.datetime64(_dt.datetime.now(_dt.UTC).replace(tzinfo=None)))
     head = (f"%=SNX 2.02 {agency:<3.3s} {now} {agency:<3.3s} {_sinex_epoch(first)} "
             f"{_sinex_epoch(last)} C {len(est_lines):05d} 2 S")
     out = [head]

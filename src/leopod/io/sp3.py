@@ -43,7 +43,6 @@ epoch lacks some satellites. More epochs than declared is only logged as a warni
 
 from __future__ import annotations
 
-import gzip
 import logging
 import math
 from datetime import datetime
@@ -53,7 +52,13 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._text import (
-    FormatError, calendar_epoch_ns, fixed_float, parse_floats, parse_int, read_lines,
+    FormatError,
+    calendar_epoch_ns,
+    fixed_float,
+    parse_floats,
+    parse_int,
+    read_lines,
+    write_text,
 )
 
 __all__ = ["read_sp3", "write_sp3"]
@@ -559,9 +564,4 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
                                               for v in v3) + r)
     out.append("EOF")
     text = "\n".join(out) + "\n"
-    path = Path(path)
-    if path.suffix == ".gz":
-        with gzip.open(path, "wt", encoding="ascii") as f:
-            f.write(text)
-    else:
-        path.write_text(text, encoding="ascii")
+    write_text(path, text)

@@ -44,16 +44,14 @@ attrs
 
 from __future__ import annotations
 
-import gzip
 import re
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
+from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines, write_text
 from leopod.io.clock import _fortran_e
-from leopod.netcdf import atomic_path
 
 __all__ = ["read_wl_bias", "wl_bias_records", "write_wl_bias"]
 
@@ -232,13 +230,7 @@ def write_wl_bias(ds: xr.Dataset, path: str | Path) -> None:
     if not lines:
         raise ValueError("no finite wide-lane bias to write")
     text = "\n".join(lines) + "\n"
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        if path.suffix == ".gz":
-            with gzip.open(tmp, "wt", encoding="ascii") as f:
-                f.write(text)
-        else:
-            tmp.write_text(text, encoding="ascii")
+    write_text(path, text)
 
 
 def _epoch_text(t: np.datetime64) -> str:
