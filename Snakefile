@@ -20,6 +20,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/simulate.smk"
 include: "workflow/rules/ingest.smk"
 include: "workflow/rules/quality.smk"
+include: "workflow/rules/code_bias.smk"
 include: "workflow/rules/pod.smk"
 
 

@@ -25,8 +25,10 @@ def main(inp, out, params, date, log):
     orbit = merge_days([read_sp3(p) for p in inp.orbit])
     clock = merge_days([read_rinex_clock(p) for p in inp.clock])
     antex = read_antex(inp.antex) if inp.get("antex") else None
+    code_maps = xr.load_dataset(inp.code_bias) if inp.get("code_bias") else None
     arc = run_arc(date, obs, quality, leo, orbit, clock, antex, params.signals, params.pod,
-                  params.pco_body_m)
+                  params.pco_body_m, code_maps=code_maps, code_bias_cfg=params.code_bias,
+                  yaw_flips=params.yaw_flips)
     res = arc.result
     n_code, n_phase = int(res.code_used.sum()), int(res.phase_used.sum())
     log.info("float POD %s: %d iterations (converged: %s), sigma0 %.3f", date, res.iterations,

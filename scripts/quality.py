@@ -6,7 +6,13 @@ import xarray as xr
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.netcdf import write_netcdf
-from leopod.plots.quality import plot_code_noise, plot_mp_elevation, plot_skyplot, plot_visibility, summary_html
+from leopod.plots.quality import (
+    plot_code_noise,
+    plot_mp_elevation,
+    plot_skyplot,
+    plot_visibility,
+    summary_html,
+)
 from leopod.workflow import configure_logging
 
 

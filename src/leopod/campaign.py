@@ -6,9 +6,8 @@ days and the code files a rule depends on are computed here.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import datetime as _dt
+from pathlib import Path
 
 from leopod.time import date_id, days_between, parse_date_id, template_fields
 
@@ -133,3 +132,40 @@ def arc_days(config: dict, date: str) -> list[str]:
     if pod.get("arc_after_s", 0) > 0:
         out.append(date_id(day + _dt.timedelta(days=1)))
     return [d for d in out if d in days]
+
+
+def code_bias_period(config: dict, date: str) -> str:
+    """Code-bias period of a day: ``YYYY-MM`` (``code_bias.period: month``) or ``campaign``."""
+    if config.get("code_bias", {}).get("period", "month") == "campaign":
+        return "campaign"
+    return parse_date_id(date).strftime("%Y-%m")
+
+
+def code_bias_periods(config: dict) -> list[str]:
+    """Code-bias periods of the campaign, in time order."""
+    return list(dict.fromkeys(code_bias_period(config, d) for d in campaign_days(config)))
+
+
+def period_days(config: dict, period: str) -> list[str]:
+    """Campaign days of a code-bias period."""
+    return [d for d in campaign_days(config) if code_bias_period(config, d) == period]
+
+
+def applied_code_bias_period(config: dict, date: str) -> str | None:
+    """Period of the map that corrects the codes of ``date`` (None: no code is corrected).
+
+    Raises
+    ------
+    ValueError
+        If ``code_bias.apply_period`` is not a period of the campaign.
+    """
+    cb = config.get("code_bias", {})
+    if not cb.get("apply"):
+        return None
+    fixed = cb.get("apply_period")
+    if fixed is None:
+        return code_bias_period(config, date)
+    if fixed not in code_bias_periods(config):
+        raise ValueError(f"code_bias.apply_period {fixed!r} is not a period of the campaign "
+                         f"({', '.join(code_bias_periods(config))})")
+    return fixed

@@ -15,7 +15,9 @@ import pytest
 import xarray as xr
 import yaml
 
+from leopod.codebias.products import grid_of, node_vector
 from leopod.io.sp3 import read_sp3
+from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.validation.compare import difference_rtn, rms_rtn
 
 REPO = Path(__file__).resolve().parents[2]
@@ -89,7 +91,10 @@ def test_unknown_config_key_is_named(tmp_path):
 
 @pytest.mark.slow
 def test_one_simulated_day_end_to_end(tmp_path):
-    cfg = _write_config(tmp_path / "one.yaml", end_date="2019-01-01")
+    # one day of 30-s data touches most 5-deg nodes fewer than 200 times: a lower count
+    # keeps enough corrected C1W codes for the POD (codes in empty cells are dropped)
+    cfg = _write_config(tmp_path / "one.yaml", end_date="2019-01-01",
+                        **{"code_bias.min_count": 40})
     _run(["--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg)], check=True)
     nc = tmp_path / "results/quality/hy2b-sim/2019-001.nc"
     with xr.open_dataset(nc) as q:
@@ -110,6 +115,22 @@ def test_one_simulated_day_end_to_end(tmp_path):
     sp3 = read_sp3(tmp_path / "results/float_pod/hy2b-sim/2019-001.sp3")
     common = orbit.sel(time=sp3.time.values)
     assert np.abs(sp3.pos_m.isel(sv=0).values - common.pos_itrf_m.values).max() < 1e-3
+    # the code-bias map of the simulated P1 (C1W) pattern against the simulator's own map
+    # (authority: the simulation truth; the constant is not observable). Issue 6 asks for
+    # < 5 cm RMS over nodes with >= 200 observations and >= 50 % less MP RMS (seed 000: 54.8 %)
+    # on the 3-day campaign (benchmarks/code_bias.py --truth); one day has few such nodes,
+    # so here the nodes with >= 100 observations are compared.
+    maps = xr.load_dataset(tmp_path / "results/code_bias/hy2b-sim/2019-01.nc")
+    grid = grid_of(maps)
+    est = node_vector(maps, "C1W", 0)
+    az = np.r_[np.tile(grid.azimuth_deg, grid.n_rings), 0.0]
+    el = np.r_[np.repeat(grid.elevation_deg[:-1], grid.n_az), 90.0]
+    ok = np.isfinite(est) & (grid.from_grid(maps["count"].sel(signal="C1W", mode=0).values) >= 100)
+    err = est[ok] - CodeBiasMap("hy2b_p1")(az[ok], el[ok])
+    assert ok.sum() > 300 and np.sqrt(np.mean((err - err.mean()) ** 2)) < 0.05
+    p1 = maps.sel(signal="C1W")
+    assert float(p1.mp_rms_all_after_m) < 0.5 * float(p1.mp_rms_all_before_m)
+    assert "code-bias map on C1W" in (tmp_path / "logs/float_pod/hy2b-sim/2019-001.log").read_text()
 
 
 @pytest.mark.slow

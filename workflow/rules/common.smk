@@ -2,10 +2,13 @@
 from snakemake.utils import validate
 
 from leopod.campaign import (
+    applied_code_bias_period,
     arc_days,
     campaign_days,
+    code_bias_periods,
     expand_template,
     library_files,
+    period_days,
     satellite_ids,
 )
 
@@ -19,6 +22,7 @@ SATS = satellite_ids(config)
 wildcard_constraints:
     sat="|".join(SATS),
     date=r"\d{4}-\d{3}",
+    period=r"\d{4}-\d{2}|campaign",
 
 
 def sat_config(wildcards):
@@ -46,9 +50,12 @@ def simulated(wildcards):
     return sat_config(wildcards).get("source", "files") == "simulate"
 
 
+PERIODS = code_bias_periods(config)
+
+
 def all_targets():
-    """Final products of every satellite-day of the campaign."""
-    return expand(
+    """Final products of every satellite-day and code-bias period of the campaign."""
+    targets = expand(
         [
             "results/quality/{sat}/{date}.nc",
             "results/quality/{sat}/{date}_summary.html",
@@ -57,6 +64,10 @@ def all_targets():
         sat=SATS,
         date=DAYS,
     )
+    targets += expand("results/code_bias/{sat}/{period}.nc", sat=SATS, period=PERIODS)
+    if len(PERIODS) > 1:
+        targets += expand("results/code_bias/{sat}/stack.nc", sat=SATS)
+    return targets
 
 
 def sat_pco(wildcards):
@@ -87,7 +98,25 @@ def float_pod_inputs(wildcards):
     }
     if config["products"].get("antex"):
         files["antex"] = expand_template(config["products"]["antex"], wildcards.date, sat)
+    period = applied_code_bias_period(config, wildcards.date)
+    if period is not None:
+        files["code_bias"] = f"results/code_bias/{sat}/{period}.nc"
     return files
+
+
+def code_bias_inputs(wildcards):
+    """Quality outputs of the days of a code-bias period."""
+    days = period_days(config, wildcards.period)
+    if not days:
+        raise ValueError(f"code-bias period {wildcards.period} has no campaign day")
+    return {"quality": [f"results/quality/{wildcards.sat}/{d}.nc" for d in days]}
+
+
+def sat_yaw_flips(wildcards):
+    """Yaw-flip epochs of the satellite if maps are kept per attitude mode, else None."""
+    if not config["code_bias"]["attitude_modes"]:
+        return None
+    return sat_config(wildcards).get("yaw_flips") or None
 
 
 def sat_pod_sp3_id(wildcards):

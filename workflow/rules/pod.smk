@@ -7,9 +7,13 @@ rule float_pod:
         pco_body_m=sat_pco,
         title=sat_title,
         sp3_id=sat_pod_sp3_id,
+        code_bias=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
     input:
         unpack(float_pod_inputs),
-        code=library_files("estimation", "dynamics", "gnss", "orbit", "frames", "io", "plots"),
+        code=library_files(
+            "estimation", "codebias", "dynamics", "gnss", "orbit", "frames", "io", "plots"
+        ),
     output:
         orbit="results/float_pod/{sat}/{date}_orbit.nc",
         sp3="results/float_pod/{sat}/{date}.sp3",

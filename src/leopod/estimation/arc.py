@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.campaign import resolve_model_paths
+from leopod.codebias.apply import correct_codes
 from leopod.dynamics.force_model import build_force_model
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
@@ -74,7 +75,8 @@ def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:
 
 def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
             clock: xr.Dataset, antex, signal_cfg: dict, pod_cfg: dict,
-            pco_body_m: dict | None, *, eop=None, limits=None) -> ArcOutputs:
+            pco_body_m: dict | None, *, eop=None, limits=None, code_maps=None,
+            code_bias_cfg: dict | None = None, yaw_flips=None) -> ArcOutputs:
     """Float POD of the arc of ``date`` (module docstring).
 
     Parameters
@@ -96,6 +98,13 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
     eop : EarthOrientation, optional
     limits : (datetime64, datetime64), optional
         Arc start and end instead of those of the ``pod`` settings (e.g. sub-arcs).
+    code_maps : xarray.Dataset, optional
+        Code-bias maps (:mod:`leopod.codebias`) subtracted from the codes listed in
+        ``code_bias_cfg["apply"]`` (policy ``code_bias_cfg["empty_cells"]``) on every day.
+    code_bias_cfg : dict, optional
+        Campaign ``code_bias`` section.
+    yaw_flips : sequence of datetime-like, optional
+        Yaw-flip epochs selecting the maps' attitude mode.
 
     Returns
     -------
@@ -107,6 +116,11 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
                   if limits is None else (np.datetime64(limits[0], "ns"),
                                           np.datetime64(limits[1], "ns")))
     sampling = float(pod_cfg["sampling_s"])
+    if code_maps is not None and code_bias_cfg and code_bias_cfg.get("apply"):
+        obs_days = [correct_codes(obs, qual, code_maps, code_bias_cfg["apply"],
+                                  empty_cells=code_bias_cfg.get("empty_cells", "drop"),
+                                  yaw_flips=yaw_flips)[0]
+                    for obs, qual in zip(obs_days, quality_days, strict=True)]
     po = pod_observations(obs_days, quality_days, leo_days, sig, system, start,
                           end - np.timedelta64(1, "ns"), sampling)
     t_ref = po.times[0]

@@ -5,6 +5,6 @@ schema documented in its docstring, and raises :class:`leopod.io.FormatError` (a
 ``ValueError``) naming file, line and field on bad input.
 """
 
-from leopod.io._text import FormatError, read_lines
+from leopod.io._text import FormatError, read_lines, write_text
 
-__all__ = ["FormatError", "read_lines"]
+__all__ = ["FormatError", "read_lines", "write_text"]

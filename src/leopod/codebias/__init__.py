@@ -1,0 +1,1 @@
+"""Antenna-frame code-bias maps: grid, estimation from multipath, products, application."""

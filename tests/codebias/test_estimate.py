@@ -1,0 +1,81 @@
+"""Map estimation from multipath: closed loop against a known map (analytic truth)."""
+
+import numpy as np
+import pytest
+
+from leopod.codebias.estimate import MapSettings, estimate_map
+from leopod.codebias.grid import AntennaGrid
+
+from _synthetic import smooth_map
+
+SETTINGS = MapSettings(az_step_deg=10.0, el_step_deg=10.0, min_count=50)
+
+
+def _node_truth(grid: AntennaGrid) -> np.ndarray:
+    az = np.r_[np.tile(grid.azimuth_deg, grid.n_rings), 0.0]
+    el = np.r_[np.repeat(grid.elevation_deg[:-1], grid.n_az), 90.0]
+    return smooth_map(az, el)
+
+
+def test_recovers_the_map_up_to_a_constant_within_its_formal_sigma(passes):
+    az, el, mp, key, _, _ = passes
+    fit = estimate_map(az, el, mp, key, SETTINGS)
+    ok = fit.count >= SETTINGS.min_count
+    assert ok.sum() > 300
+    err = fit.value_m[ok] - _node_truth(SETTINGS.grid)[ok]
+    err -= err.mean()  # the datum (a constant) is not observable
+    # the map is smooth but not bilinear: a 10-deg grid misfits it by < ~1 cm; noise 5-20 cm
+    assert np.sqrt(np.mean(err**2)) < 0.02
+    # formal sigmas describe the scatter of the errors (chi-square style check)
+    z = err / fit.sigma_m[ok]
+    assert 0.6 < np.sqrt(np.mean(z**2)) < 1.6
+    # datum: zero mean over the estimated nodes
+    assert abs(np.nanmean(fit.value_m)) < 1e-9
+    # weights are 1/sigma^2 per elevation band: unit variance ~ 1
+    assert 0.8 < fit.sigma0 < 1.2
+
+
+def test_pass_offsets_do_not_change_the_map(passes):
+    az, el, mp, key, _, _ = passes
+    shifted = mp + 1000.0 * np.sin(key)  # any constant per pass
+    a = estimate_map(az, el, mp, key, SETTINGS)
+    b = estimate_map(az, el, shifted, key, SETTINGS)
+    assert np.nanmax(np.abs(a.value_m - b.value_m)) < 1e-6
+
+
+def test_outliers_are_down_weighted(passes):
+    az, el, mp, key, _, _ = passes
+    rng = np.random.default_rng(3)
+    bad = rng.random(mp.size) < 0.01
+    spoiled = mp + np.where(bad, rng.choice([-5.0, 5.0], mp.size), 0.0)
+    fit = estimate_map(az, el, spoiled, key, SETTINGS)
+    plain = estimate_map(az, el, spoiled, key, MapSettings(10.0, 10.0, 50, iterations=0))
+    ok = fit.count >= SETTINGS.min_count
+    truth = _node_truth(SETTINGS.grid)[ok]
+
+    def rms(v):
+        e = v[ok] - truth
+        return np.sqrt(np.mean((e - e.mean()) ** 2))
+
+    assert fit.n_downweighted >= bad.sum() * 0.9
+    assert rms(fit.value_m) < 0.025 < rms(plain.value_m)
+
+
+def test_corrected_multipath_is_the_noise(passes):
+    az, el, mp, key, truth, sigma = passes
+    fit = estimate_map(az, el, mp, key, SETTINGS)
+    # after the correction, the pass-centred multipath is noise (+ a small grid misfit)
+    assert np.sqrt(np.mean(fit.corrected_m**2)) < 1.1 * np.sqrt(np.mean(sigma**2))
+
+
+def test_smoothing_fills_nodes_without_data_and_empty_data_fails(passes):
+    az, el, mp, key, _, _ = passes
+    keep = ~((az > 100) & (az < 130) & (el < 40))  # a hole in the sky
+    plain = estimate_map(az[keep], el[keep], mp[keep], key[keep], SETTINGS)
+    smooth = estimate_map(az[keep], el[keep], mp[keep], key[keep],
+                          MapSettings(10.0, 10.0, 50, smoothing_sigma_m=0.05))
+    hole = SETTINGS.grid.n_az * 1 + 11  # ring 10 deg, azimuth 110 deg
+    assert np.isnan(plain.value_m[hole]) and plain.count[hole] == 0
+    assert np.isfinite(smooth.value_m[hole])
+    with pytest.raises(ValueError, match="no finite multipath"):
+        estimate_map(az, el, np.full(mp.size, np.nan), key, SETTINGS)

@@ -1,0 +1,79 @@
+# code_bias: antenna-frame code-bias maps (seed 000 sec. II, seed 002) of one satellite and
+# period from the multipath series of the quality step; code_bias_stack: the maps of all
+# periods stacked, with the differences between consecutive periods (map stability).
+rule code_bias:
+    params:
+        settings=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
+        title=lambda wildcards: f"{sat_config(wildcards).get('name', wildcards.sat)} {wildcards.period}",
+    input:
+        unpack(code_bias_inputs),
+        code=library_files("codebias", "plots"),
+    output:
+        nc="results/code_bias/{sat}/{period}.nc",
+        statistics="results/code_bias/{sat}/{period}_statistics.csv",
+        maps=report(
+            "results/code_bias/{sat}/{period}_maps.png",
+            caption="../report/code_bias_maps.rst",
+            category="Code-bias maps",
+            labels={"satellite": "{sat}", "period": "{period}", "figure": "maps"},
+        ),
+        counts=report(
+            "results/code_bias/{sat}/{period}_counts.png",
+            caption="../report/code_bias_counts.rst",
+            category="Code-bias maps",
+            labels={"satellite": "{sat}", "period": "{period}", "figure": "observations"},
+        ),
+        mp_elevation=report(
+            "results/code_bias/{sat}/{period}_mp_elevation.png",
+            caption="../report/code_bias_mp_elevation.rst",
+            category="Code-bias maps",
+            labels={"satellite": "{sat}", "period": "{period}", "figure": "MP before/after"},
+        ),
+    log:
+        "logs/code_bias/{sat}/{period}.log",
+    benchmark:
+        "benchmarks/code_bias/{sat}/{period}.tsv"
+    threads: 1
+    resources:
+        mem_mb=4000,
+        runtime=30,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/code_bias.py"
+
+
+rule code_bias_stack:
+    params:
+        title=lambda wildcards: sat_config(wildcards).get("name", wildcards.sat),
+    input:
+        maps=expand("results/code_bias/{{sat}}/{period}.nc", period=PERIODS),
+        code=library_files("codebias", "plots"),
+    output:
+        nc="results/code_bias/{sat}/stack.nc",
+        differences="results/code_bias/{sat}/stack_differences.csv",
+        maps=report(
+            "results/code_bias/{sat}/stack_maps.png",
+            caption="../report/code_bias_stack.rst",
+            category="Code-bias maps",
+            labels={"satellite": "{sat}", "period": "all", "figure": "stacked maps"},
+        ),
+        difference=report(
+            "results/code_bias/{sat}/stack_differences.png",
+            caption="../report/code_bias_differences.rst",
+            category="Code-bias maps",
+            labels={"satellite": "{sat}", "period": "all", "figure": "period differences"},
+        ),
+    log:
+        "logs/code_bias/{sat}/stack.log",
+    benchmark:
+        "benchmarks/code_bias/{sat}/stack.tsv"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/code_bias_stack.py"
