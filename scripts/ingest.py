@@ -20,7 +20,12 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
              obs.sizes["sv"], " ".join(k for k in obs.data_vars if "_" not in k))
     day_start = obs.time.values[0].astype("datetime64[D]")
     orbit = read_sp3(orbit_path)
-    products = GnssProducts.from_datasets(orbit, read_rinex_clock(clock_path),
+    if clock_path:
+        clock = read_rinex_clock(clock_path)
+    else:
+        log.warning("no clock product: the SP3 clock records of %s are used", orbit_path)
+        clock = orbit
+    products = GnssProducts.from_datasets(orbit, clock,
                                           day_start, systems=list(signal_cfg),
                                           max_extrapolation_s=900.0)
     gnss = gnss_at_epochs(products, obs.time.values)
@@ -47,7 +52,7 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
 if __name__ == "__main__":
     log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
     sm = snakemake  # noqa: F821
-    main(obs_path=sm.input.obs, orbit_path=sm.input.orbit, clock_path=sm.input.clock,
+    main(obs_path=sm.input.obs, orbit_path=sm.input.orbit, clock_path=sm.input.get("clock"),
          apriori_path=sm.input.get("apriori"), antex_path=sm.input.get("antex"),
          out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
          signal_cfg=sm.params.signals, pco_body_m=sm.params.pco_body_m,

@@ -36,8 +36,11 @@ def ingest_inputs(wildcards):
     files = {
         "obs": expand_template(sat["observations"], wildcards.date, wildcards.sat),
         "orbit": expand_template(config["products"]["gnss_orbit"], wildcards.date, wildcards.sat),
-        "clock": expand_template(config["products"]["gnss_clock"], wildcards.date, wildcards.sat),
     }
+    if config["products"].get("gnss_clock"):
+        files["clock"] = expand_template(
+            config["products"]["gnss_clock"], wildcards.date, wildcards.sat
+        )
     if sat.get("apriori_orbit"):
         files["apriori"] = expand_template(sat["apriori_orbit"], wildcards.date, wildcards.sat)
     if config["products"].get("antex"):
@@ -55,15 +58,10 @@ PERIODS = code_bias_periods(config)
 
 def all_targets():
     """Final products of every satellite-day and code-bias period of the campaign."""
-    targets = expand(
-        [
-            "results/quality/{sat}/{date}.nc",
-            "results/quality/{sat}/{date}_summary.html",
-            "results/float_pod/{sat}/{date}.sp3",
-        ],
-        sat=SATS,
-        date=DAYS,
-    )
+    per_day = ["results/quality/{sat}/{date}.nc", "results/quality/{sat}/{date}_summary.html"]
+    if config["products"].get("gnss_clock"):  # POD needs a clock product (schema)
+        per_day.append("results/float_pod/{sat}/{date}.sp3")
+    targets = expand(per_day, sat=SATS, date=DAYS)
     targets += expand("results/code_bias/{sat}/{period}.nc", sat=SATS, period=PERIODS)
     if len(PERIODS) > 1:
         targets += expand("results/code_bias/{sat}/stack.nc", sat=SATS)
@@ -87,6 +85,8 @@ def sat_title(wildcards):
 
 def float_pod_inputs(wildcards):
     """Ingest/quality outputs and GNSS products of the days of the arc of a satellite-day."""
+    if not config["products"].get("gnss_clock"):
+        raise ValueError("float_pod needs a GNSS clock product (products.gnss_clock)")
     days = arc_days(config, wildcards.date)
     sat = wildcards.sat
     files = {

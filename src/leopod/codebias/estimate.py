@@ -14,7 +14,9 @@ weights of a direction sum to one, a constant added to all nodes can be taken ou
 offsets: the datum is fixed by a zero mean of the estimated nodes (``Σ x_k = 0``), imposed as
 ``N + c 1 1ᵀ`` (the normal matrix's null space is the constant vector, orthogonal to the
 right-hand side, so the solution is the minimum-norm one and the formal covariance is the
-pseudo-inverse ``(N + c 1 1ᵀ)⁻¹ − 1 1ᵀ/(c m²)``).
+pseudo-inverse). The system is solved by eigen-decomposition, so that nodes the data cannot
+separate from their neighbours and the pass offsets (a defect beyond the datum, e.g. a node
+seen by one pass only) are found and left out instead of failing the step.
 
 Options: smoothness (pseudo-observations ``x_i − x_j = 0 ± σ_s`` between adjacent nodes);
 observation weights from the robust (MAD) scatter of the residuals per elevation band, with
@@ -166,6 +168,32 @@ def _robust_weights(r: np.ndarray, band: np.ndarray, k: float) -> tuple[np.ndarr
     return w, n_down
 
 
+def _solve_zero_mean(n: np.ndarray, b: np.ndarray, rel_tol: float = 1e-10):
+    """Minimum-norm solution of ``N x = b`` and the diagonal of its covariance.
+
+    ``N`` is singular along the constant vector (the datum); adding ``c/m · 1 1ᵀ`` moves that
+    eigenvalue to ``c`` without changing the solution (``1ᵀ b = 0``). Any other direction with
+    an eigenvalue below ``rel_tol`` of the largest is a defect of the data: the nodes it
+    involves are reported as undetermined and the solution is the pseudo-inverse one.
+
+    Returns
+    -------
+    x : ndarray (m,)
+    cov_diag : ndarray (m,)
+        Diagonal of the pseudo-inverse of ``N`` [m² per unit weight].
+    undetermined : ndarray of bool (m,)
+    """
+    m = n.shape[0]
+    c = np.trace(n) / m
+    lam, v = sla.eigh(n + c / m * np.ones((m, m)))
+    good = lam > rel_tol * lam.max()
+    vg = v[:, good]
+    x = vg @ ((vg.T @ b) / lam[good])
+    cov_diag = np.sum(vg**2 / lam[good], axis=1) - 1.0 / (c * m)
+    undetermined = np.sum(v[:, ~good] ** 2, axis=1) > 1e-2  # share of a defect direction
+    return x, cov_diag, undetermined
+
+
 def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSettings()
                  ) -> MapFit:
     """Code-bias map from multipath observations (module docstring).
@@ -187,8 +215,7 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSett
     Raises
     ------
     ValueError
-        If there are no usable observations or the normal equations are singular (data that
-        do not tie the map together; smoothing helps).
+        If there are no usable observations.
     """
     grid = settings.grid
     az, el, y = (np.asarray(v, dtype=float) for v in (az_deg, el_deg, mp_m))
@@ -233,24 +260,20 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSett
         n, b = _reduced_normals(a_act, g, w, y_u)
         if reg is not None:
             n += reg
-        c = np.trace(n) / m
-        try:
-            cho = sla.cho_factor(n + c / m * np.ones((m, m)))
-        except np.linalg.LinAlgError as exc:
-            raise ValueError("code-bias map normal equations are singular: the data do not "
-                             "determine every node (try smoothing_sigma_m)") from exc
-        x = sla.cho_solve(cho, b)
+        x, cov_diag, undetermined = _solve_zero_mean(n, b)
         fitted = a_act @ x
         resid = y_u - fitted - _pass_mean(y_u - fitted, g, w)
         if it < settings.iterations:
             w, n_down = _robust_weights(resid, band, settings.robust_k)
     dof = max(y_u.size - g.shape[1] - (m - 1), 1)
     sigma0 = float(np.sqrt(np.sum(w * resid**2) / dof))
-    cov_diag = np.diag(sla.cho_solve(cho, np.eye(m))) - 1.0 / (c * m)
+    if undetermined.any():
+        log.warning("%d nodes are not determined by the data (e.g. observations of one pass "
+                    "only): not estimated", int(undetermined.sum()))
     value = np.full(grid.n_nodes, np.nan)
     sigma = np.full(grid.n_nodes, np.nan)
-    value[cols] = x
-    sigma[cols] = sigma0 * np.sqrt(np.maximum(cov_diag, 0.0))
+    value[cols] = np.where(undetermined, np.nan, x)
+    sigma[cols] = np.where(undetermined, np.nan, sigma0 * np.sqrt(np.maximum(cov_diag, 0.0)))
     count = np.zeros(grid.n_nodes, dtype=np.int64)
     count[cols] = np.diff(a_act.tocsc().indptr)
     residual = np.full(n_all, np.nan)
