@@ -11,10 +11,9 @@ values ``x_k`` at the grid nodes and their bilinear weights ``w_k`` (:class:`~le
 grid.AntennaGrid`). The pass offsets are eliminated from the normal equations (Schur
 complement, built from sparse matrices), so only the node values are solved for. Because the
 weights of a direction sum to one, a constant added to all nodes can be taken out of all pass
-offsets: the datum is fixed by a zero mean of the estimated nodes (``Σ x_k = 0``), imposed as
-``N + c 1 1ᵀ`` (the normal matrix's null space is the constant vector, orthogonal to the
-right-hand side, so the solution is the minimum-norm one and the formal covariance is the
-pseudo-inverse). The system is solved by eigen-decomposition, so that nodes the data cannot
+offsets: the datum is fixed by a zero mean of the node values weighted by their observation
+counts (``Σ n_k x_k = 0``: the mean correction of the observations is zero, and sparsely
+observed nodes do not move the level of the map), imposed as ``N + c w wᵀ``. The system is solved by eigen-decomposition, so that nodes the data cannot
 separate from their neighbours and the pass offsets (a defect beyond the datum, e.g. a node
 seen by one pass only) are found and left out instead of failing the step.
 
@@ -168,28 +167,28 @@ def _robust_weights(r: np.ndarray, band: np.ndarray, k: float) -> tuple[np.ndarr
     return w, n_down
 
 
-def _solve_zero_mean(n: np.ndarray, b: np.ndarray, rel_tol: float = 1e-10):
-    """Minimum-norm solution of ``N x = b`` and the diagonal of its covariance.
+def _solve_datum(n: np.ndarray, b: np.ndarray, w: np.ndarray, rel_tol: float = 1e-10):
+    """Solution of ``N x = b`` with the datum ``wᵀ x = 0`` and the diagonal of its covariance.
 
-    ``N`` is singular along the constant vector (the datum); adding ``c/m · 1 1ᵀ`` moves that
-    eigenvalue to ``c`` without changing the solution (``1ᵀ b = 0``). Any other direction with
-    an eigenvalue below ``rel_tol`` of the largest is a defect of the data: the nodes it
-    involves are reported as undetermined and the solution is the pseudo-inverse one.
+    ``N`` is singular along the constant vector (``1ᵀ b = 0``); with ``M = N + c w wᵀ``
+    (``Σ w = 1``) the solution of ``M x = b`` is the one with ``wᵀ x = 0``, and the covariance
+    of that solution is ``M⁻¹ − 1 1ᵀ / c``. Any other direction with an eigenvalue of ``M``
+    below ``rel_tol`` of the largest is a defect of the data: the nodes it involves are
+    reported as undetermined and the pseudo-inverse is used.
 
     Returns
     -------
     x : ndarray (m,)
     cov_diag : ndarray (m,)
-        Diagonal of the pseudo-inverse of ``N`` [m² per unit weight].
+        Diagonal of the covariance [m² per unit weight].
     undetermined : ndarray of bool (m,)
     """
-    m = n.shape[0]
-    c = np.trace(n) / m
-    lam, v = sla.eigh(n + c / m * np.ones((m, m)))
+    c = np.trace(n)
+    lam, v = sla.eigh(n + c * np.outer(w, w))
     good = lam > rel_tol * lam.max()
     vg = v[:, good]
     x = vg @ ((vg.T @ b) / lam[good])
-    cov_diag = np.sum(vg**2 / lam[good], axis=1) - 1.0 / (c * m)
+    cov_diag = np.sum(vg**2 / lam[good], axis=1) - 1.0 / c
     undetermined = np.sum(v[:, ~good] ** 2, axis=1) > 1e-2  # share of a defect direction
     return x, cov_diag, undetermined
 
@@ -254,13 +253,15 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSett
         sm = smooth[:, cols]
         sm = sm[np.asarray(abs(sm).sum(axis=1)).ravel() == 2]
         reg = (sm.T @ sm).toarray() / settings.smoothing_sigma_m**2
+    count_act = np.diff(a_act.tocsc().indptr)
+    datum = count_act / count_act.sum()
     w = np.ones(y_u.size)
     n_down = 0
     for it in range(settings.iterations + 1):
         n, b = _reduced_normals(a_act, g, w, y_u)
         if reg is not None:
             n += reg
-        x, cov_diag, undetermined = _solve_zero_mean(n, b)
+        x, cov_diag, undetermined = _solve_datum(n, b, datum)
         fitted = a_act @ x
         resid = y_u - fitted - _pass_mean(y_u - fitted, g, w)
         if it < settings.iterations:
@@ -275,7 +276,7 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSett
     value[cols] = np.where(undetermined, np.nan, x)
     sigma[cols] = np.where(undetermined, np.nan, sigma0 * np.sqrt(np.maximum(cov_diag, 0.0)))
     count = np.zeros(grid.n_nodes, dtype=np.int64)
-    count[cols] = np.diff(a_act.tocsc().indptr)
+    count[cols] = count_act
     residual = np.full(n_all, np.nan)
     residual[used] = resid
     corr = y_u - fitted

@@ -13,7 +13,7 @@ Map dataset (one file per satellite and period, ``results/code_bias/<sat>/<perio
   ones the map corrects), each pass's mean removed; overall RMS per signal and the fraction of
   observations the map covers.
 
-Datum: each map has zero mean over its estimated nodes (:mod:`leopod.codebias.estimate`); a
+Datum: each map has a zero count-weighted mean over its estimated nodes (:mod:`leopod.codebias.estimate`); a
 constant is not observable, so comparisons remove the mean difference over the common nodes.
 """
 
@@ -136,7 +136,7 @@ def map_dataset(fits: dict[tuple[str, int], MapFit], stats: dict[tuple[str, int]
     ds = xr.Dataset(
         {
             "value_m": (dims, value, {"units": "m", "long_name": "code bias map value "
-                                      "(zero mean over the estimated nodes)"}),
+                                      "(zero count-weighted mean)"}),
             "sigma_m": (dims, sigma, {"units": "m", "long_name": "formal standard deviation"}),
             "count": (dims, count, {"units": "1",
                                     "long_name": "observations with weight on the node"}),
@@ -171,7 +171,7 @@ def map_dataset(fits: dict[tuple[str, int], MapFit], stats: dict[tuple[str, int]
                                 {"units": "deg", "long_name": "lower edge of elevation band"})},
         attrs={"period": period, "satellite": satellite, "az_step_deg": settings.az_step_deg,
                "el_step_deg": settings.el_step_deg, "min_count": settings.min_count,
-               "band_width_deg": band_width, "datum": "zero mean over the estimated nodes",
+               "band_width_deg": band_width, "datum": "zero count-weighted mean over the estimated nodes",
                "sign": "corrected code = observed code - value"},
     )
     return ds, per_signal
