@@ -76,7 +76,8 @@ def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:
 def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
             clock: xr.Dataset, antex, signal_cfg: dict, pod_cfg: dict,
             pco_body_m: dict | None, *, eop=None, limits=None, code_maps=None,
-            code_bias_cfg: dict | None = None, yaw_flips=None) -> ArcOutputs:
+            code_bias_cfg: dict | None = None, yaw_flips=None,
+            ambiguity_constraints=None) -> ArcOutputs:
     """Float POD of the arc of ``date`` (module docstring).
 
     Parameters
@@ -105,6 +106,9 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
         Campaign ``code_bias`` section.
     yaw_flips : sequence of datetime-like, optional
         Yaw-flip epochs selecting the maps' attitude mode.
+    ambiguity_constraints : tuple, optional
+        Fixed single-difference ambiguities ``(pass_i, pass_j, value_m, sigma_m)``
+        (:func:`leopod.ambiguity.resolve.resolve_arc`): the ambiguity-fixed solution.
 
     Returns
     -------
@@ -152,7 +156,8 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
              *fit.rms_rtn_m)
     settings = pod_settings(pod_cfg)
     result = float_pod(po, products, force_model, t_ref, fit.state0_gcrf, settings, eop=eop,
-                       leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv)
+                       leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
+                       ambiguity_constraints=ambiguity_constraints)
     out_times = output_epochs(po.times[0], po.times[-1], float(pod_cfg["output_step_s"]))
     orbit_ds = orbit_dataset(result, out_times, eop=eop,
                              apriori_itrf_m=apriori.reindex(time=out_times).values)

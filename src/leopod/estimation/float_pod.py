@@ -398,10 +398,33 @@ class _Problem:
         return n_new
 
 
+def _constrain_differences(ne, k: int, active: np.ndarray, ambiguity: np.ndarray,
+                           constraints) -> None:
+    """Add ``B_i − B_j = v ± σ`` pseudo-observations to the normal equations (in place).
+
+    ``ne`` holds ``[arc parameters (k), ambiguities of the passes ``active``]``; the
+    misclosure uses the current ambiguity values ``ambiguity`` (indexed by pass).
+    """
+    pass_i, pass_j, value, sigma = (np.asarray(c) for c in constraints)
+    col = np.full(max(int(active.max()), int(pass_i.max()), int(pass_j.max())) + 1, -1)
+    col[active] = k + np.arange(active.size)
+    ci, cj = col[pass_i], col[pass_j]
+    ok = (ci >= 0) & (cj >= 0)
+    ci, cj, w = ci[ok], cj[ok], 1.0 / sigma[ok] ** 2
+    misclosure = value[ok] - (ambiguity[pass_i[ok]] - ambiguity[pass_j[ok]])
+    np.add.at(ne.matrix, (ci, ci), w)
+    np.add.at(ne.matrix, (cj, cj), w)
+    np.add.at(ne.matrix, (ci, cj), -w)
+    np.add.at(ne.matrix, (cj, ci), -w)
+    np.add.at(ne.rhs, ci, w * misclosure)
+    np.add.at(ne.rhs, cj, -w * misclosure)
+
+
 def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceModel, t_ref,
               state0_gcrf: np.ndarray, settings: PodSettings | None = None, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
-              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None) -> PodResult:
+              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
+              ambiguity_constraints=None) -> PodResult:
     """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -424,6 +447,11 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         Ionosphere-free GNSS antenna PCO per ``obs.sv`` (body frame) [m].
     sat_pcv_m : callable, optional
         ``f(sat_index, nadir_deg) -> m``: ionosphere-free GNSS antenna PCV.
+    ambiguity_constraints : (pass_i, pass_j, value_m, sigma_m), optional
+        Pseudo-observations ``B_i − B_j = value ± sigma`` of the ambiguities of passes
+        ``pass_i``/``pass_j`` (values of ``obs.pass_index``): the fixed single-differenced
+        ambiguities of the ambiguity-fixed solution (seed 000 sec. III-B). Constraints on
+        passes without used phase are skipped.
 
     Returns
     -------
@@ -447,6 +475,8 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         while True:
             rows, pair, is_phase, active = prob.rows(model, g)
             ne = accumulate(rows)
+            if ambiguity_constraints is not None:
+                _constrain_differences(ne, prob.k, active, prob.ambiguity, ambiguity_constraints)
             dx, cov = solve(ne, np.concatenate([prob.constraint_weight, np.zeros(active.size)]),
                             np.concatenate([prob.constraint_rhs(state), np.zeros(active.size)]))
             clocks, res = epoch_clocks(rows, dx)

@@ -1,0 +1,217 @@
+"""Single-receiver WL/NL ambiguity resolution of one float POD arc (rule ``ambiguity``).
+
+Steps (seed 000 sec. III-B, seed 002):
+
+1. single differences between the passes (float ambiguities) of different satellites with at
+   least ``min_common_s`` of common observation time (:func:`~leopod.ambiguity.pairs.sd_pairs`);
+2. wide lane: HMW of the (optionally map-corrected) codes and the phases at the POD epochs,
+   single-differenced over the common epochs and corrected by the satellite WL biases of the
+   campaign's product (:mod:`~leopod.ambiguity.wide_lane`), then the fixing decision;
+3. narrow lane: from the float ionosphere-free single difference and the fixed WL, with its
+   sigma from the float covariance (:mod:`~leopod.ambiguity.narrow_lane`), then the decision;
+4. a maximal linearly independent set of the fixed single differences, best-determined first
+   (:mod:`~leopod.ambiguity.independent`), mapped to constraints ``B_i − B_j = value`` on the
+   undifferenced float ambiguities for the fixed POD.
+
+Decisions: ``"rounding"`` — fractional part and sigma below their bounds (seed 000: WL 0.24,
+NL 0.12 cycles) — or ``"dong_bock"`` — the probability test of seed 004 eq. 9 (α = 0.1 %),
+with the same sigma bounds. Every candidate keeps its float value, sigma, integer, decision and
+the reason of a rejection. Fixing rates follow seed 002: fixed independent / all independent.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from leopod.ambiguity.decision import FixDecision, dong_bock_decision, rounding_decision
+from leopod.ambiguity.independent import constraint_rows, fixing_rate, independent_edges
+from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_narrow_lane
+from leopod.ambiguity.pairs import sd_pairs
+from leopod.ambiguity.wide_lane import hmw_cycles, sd_wide_lane
+from leopod.gnss.signals import frequency_hz
+
+__all__ = ["ArSettings", "Resolution", "resolve_arc"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class ArSettings:
+    """Tunables of the ambiguity resolution (config ``ambiguity``; units in the names)."""
+
+    min_common_s: float = 480.0
+    decision: str = "rounding"
+    wl_max_dev_cyc: float = 0.24
+    wl_max_sigma_cyc: float = 0.1
+    nl_max_dev_cyc: float = 0.12
+    nl_max_sigma_cyc: float = 0.1
+    alpha: float = 1e-3
+    constraint_sigma_m: float = 1e-3
+
+    @classmethod
+    def from_config(cls, cfg: dict) -> ArSettings:
+        """Settings from the campaign's ``ambiguity`` section (other keys ignored)."""
+        return cls(**{k: v for k, v in cfg.items() if k in cls.__dataclass_fields__})
+
+
+@dataclass
+class Resolution:
+    """Result of :func:`resolve_arc`.
+
+    Attributes
+    ----------
+    table : xarray.Dataset
+        One row per single-difference candidate (dim ``pair``) with float values, sigmas,
+        integers, decisions, reasons and the independent/constrained flags; attributes hold
+        the fixing rates.
+    constraints : tuple of ndarray
+        ``(pass_i, pass_j, value_m, sigma_m)`` for
+        :func:`leopod.estimation.float_pod.float_pod` (empty arrays if nothing is fixed).
+    """
+
+    table: xr.Dataset
+    constraints: tuple
+
+
+def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings) -> FixDecision:
+    if settings.decision == "dong_bock":
+        d = dong_bock_decision(value, sigma, alpha=settings.alpha)
+        big = ~(np.asarray(sigma) <= max_sigma)
+        reason = np.where(big & d.fixed, f"sigma > {max_sigma}", d.reason)
+        return FixDecision(d.integer, d.fraction_cyc, d.fixed & ~big, reason)
+    if settings.decision == "rounding":
+        return rounding_decision(value, sigma, max_dev_cyc=max_dev, max_sigma_cyc=max_sigma)
+    raise ValueError(f"unknown ambiguity decision {settings.decision!r} "
+                     "(rounding or dong_bock)")
+
+
+def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system: str,
+                phases, codes, wl_sat_cyc: xr.DataArray | None,
+                settings: ArSettings = ArSettings(), *, sat_if_bias_m=None) -> Resolution:
+    """Resolve the single-difference ambiguities of one float arc (module docstring).
+
+    Parameters
+    ----------
+    amb : xarray.Dataset
+        Float ambiguities (:func:`leopod.estimation.outputs.ambiguity_dataset`).
+    residuals : xarray.Dataset
+        Float residuals with ``pass_index`` on (time, sv) (which pass each POD observation
+        belongs to).
+    obs : xarray.Dataset
+        Observations of the arc (codes already corrected as the campaign wishes).
+    system : str
+        GNSS letter.
+    phases, codes : sequence of two str
+        Phase and code signals of the ionosphere-free pair (e.g. L1C L2W, C1W C2W).
+    wl_sat_cyc : xarray.DataArray or None
+        Satellite WL biases ``w^s`` [WL cycles] on ``sv``; None: no AR product, nothing is
+        fixed (the table says why).
+    settings : ArSettings
+    sat_if_bias_m : array_like, shape (n_ambiguities,), optional
+        Satellite ionosphere-free phase bias per float ambiguity [m] (OSB products with
+        ordinary clocks); None with integer-recovery clocks.
+
+    Returns
+    -------
+    Resolution
+    """
+    f1, f2 = frequency_hz(system, phases[0]), frequency_hz(system, phases[1])
+    pairs = sd_pairs(amb.sv.values, amb.start.values, amb.end.values,
+                     min_common_s=settings.min_common_s)
+    i, j = pairs.i, pairs.j
+    n_pair = i.size
+    pid = residuals.pass_index
+    o = obs.reindex(time=pid.time, sv=pid.sv)
+    hmw = xr.DataArray(hmw_cycles(o[phases[0]].values, o[phases[1]].values, o[codes[0]].values,
+                                  o[codes[1]].values, f1, f2), coords=pid.coords,
+                       dims=pid.dims)
+    pass_of = amb.pass_index.values
+    empty = np.zeros(0)
+    if wl_sat_cyc is None or n_pair == 0:
+        why = "no wide-lane satellite bias product" if wl_sat_cyc is None else "no pairs"
+        log.warning("ambiguity resolution skipped: %s", why)
+        wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], None)
+        wl_dec = FixDecision(np.round(wl.value_cyc), wl.value_cyc - np.round(wl.value_cyc),
+                             np.zeros(n_pair, bool), np.full(n_pair, why))
+    else:
+        wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], wl_sat_cyc)
+        wl_dec = _decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
+                         settings.wl_max_sigma_cyc, settings)
+    n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
+    nl = sd_narrow_lane(amb.value_m.values, amb.covariance_m2.values, i, j, n_wl, f1, f2,
+                        sat_bias_m=sat_if_bias_m)
+    nl_dec = _decide(nl.value_cyc, nl.sigma_cyc, settings.nl_max_dev_cyc,
+                     settings.nl_max_sigma_cyc, settings)
+    nl_fixed = nl_dec.fixed & wl_dec.fixed
+    nl_reason = np.where(wl_dec.fixed, nl_dec.reason, "wide lane not fixed")
+    independent = independent_edges(i, j, key=nl.sigma_cyc)
+    chosen = independent_edges(i[nl_fixed], j[nl_fixed], key=nl.sigma_cyc[nl_fixed])
+    constrained = np.zeros(n_pair, bool)
+    constrained[np.flatnonzero(nl_fixed)[chosen]] = True
+    bias_sd = 0.0
+    if sat_if_bias_m is not None:
+        b = np.asarray(sat_if_bias_m, dtype=float)
+        bias_sd = b[i] - b[j]
+    value_if = fixed_sd_if_m(n_wl, np.where(nl_fixed, nl_dec.integer, 0), f1, f2,
+                             sat_bias_sd_m=bias_sd)
+    if constrained.any():
+        rows = constraint_rows(i[constrained], j[constrained], value_if[constrained],
+                               sigma_m=settings.constraint_sigma_m)
+        constraints = (pass_of[rows.index_i], pass_of[rows.index_j], rows.value_m,
+                       np.broadcast_to(rows.sigma_m, rows.value_m.shape).astype(float))
+    else:
+        constraints = (empty.astype(np.int64), empty.astype(np.int64), empty, empty)
+    wl_rate = fixing_rate(i, j, wl_dec.fixed) if n_pair else np.nan
+    nl_rate = fixing_rate(i, j, nl_fixed) if n_pair else np.nan
+    log.info("ambiguities: %d passes, %d single differences (%d independent); WL fixed %d, "
+             "NL fixed %d; fixing rates WL %.1f %%, NL %.1f %%; %d constraints",
+             pass_of.size, n_pair, int(independent.sum()), int(wl_dec.fixed.sum()),
+             int(nl_fixed.sum()), 100 * wl_rate, 100 * nl_rate, int(constrained.sum()))
+    d = ("pair",)
+    table = xr.Dataset(
+        {
+            "amb_i": (d, i.astype(np.int32), {"units": "1", "long_name": "first ambiguity"}),
+            "amb_j": (d, j.astype(np.int32), {"units": "1", "long_name": "second ambiguity"}),
+            "sv_i": (d, amb.sv.values[i].astype(str), {"units": "1", "long_name": "satellite i"}),
+            "sv_j": (d, amb.sv.values[j].astype(str), {"units": "1", "long_name": "satellite j"}),
+            "pass_i": (d, pass_of[i].astype(np.int32), {"units": "1", "long_name": "pass i"}),
+            "pass_j": (d, pass_of[j].astype(np.int32), {"units": "1", "long_name": "pass j"}),
+            "common_start": (d, pairs.common_start, {"long_name": "start of common time"}),
+            "common_end": (d, pairs.common_end, {"long_name": "end of common time"}),
+            "wl_float_cyc": (d, wl.value_cyc, {"units": "1", "long_name": "float SD WL"}),
+            "wl_sigma_cyc": (d, wl.sigma_cyc, {"units": "1", "long_name": "sigma of SD WL"}),
+            "wl_std_cyc": (d, wl.std_cyc, {"units": "1", "long_name": "STD of SD HMW"}),
+            "wl_n_common": (d, wl.n_common, {"units": "1", "long_name": "common epochs"}),
+            "wl_integer": (d, wl_dec.integer.astype(np.int64),
+                           {"units": "1", "long_name": "nearest integer SD WL"}),
+            "wl_fraction_cyc": (d, wl_dec.fraction_cyc,
+                                {"units": "1", "long_name": "float minus nearest integer"}),
+            "wl_fixed": (d, wl_dec.fixed.astype(np.int8), {"units": "1", "long_name": "WL fixed"}),
+            "wl_reason": (d, np.asarray(wl_dec.reason).astype(str),
+                          {"units": "1", "long_name": "why the WL is not fixed"}),
+            "nl_float_cyc": (d, nl.value_cyc, {"units": "1", "long_name": "float SD NL"}),
+            "nl_sigma_cyc": (d, nl.sigma_cyc, {"units": "1", "long_name": "sigma of SD NL"}),
+            "nl_integer": (d, nl_dec.integer.astype(np.int64),
+                           {"units": "1", "long_name": "nearest integer SD NL"}),
+            "nl_fraction_cyc": (d, nl_dec.fraction_cyc,
+                                {"units": "1", "long_name": "float minus nearest integer"}),
+            "nl_fixed": (d, nl_fixed.astype(np.int8), {"units": "1", "long_name": "NL fixed"}),
+            "nl_reason": (d, np.asarray(nl_reason).astype(str),
+                          {"units": "1", "long_name": "why the NL is not fixed"}),
+            "independent": (d, independent.astype(np.int8),
+                            {"units": "1", "long_name": "in the maximal independent set"}),
+            "constrained": (d, constrained.astype(np.int8),
+                            {"units": "1", "long_name": "constrained in the fixed POD"}),
+            "fixed_if_m": (d, np.where(constrained, value_if, np.nan),
+                           {"units": "m", "long_name": "fixed SD ionosphere-free ambiguity"}),
+        },
+        attrs={"wl_fixing_rate": wl_rate, "nl_fixing_rate": nl_rate,
+               "n_passes": int(pass_of.size), "n_independent": int(independent.sum()),
+               "decision": settings.decision, "min_common_s": settings.min_common_s,
+               "ar_product": "none" if wl_sat_cyc is None else "wide-lane satellite biases"},
+    )
+    return Resolution(table=table, constraints=constraints)
