@@ -17,6 +17,7 @@ import yaml
 
 from leopod.codebias.products import grid_of, node_vector
 from leopod.io.sp3 import read_sp3
+from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.validation.compare import difference_rtn, rms_rtn
 
@@ -131,6 +132,18 @@ def test_one_simulated_day_end_to_end(tmp_path):
     p1 = maps.sel(signal="C1W")
     assert float(p1.mp_rms_all_after_m) < 0.5 * float(p1.mp_rms_all_before_m)
     assert "code-bias map on C1W" in (tmp_path / "logs/float_pod/hy2b-sim/2019-001.log").read_text()
+    # ambiguity resolution against the simulated integers (issue 7: WL >= 95 %, NL >= 85 %,
+    # wrong fixes <= 0.5 %, fixed orbit error >= 30 % below the float one). Authority: the
+    # simulation truth (integer ambiguities and orbit).
+    table = xr.load_dataset(tmp_path / "results/ambiguity/hy2b-sim/2019-001.nc")
+    residuals = xr.load_dataset(tmp_path / "results/float_pod/hy2b-sim/2019-001_residuals.nc")
+    truth_day = xr.load_dataset(tmp_path / "resources/simulate/hy2b-sim/2019-001_truth.nc")
+    wrong = wrong_fixes(table, *true_single_differences(table, residuals, [truth_day]))
+    assert table.attrs["wl_fixing_rate"] >= 0.95 and table.attrs["nl_fixing_rate"] >= 0.85
+    assert wrong["constrained"] > 100 and wrong["constrained_wrong"] == 0
+    assert wrong["nl_wrong"] <= 0.005 * wrong["nl_fixed"]
+    fixed = xr.load_dataset(tmp_path / "results/fixed_pod/hy2b-sim/2019-001_orbit.nc")
+    assert rms_rtn(difference_rtn(fixed, truth))["3D"] < 0.7 * rms["3D"]
 
 
 @pytest.mark.slow

@@ -61,6 +61,8 @@ def all_targets():
     per_day = ["results/quality/{sat}/{date}.nc", "results/quality/{sat}/{date}_summary.html"]
     if config["products"].get("gnss_clock"):  # POD needs a clock product (schema)
         per_day.append("results/float_pod/{sat}/{date}.sp3")
+        if config["ambiguity"]["enabled"]:
+            per_day += ["results/ambiguity/{sat}/{date}.nc", "results/fixed_pod/{sat}/{date}.sp3"]
     targets = expand(per_day, sat=SATS, date=DAYS)
     targets += expand("results/code_bias/{sat}/{period}.nc", sat=SATS, period=PERIODS)
     if len(PERIODS) > 1:
@@ -101,6 +103,23 @@ def float_pod_inputs(wildcards):
     period = applied_code_bias_period(config, wildcards.date)
     if period is not None:
         files["code_bias"] = f"results/code_bias/{sat}/{period}.nc"
+    return files
+
+
+def ambiguity_inputs(wildcards):
+    """Observations and quality of the arc's days, the code-bias map and the AR product."""
+    days = arc_days(config, wildcards.date)
+    sat = wildcards.sat
+    files = {
+        "obs": [f"results/ingest/{sat}/{d}_obs.nc" for d in days],
+        "quality": [f"results/quality/{sat}/{d}.nc" for d in days],
+    }
+    period = applied_code_bias_period(config, wildcards.date)
+    if period is not None:
+        files["code_bias"] = f"results/code_bias/{sat}/{period}.nc"
+    for key in ("wl_bias", "osb"):
+        if config["products"].get(key):
+            files[key] = expand_template(config["products"][key], wildcards.date, sat)
     return files
 
 

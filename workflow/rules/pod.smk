@@ -56,3 +56,103 @@ rule float_pod:
         "../../envs/leopod.yaml"
     script:
         "../../scripts/float_pod.py"
+
+
+# ambiguity: wide-lane/narrow-lane fixing of the single-differenced float ambiguities
+# (seed 000 sec. III-B, seed 002) with the campaign's AR product (CNES/CLS WL biases +
+# integer clocks, or Bias-SINEX OSB); without a product nothing is fixed and the table says so.
+rule ambiguity:
+    params:
+        signals=config["signals"],
+        pod=config["pod"],
+        settings=config["ambiguity"],
+        code_bias=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
+        title=sat_title,
+    input:
+        unpack(ambiguity_inputs),
+        ambiguities=rules.float_pod.output.ambiguities,
+        residuals=rules.float_pod.output.residuals,
+        code=library_files("ambiguity", "codebias", "io", "plots"),
+    output:
+        table="results/ambiguity/{sat}/{date}.nc",
+        histogram=report(
+            "results/ambiguity/{sat}/{date}_fractions.png",
+            caption="../report/ambiguity_fractions.rst",
+            category="Ambiguity resolution",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "fractional parts"},
+        ),
+    log:
+        "logs/ambiguity/{sat}/{date}.log",
+    benchmark:
+        "benchmarks/ambiguity/{sat}/{date}.tsv"
+    threads: 1
+    resources:
+        mem_mb=3000,
+        runtime=10,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/ambiguity.py"
+
+
+# fixed_pod: the float POD re-solved with the fixed single differences as tight constraints.
+rule fixed_pod:
+    params:
+        signals=config["signals"],
+        pod=config["pod"],
+        settings=config["ambiguity"],
+        pco_body_m=sat_pco,
+        title=sat_title,
+        sp3_id=sat_pod_sp3_id,
+        code_bias=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
+    input:
+        unpack(float_pod_inputs),
+        table=rules.ambiguity.output.table,
+        float_orbit=rules.float_pod.output.orbit,
+        code=library_files(
+            "estimation", "codebias", "dynamics", "gnss", "orbit", "frames", "io", "plots"
+        ),
+    output:
+        orbit="results/fixed_pod/{sat}/{date}_orbit.nc",
+        sp3="results/fixed_pod/{sat}/{date}.sp3",
+        residuals="results/fixed_pod/{sat}/{date}_residuals.nc",
+        parameters="results/fixed_pod/{sat}/{date}_parameters.nc",
+        ambiguities="results/fixed_pod/{sat}/{date}_ambiguities.nc",
+        res_time=report(
+            "results/fixed_pod/{sat}/{date}_residuals_time.png",
+            caption="../report/pod_residuals_time.rst",
+            category="Fixed POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs time"},
+        ),
+        res_elevation=report(
+            "results/fixed_pod/{sat}/{date}_residuals_elevation.png",
+            caption="../report/pod_residuals_elevation.rst",
+            category="Fixed POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs elevation"},
+        ),
+        res_skymap=report(
+            "results/fixed_pod/{sat}/{date}_residual_skymap.png",
+            caption="../report/pod_residual_skymap.rst",
+            category="Fixed POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "phase residual map"},
+        ),
+        apriori=report(
+            "results/fixed_pod/{sat}/{date}_apriori_rtn.png",
+            caption="../report/pod_apriori_rtn.rst",
+            category="Fixed POD",
+            labels={"satellite": "{sat}", "day": "{date}", "figure": "RTN vs a-priori"},
+        ),
+    log:
+        "logs/fixed_pod/{sat}/{date}.log",
+    benchmark:
+        "benchmarks/fixed_pod/{sat}/{date}.tsv"
+    threads: 1
+    resources:
+        mem_mb=6000,
+        runtime=30,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/fixed_pod.py"

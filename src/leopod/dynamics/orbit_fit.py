@@ -70,7 +70,8 @@ class FitResult:
         A posteriori standard deviation of unit weight (multiply ``sigmas`` by it for
         residual-scaled sigmas).
     state0_gcrf : ndarray, shape (6,)
-        Fitted initial GCRF position [m] and velocity [m/s].
+        Fitted GCRF position [m] and velocity [m/s] at ``t_ref`` (propagated back when the
+        first valid observation is later; ``estimates`` refer to the first valid epoch).
     force_parameters : ndarray, shape (P,)
         All force-model parameters (estimated and fixed), order of ``force_model.parameters``.
     force_model : ForceModel
@@ -268,10 +269,14 @@ def fit_orbit(times, pos_m, force_config: Mapping | None = None, *, frame: str =
         iterations += 1
     dof = max(res.size + constrained.size - k, 1)
     sigma0 = float(np.sqrt(np.sum((res / sigma_obs_m) ** 2) / dof))
+    state_ref = state
+    if t_s[0] != 0.0:  # first valid epoch after t_ref: the state at t_ref, as documented
+        state_ref = integrate(force_model, t_s[0], state, params, np.array([0.0]),
+                              step_s=step_s).states[0]
     rtn = rtn_matrix(traj.states[:, :3], traj.states[:, 3:])
     return FitResult(times=times, t_ref=np.datetime64(t_ref, "ns"), t_s=t_s,
                      parameter_names=names, estimates=np.concatenate([state, params[est]]),
-                     sigmas=sigmas, covariance=cov, sigma0=sigma0, state0_gcrf=state,
+                     sigmas=sigmas, covariance=cov, sigma0=sigma0, state0_gcrf=state_ref,
                      force_parameters=params, force_model=force_model, trajectory=traj,
                      residuals_rtn_m=np.einsum("nij,nj->ni", rtn, res),
                      iterations=iterations, converged=converged)

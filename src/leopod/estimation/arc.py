@@ -77,7 +77,8 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
             clock: xr.Dataset, antex, signal_cfg: dict, pod_cfg: dict,
             pco_body_m: dict | None, *, eop=None, limits=None, code_maps=None,
             code_bias_cfg: dict | None = None, yaw_flips=None,
-            ambiguity_constraints=None) -> ArcOutputs:
+            ambiguity_constraints=None, apriori_orbit: xr.DataArray | None = None
+            ) -> ArcOutputs:
     """Float POD of the arc of ``date`` (module docstring).
 
     Parameters
@@ -109,6 +110,10 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
     ambiguity_constraints : tuple, optional
         Fixed single-difference ambiguities ``(pass_i, pass_j, value_m, sigma_m)``
         (:func:`leopod.ambiguity.resolve.resolve_arc`): the ambiguity-fixed solution.
+    apriori_orbit : xarray.DataArray (time, xyz), optional
+        ITRF positions [m] replacing the ingest a-priori orbit as the start of the dynamic
+        fit and the reference of ``apriori_diff_rtn_m`` (the fixed POD starts from the float
+        orbit, so it converges in fewer iterations and reports fixed minus float).
 
     Returns
     -------
@@ -146,9 +151,12 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
     t_s = seconds_since(po.times, t_ref)
     forces = resolve_model_paths(pod_cfg["forces"])
     force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop)
-    apriori = xr.concat([leo.pos_m for leo in leo_days], dim="time")
-    _, first = np.unique(apriori.time.values, return_index=True)
-    apriori = apriori.isel(time=np.sort(first))
+    if apriori_orbit is None:
+        apriori = xr.concat([leo.pos_m for leo in leo_days], dim="time")
+        _, first = np.unique(apriori.time.values, return_index=True)
+        apriori = apriori.isel(time=np.sort(first))
+    else:
+        apriori = apriori_orbit
     apriori_at_obs = apriori.reindex(time=po.times).values
     fit = fit_orbit(po.times, apriori_at_obs, force_model=force_model, t_ref=t_ref,
                     sigma_obs_m=float(pod_cfg.get("apriori_fit_sigma_m", 1.0)), eop=eop)

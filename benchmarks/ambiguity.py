@@ -1,0 +1,131 @@
+"""Ambiguity resolution and fixed POD of the simulated default campaign against its truth (issue 7).
+
+Run ``make run`` first (or ``snakemake --cores 2``). For every day this prints the fixing
+rates (seed 002: fixed independent / all independent) and the share of fixed pairs, the wrong
+fixes counted against the simulated integers, float and fixed RMS errors (R/T/N/3D over the
+day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
+from Snakemake's benchmark files. With ``--codes`` it re-solves the arc of one day in-process
+with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W) instead, and prints the
+same figures for each (issue 6 and 7: the effect of the map on the fixing rates).
+
+    .venv/bin/python benchmarks/ambiguity.py [--codes [--day 2019-002]]
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import logging
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+import yaml
+
+from leopod.ambiguity.products import ar_product, merge_observations
+from leopod.ambiguity.resolve import ArSettings, resolve_arc
+from leopod.campaign import arc_days, campaign_days
+from leopod.codebias.apply import correct_codes
+from leopod.estimation.arc import merge_days, run_arc
+from leopod.io.clock import read_rinex_clock
+from leopod.io.sp3 import read_sp3
+from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
+from leopod.validation.compare import difference_rtn, rms_rtn
+
+REPO = Path(__file__).resolve().parents[1]
+SAT = "hy2b-sim"
+SIM = REPO / "resources" / "simulate"
+
+
+def _day_slice(date: str) -> slice:
+    start = np.datetime64(f"{date[:4]}-01-01") + np.timedelta64(int(date[5:]) - 1, "D")
+    return slice(start, start + np.timedelta64(86399, "s"))
+
+
+def _rms_cm(orbit: xr.Dataset, truth: xr.Dataset, date: str) -> str:
+    r = rms_rtn(difference_rtn(orbit.sel(time=_day_slice(date)), truth))
+    return " ".join(f"{k} {100 * v:.2f}" for k, v in r.items()) + " cm"
+
+
+def _summary(label, table, residuals, truth_days) -> None:
+    wrong = wrong_fixes(table, *true_single_differences(table, residuals, truth_days))
+    n = table.sizes["pair"]
+    print(f"  {label}: {n} pairs; rates WL {100 * table.attrs['wl_fixing_rate']:.1f} % "
+          f"NL {100 * table.attrs['nl_fixing_rate']:.1f} %; fixed pairs WL "
+          f"{wrong['wl_fixed']} ({100 * wrong['wl_fixed'] / n:.1f} %) NL {wrong['nl_fixed']} "
+          f"({100 * wrong['nl_fixed'] / n:.1f} %); wrong WL {wrong['wl_wrong']} NL "
+          f"{wrong['nl_wrong']}; constrained {wrong['constrained']} "
+          f"(wrong {wrong['constrained_wrong']})")
+
+
+def _seconds(step: str, date: str) -> float:
+    path = REPO / "benchmarks" / step / SAT / f"{date}.tsv"
+    return float(path.read_text().splitlines()[1].split("\t")[0]) if path.exists() else np.nan
+
+
+def campaign(cfg: dict, truth: xr.Dataset) -> None:
+    res = REPO / "results"
+    for date in campaign_days(cfg):
+        table = xr.load_dataset(res / "ambiguity" / SAT / f"{date}.nc")
+        residuals = xr.load_dataset(res / "float_pod" / SAT / f"{date}_residuals.nc")
+        truth_days = [xr.load_dataset(SIM / SAT / f"{d}_truth.nc") for d in arc_days(cfg, date)]
+        print(f"{date}:")
+        _summary("P1 + map", table, residuals, truth_days)
+        for kind in ("float", "fixed"):
+            orbit = xr.load_dataset(res / f"{kind}_pod" / SAT / f"{date}_orbit.nc")
+            print(f"  {kind} vs truth: {_rms_cm(orbit, truth, date)}")
+        print(f"  wall time: float_pod {_seconds('float_pod', date):.1f} s, ambiguity "
+              f"{_seconds('ambiguity', date):.1f} s, fixed_pod {_seconds('fixed_pod', date):.1f} s")
+
+
+def code_variants(cfg: dict, truth: xr.Dataset, date: str) -> None:
+    days = arc_days(cfg, date)
+    res = REPO / "results"
+    obs = [xr.load_dataset(res / "ingest" / SAT / f"{d}_obs.nc") for d in days]
+    quality = [xr.load_dataset(res / "quality" / SAT / f"{d}.nc") for d in days]
+    leo = [xr.load_dataset(res / "ingest" / SAT / f"{d}_leo.nc") for d in days]
+    orbit = merge_days([read_sp3(SIM / "gnss" / f"{d}.sp3") for d in days])
+    clock = merge_days([read_rinex_clock(SIM / "gnss" / f"{d}_int.clk") for d in days])
+    maps = xr.load_dataset(res / "code_bias" / SAT / "2019-01.nc")
+    truth_days = [xr.load_dataset(SIM / SAT / f"{d}_truth.nc") for d in days]
+    pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
+    for label, codes, apply in (("P1 + map", ["C1W", "C2W"], ["C1W"]),
+                                ("P1 without map", ["C1W", "C2W"], []),
+                                ("C1 (C1C, C2W)", ["C1C", "C2W"], [])):
+        signals = copy.deepcopy(cfg["signals"])
+        signals["G"]["pod_code"] = codes
+        cb = {"apply": apply, "empty_cells": "drop"}
+        arc = run_arc(date, obs, quality, leo, orbit, clock, None, signals, cfg["pod"], pco,
+                      code_maps=maps if apply else None, code_bias_cfg=cb)
+        o = [correct_codes(a, q, maps, apply)[0] if apply else a
+             for a, q in zip(obs, quality, strict=True)]
+        epoch = arc.residuals.time.values[arc.residuals.sizes["time"] // 2]
+        product = ar_product(epoch, arc.ambiguities.sv.values, ["L1C", "L2W"], codes,
+                             wl_bias_path=SIM / "gnss" / f"{date}.wsb")
+        r = resolve_arc(arc.ambiguities, arc.residuals, merge_observations(o), "G",
+                        ["L1C", "L2W"], codes, product.wl_sat_cyc, ArSettings())
+        _summary(label, r.table, arc.residuals, truth_days)
+        fixed = run_arc(date, obs, quality, leo, orbit, clock, None, signals, cfg["pod"], pco,
+                        code_maps=maps if apply else None, code_bias_cfg=cb,
+                        ambiguity_constraints=r.constraints)
+        print(f"    float {_rms_cm(arc.orbit, truth, date)}; fixed "
+              f"{_rms_cm(fixed.orbit, truth, date)}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--codes", action="store_true")
+    parser.add_argument("--day", default="2019-002")
+    args = parser.parse_args()
+    logging.basicConfig(level=logging.WARNING)
+    cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+    truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
+    if args.codes:
+        print(f"{args.day}, arc of {' '.join(arc_days(cfg, args.day))}:")
+        code_variants(cfg, truth, args.day)
+    else:
+        campaign(cfg, truth)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,51 @@
+"""Snakemake script of rule fixed_pod: the float POD re-solved with the fixed ambiguities."""
+
+import numpy as np
+import xarray as xr
+
+from leopod.estimation.arc import merge_days, run_arc
+from leopod.estimation.write import log_arc, write_arc
+from leopod.io.antex import read_antex
+from leopod.io.clock import read_rinex_clock
+from leopod.io.sp3 import read_sp3
+from leopod.workflow import configure_logging
+
+
+def constraints_of(table: xr.Dataset, sigma_m: float):
+    """``(pass_i, pass_j, value_m, sigma_m)`` of the constrained single differences."""
+    sel = table.constrained.values == 1
+    value = table.fixed_if_m.values[sel]
+    return (table.pass_i.values[sel].astype(int), table.pass_j.values[sel].astype(int), value,
+            np.full(value.shape, sigma_m))
+
+
+def main(inp, out, params, date, log):
+    table = xr.load_dataset(inp.table)
+    constraints = constraints_of(table, params.settings["constraint_sigma_m"])
+    log.info("%d fixed single differences constrain the solution (AR product: %s)",
+             constraints[0].size, table.attrs.get("ar_product"))
+    if constraints[0].size == 0:
+        log.warning("no fixed ambiguity: the fixed solution equals the float one")
+    obs = [xr.load_dataset(p) for p in inp.obs]
+    quality = [xr.load_dataset(p) for p in inp.quality]
+    leo = [xr.load_dataset(p) for p in inp.leo]
+    orbit = merge_days([read_sp3(p) for p in inp.orbit])
+    clock = merge_days([read_rinex_clock(p) for p in inp.clock])
+    antex = read_antex(inp.antex) if inp.get("antex") else None
+    code_maps = xr.load_dataset(inp.code_bias) if inp.get("code_bias") else None
+    start = xr.load_dataset(inp.float_orbit).pos_itrf_m  # converges faster; fixed - float
+    arc = run_arc(date, obs, quality, leo, orbit, clock, antex, params.signals, params.pod,
+                  params.pco_body_m, code_maps=code_maps, code_bias_cfg=params.code_bias,
+                  yaw_flips=params.yaw_flips,
+                  ambiguity_constraints=constraints if constraints[0].size else None,
+                  apriori_orbit=start)
+    log_arc(arc, f"fixed POD {date}")
+    write_arc(arc, out, step="fixed_pod", kind="ambiguity-fixed", title=params.title,
+              sp3_id=params.sp3_id,
+              inputs=[inp.table, inp.float_orbit, *inp.obs, *inp.quality, *inp.leo, *inp.orbit, *inp.clock])
+
+
+if __name__ == "__main__":
+    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
+    sm = snakemake  # noqa: F821
+    main(sm.input, sm.output, sm.params, sm.wildcards.date, log)
