@@ -3,11 +3,8 @@
 import numpy as np
 import xarray as xr
 
-from leopod.estimation.arc import merge_days, run_arc
-from leopod.estimation.write import log_arc, write_arc
-from leopod.io.antex import read_antex
-from leopod.io.clock import read_rinex_clock
-from leopod.io.sp3 import read_sp3
+from leopod.estimation.arc import run_arc
+from leopod.estimation.write import ArcInputs, log_arc, write_arc
 from leopod.workflow import configure_logging
 
 
@@ -26,23 +23,17 @@ def main(inp, out, params, date, log):
              constraints[0].size, table.attrs.get("ar_product"))
     if constraints[0].size == 0:
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
-    obs = [xr.load_dataset(p) for p in inp.obs]
-    quality = [xr.load_dataset(p) for p in inp.quality]
-    leo = [xr.load_dataset(p) for p in inp.leo]
-    orbit = merge_days([read_sp3(p) for p in inp.orbit])
-    clock = merge_days([read_rinex_clock(p) for p in inp.clock])
-    antex = read_antex(inp.antex) if inp.get("antex") else None
-    code_maps = xr.load_dataset(inp.code_bias) if inp.get("code_bias") else None
+    a = ArcInputs(inp)
     start = xr.load_dataset(inp.float_orbit).pos_itrf_m  # converges faster; fixed - float
-    arc = run_arc(date, obs, quality, leo, orbit, clock, antex, params.signals, params.pod,
-                  params.pco_body_m, code_maps=code_maps, code_bias_cfg=params.code_bias,
-                  yaw_flips=params.yaw_flips,
+    arc = run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex, params.signals,
+                  params.pod, params.pco_body_m, code_maps=a.code_maps,
+                  code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips,
                   ambiguity_constraints=constraints if constraints[0].size else None,
                   apriori_orbit=start)
     log_arc(arc, f"fixed POD {date}")
     write_arc(arc, out, step="fixed_pod", kind="ambiguity-fixed", title=params.title,
               sp3_id=params.sp3_id,
-              inputs=[inp.table, inp.float_orbit, *inp.obs, *inp.quality, *inp.leo, *inp.orbit, *inp.clock])
+              inputs=[inp.table, inp.float_orbit, *a.files])
 
 
 if __name__ == "__main__":

@@ -1,14 +1,17 @@
-"""Writing the products of a POD arc (rules ``float_pod`` and ``fixed_pod``)."""
+"""Inputs and products of a POD arc (rules ``float_pod`` and ``fixed_pod``)."""
 
 from __future__ import annotations
 
 import logging
 
 import numpy as np
+import xarray as xr
 
-from leopod.estimation.arc import ArcOutputs
+from leopod.estimation.arc import ArcOutputs, merge_days
 from leopod.estimation.outputs import sp3_dataset
-from leopod.io.sp3 import write_sp3
+from leopod.io.antex import read_antex
+from leopod.io.clock import read_rinex_clock
+from leopod.io.sp3 import read_sp3, write_sp3
 from leopod.netcdf import write_netcdf
 from leopod.plots.pod import (
     plot_apriori_difference,
@@ -17,9 +20,28 @@ from leopod.plots.pod import (
     plot_residuals_time,
 )
 
-__all__ = ["log_arc", "write_arc"]
+__all__ = ["ArcInputs", "log_arc", "write_arc"]
 
 log = logging.getLogger(__name__)
+
+
+class ArcInputs:
+    """Inputs of :func:`leopod.estimation.arc.run_arc` read from a rule's input files.
+
+    Attributes: ``obs``, ``quality``, ``leo`` (lists of daily datasets), ``orbit``, ``clock``
+    (merged GNSS products), ``antex`` (or None), ``code_maps`` (or None), ``files`` (the
+    input files, for provenance).
+    """
+
+    def __init__(self, inp):
+        self.obs = [xr.load_dataset(p) for p in inp.obs]
+        self.quality = [xr.load_dataset(p) for p in inp.quality]
+        self.leo = [xr.load_dataset(p) for p in inp.leo]
+        self.orbit = merge_days([read_sp3(p) for p in inp.orbit])
+        self.clock = merge_days([read_rinex_clock(p) for p in inp.clock])
+        self.antex = read_antex(inp.antex) if inp.get("antex") else None
+        self.code_maps = xr.load_dataset(inp.code_bias) if inp.get("code_bias") else None
+        self.files = [*inp.obs, *inp.quality, *inp.leo, *inp.orbit, *inp.clock]
 
 
 def log_arc(arc: ArcOutputs, label: str) -> None:
