@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from leopod.ambiguity.products import ar_product, merge_observations
+from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.campaign import arc_days, campaign_days
 from leopod.codebias.apply import correct_codes
@@ -102,7 +102,7 @@ def code_variants(cfg: dict, truth: xr.Dataset, date: str) -> None:
         epoch = arc.residuals.time.values[arc.residuals.sizes["time"] // 2]
         product = ar_product(epoch, arc.ambiguities.sv.values, ["L1C", "L2W"], codes,
                              wl_bias_path=SIM / "gnss" / f"{date}.wsb")
-        r = resolve_arc(arc.ambiguities, arc.residuals, merge_observations(o), "G",
+        r = resolve_arc(arc.ambiguities, arc.residuals, merge_days(o), "G",
                         ["L1C", "L2W"], codes, product.wl_sat_cyc, ArSettings())
         _summary(label, r.table, arc.residuals, truth_days)
         fixed = run_arc(date, obs, quality, leo, orbit, clock, None, signals, cfg["pod"], pco,

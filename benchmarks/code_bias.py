@@ -69,8 +69,7 @@ def _truth_check() -> None:
     grid = grid_of(maps)
     est = node_vector(maps, "C1W", 0)
     count = grid.from_grid(maps["count"].sel(signal="C1W", mode=0).values)
-    az = np.r_[np.tile(grid.azimuth_deg, grid.n_rings), 0.0]
-    el = np.r_[np.repeat(grid.elevation_deg[:-1], grid.n_az), 90.0]
+    az, el = grid.node_directions()
     ok = np.isfinite(est) & (count >= 200)
     err = est[ok] - CodeBiasMap("hy2b_p1")(az[ok], el[ok])
     p1 = maps.sel(signal="C1W")

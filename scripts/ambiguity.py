@@ -2,12 +2,19 @@
 
 import xarray as xr
 
-from leopod.ambiguity.products import ar_product, merge_observations
+from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.codebias.apply import correct_codes
+from leopod.estimation.arc import merge_days
 from leopod.netcdf import write_netcdf
 from leopod.plots.ambiguity import plot_fractional_parts
 from leopod.workflow import configure_logging
+
+
+def _directions(path):
+    """Antenna-frame angles of a quality output (all that the code correction needs)."""
+    with xr.open_dataset(path) as ds:
+        return ds[["el_deg", "az_deg"]].load()
 
 
 def main(inp, out, params, date, log):
@@ -17,7 +24,7 @@ def main(inp, out, params, date, log):
     cb = params.code_bias
     if inp.get("code_bias") and cb.get("apply"):
         maps = xr.load_dataset(inp.code_bias)
-        obs = [correct_codes(o, xr.load_dataset(q), maps, cb["apply"],
+        obs = [correct_codes(o, _directions(q), maps, cb["apply"],
                              empty_cells=cb["empty_cells"], yaw_flips=params.yaw_flips)[0]
                for o, q in zip(obs, inp.quality, strict=True)]
     system = params.pod["system"]
@@ -26,7 +33,7 @@ def main(inp, out, params, date, log):
     product = ar_product(epoch, amb.sv.values, sig["phase"], sig["pod_code"],
                          wl_bias_path=inp.get("wl_bias"), osb_path=inp.get("osb"))
     log.info("AR product: %s", product.label)
-    res = resolve_arc(amb, residuals, merge_observations(obs), system, sig["phase"],
+    res = resolve_arc(amb, residuals, merge_days(obs), system, sig["phase"],
                       sig["pod_code"], product.wl_sat_cyc, ArSettings.from_config(params.settings),
                       sat_if_bias_m=product.per_ambiguity(amb.sv.values))
     res.table.attrs["ar_product"] = product.label

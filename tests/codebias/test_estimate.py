@@ -2,19 +2,18 @@
 
 import numpy as np
 import pytest
-
-from leopod.codebias.estimate import MapSettings, estimate_map
-from leopod.codebias.grid import AntennaGrid
-
 from _synthetic import smooth_map
+
+from leopod.codebias.estimate import MapSettings, _solve_datum, estimate_map
+from leopod.codebias.grid import AntennaGrid
+from leopod.codebias.products import mp_statistics
+from leopod.codebias.samples import MpSamples
 
 SETTINGS = MapSettings(az_step_deg=10.0, el_step_deg=10.0, min_count=50)
 
 
 def _node_truth(grid: AntennaGrid) -> np.ndarray:
-    az = np.r_[np.tile(grid.azimuth_deg, grid.n_rings), 0.0]
-    el = np.r_[np.repeat(grid.elevation_deg[:-1], grid.n_az), 90.0]
-    return smooth_map(az, el)
+    return smooth_map(*grid.node_directions())
 
 
 def test_recovers_the_map_up_to_a_constant_within_its_formal_sigma(passes):
@@ -62,10 +61,13 @@ def test_outliers_are_down_weighted(passes):
 
 
 def test_corrected_multipath_is_the_noise(passes):
-    az, el, mp, key, truth, sigma = passes
+    az, el, mp, key, _, sigma = passes
     fit = estimate_map(az, el, mp, key, SETTINGS)
+    stats = mp_statistics(MpSamples(az, el, mp, key, np.zeros(az.size, int)), fit.value_m,
+                          SETTINGS.grid)
     # after the correction, the pass-centred multipath is noise (+ a small grid misfit)
-    assert np.sqrt(np.mean(fit.corrected_m**2)) < 1.1 * np.sqrt(np.mean(sigma**2))
+    assert stats.el_deg.size == az.size
+    assert np.sqrt(np.mean(stats.after_m**2)) < 1.1 * np.sqrt(np.mean(sigma**2))
 
 
 def test_smoothing_fills_nodes_without_data_and_empty_data_fails(passes):
@@ -79,3 +81,30 @@ def test_smoothing_fills_nodes_without_data_and_empty_data_fails(passes):
     assert np.isfinite(smooth.value_m[hole])
     with pytest.raises(ValueError, match="no finite multipath"):
         estimate_map(az, el, np.full(mp.size, np.nan), key, SETTINGS)
+
+
+
+def test_a_pass_that_sees_nothing_else_is_left_out(passes):
+    # a pass whose observations all sit on one node no other pass sees is an island: its
+    # node cannot be separated from its offset, so both are dropped (not a failure)
+    az, el, mp, key, _, _ = passes
+    keep = ~((az > 100) & (az < 130) & (el < 40))
+    n = 30
+    fit = estimate_map(np.r_[az[keep], np.full(n, 110.0)], np.r_[el[keep], np.full(n, 10.0)],
+                       np.r_[mp[keep], np.full(n, 3.0)],
+                       np.r_[key[keep], np.full(n, key.max() + 1)], SETTINGS)
+    node = SETTINGS.grid.n_az * 1 + 11  # ring 10 deg, azimuth 110 deg
+    assert np.isnan(fit.value_m[node]) and fit.empty(min_count=1)[node]
+    assert np.isfinite(fit.value_m).sum() > 300  # the rest of the map is estimated
+
+
+def test_datum_solution_and_defect_detection():
+    # analytic truth: nodes 0-1 tied by one difference (x0 - x1 = 1), node 2 without data;
+    # datum w = (1/2, 1/2, 0): x = (0.5, -0.5, -), node 2 is a defect beyond the datum
+    n = np.array([[1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [0.0, 0.0, 0.0]])
+    b = np.array([1.0, -1.0, 0.0])
+    x, cov_diag, undetermined = _solve_datum(n, b, np.array([0.5, 0.5, 0.0]))
+    assert undetermined.tolist() == [False, False, True]
+    assert np.allclose(x[:2], [0.5, -0.5])
+    # covariance of x0 = -x1 = d/2 with var(d) = 1 (N00 = 1): var(x0) = 1/4
+    assert np.allclose(cov_diag[:2], 0.25)

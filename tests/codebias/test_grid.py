@@ -24,11 +24,11 @@ def test_bilinear_interpolation_is_exact_for_bilinear_functions():
     rng = np.random.default_rng(1)
     az = rng.uniform(0, 360, 500)
     el = rng.uniform(0, 84.9, 500)
-    nodes, w = g.weights(az, el)
+    _, w = g.weights(az, el)
     assert np.allclose(w.sum(axis=1), 1.0)
     assert (w >= 0).all()
     # a function linear in elevation only is reproduced everywhere (rings are exact)
-    node_el = np.r_[np.repeat(g.elevation_deg[:-1], g.n_az), 90.0]
+    _, node_el = g.node_directions()
     assert np.allclose(g.interpolate(3.0 + 0.02 * node_el, az, el), 3.0 + 0.02 * el)
 
 
@@ -54,6 +54,16 @@ def test_below_horizon_is_evaluated_at_zero_and_nan_nodes_propagate():
     assert np.isnan(out[0]) and np.isfinite(out[1])
     assert np.isnan(out[2])  # weight 1 on the NaN node
     assert np.isnan(g.interpolate(v, [np.nan, 20.0], [10.0, np.nan])).all()  # no direction
+
+
+def test_node_directions_are_the_nodes():
+    # analytic truth: interpolating a one-hot node vector at that node's direction gives 1
+    g = AntennaGrid(10.0, 10.0)
+    az, el = g.node_directions()
+    eye = np.eye(g.n_nodes)
+    for k in (0, 5, g.n_az + 3, g.n_nodes - 2, g.n_nodes - 1):
+        values = g.interpolate(eye[k], az, el)
+        assert values[k] == pytest.approx(1.0) and np.sum(values) == pytest.approx(1.0)
 
 
 def test_grid_round_trip_and_neighbours():

@@ -63,8 +63,7 @@ def test_period_maps_per_attitude_mode_and_statistics():
     assert maps.mode.values.tolist() == [0, 1]
     v0, v1 = (node_vector(maps, "C1W", m) for m in (0, 1))
     grid = SETTINGS.grid
-    az = np.r_[np.tile(grid.azimuth_deg, grid.n_rings), 0.0]
-    el = np.r_[np.repeat(grid.elevation_deg[:-1], grid.n_az), 90.0]
+    az, el = grid.node_directions()
     for v, truth in ((v0, smooth_map(az, el)), (v1, mirrored(az, el))):
         ok = np.isfinite(v)
         e = v[ok] - truth[ok]
@@ -83,6 +82,7 @@ def test_stack_and_difference_remove_the_datum():
     other["value_m"] = maps.value_m + 0.7  # another datum, same map
     diff, rms = map_difference(maps, other)
     assert float(rms.sel(signal="C1W", mode=0)) < 1e-12
+    assert float(np.nanmax(np.abs(diff.values))) < 1e-12  # mean difference removed
     stacked = stack_maps([maps, other])
     assert np.allclose(stacked.value_m, maps.value_m, equal_nan=True)
     ok = np.isfinite(maps.sigma_m)
@@ -113,3 +113,19 @@ def test_correct_codes_subtracts_the_interpolated_map():
 def test_settings_from_config():
     s = map_settings({"az_step_deg": 10.0, "min_count": 5, "apply": ["C1W"], "period": "month"})
     assert s.az_step_deg == 10.0 and s.min_count == 5 and s.el_step_deg == 5.0
+
+
+def test_difference_counts_the_zenith_node_once():
+    # analytic truth: maps that differ by 1 m at one node only (the zenith, stored once per
+    # azimuth) over n nodes: mean difference 1/n, RMS about the mean sqrt(n - 1)/n
+    g = MapSettings(az_step_deg=30.0, el_step_deg=30.0).grid
+    dims = ("signal", "mode", "elevation_deg", "azimuth_deg")
+    zero = np.zeros((1, 1, g.n_rings + 1, g.n_az))
+    coords = {"signal": ["C1W"], "mode": [0], "elevation_deg": g.elevation_deg,
+              "azimuth_deg": g.azimuth_deg}
+    a = xr.Dataset({"value_m": (dims, zero)}, coords=coords)
+    b = a.copy(deep=True)
+    b.value_m[0, 0, -1, :] = 1.0
+    _, rms = map_difference(a, b)
+    n = g.n_nodes
+    assert float(rms.squeeze()) == pytest.approx(np.sqrt(n - 1) / n)

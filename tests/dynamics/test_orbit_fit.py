@@ -90,6 +90,19 @@ def test_fit_recovers_noise_free_truth(simulation):
     assert result.residuals_rtn_m.shape == (times.size, 3)
 
 
+def test_state_refers_to_t_ref_when_the_first_epochs_are_missing(simulation):
+    # authority: the simulated truth state at T_REF; positions of the first 5 min are missing
+    # (as a code-only a-priori orbit often is), yet the returned state is the one at t_ref,
+    # which is where the POD starts its arc
+    times, pos_itrf, state0, _, _ = simulation
+    pos = pos_itrf.copy()
+    pos[:5] = np.nan
+    result = fit_orbit(times, pos, CONFIG, t_ref=times[0])
+    assert result.converged
+    assert np.max(np.abs(result.state0_gcrf[:3] - state0[:3])) < 1e-3      # m
+    assert np.max(np.abs(result.state0_gcrf[3:] - state0[3:])) < 1e-6      # m/s
+
+
 def test_fit_with_noise_within_three_sigma(simulation):
     times, pos_itrf, state0, params, model = simulation
     sigma_m = 0.02

@@ -124,8 +124,7 @@ def test_one_simulated_day_end_to_end(tmp_path):
     maps = xr.load_dataset(tmp_path / "results/code_bias/hy2b-sim/2019-01.nc")
     grid = grid_of(maps)
     est = node_vector(maps, "C1W", 0)
-    az = np.r_[np.tile(grid.azimuth_deg, grid.n_rings), 0.0]
-    el = np.r_[np.repeat(grid.elevation_deg[:-1], grid.n_az), 90.0]
+    az, el = grid.node_directions()
     ok = np.isfinite(est) & (grid.from_grid(maps["count"].sel(signal="C1W", mode=0).values) >= 100)
     err = est[ok] - CodeBiasMap("hy2b_p1")(az[ok], el[ok])
     assert ok.sum() > 300 and np.sqrt(np.mean((err - err.mean()) ** 2)) < 0.05

@@ -100,10 +100,16 @@ def float_pod_inputs(wildcards):
     }
     if config["products"].get("antex"):
         files["antex"] = expand_template(config["products"]["antex"], wildcards.date, sat)
-    period = applied_code_bias_period(config, wildcards.date)
-    if period is not None:
-        files["code_bias"] = f"results/code_bias/{sat}/{period}.nc"
+    files.update(applied_code_bias_map(wildcards))
     return files
+
+
+def applied_code_bias_map(wildcards):
+    """{"code_bias": map file} of the period whose map corrects the day's codes, or {}."""
+    period = applied_code_bias_period(config, wildcards.date)
+    if period is None:
+        return {}
+    return {"code_bias": f"results/code_bias/{wildcards.sat}/{period}.nc"}
 
 
 def ambiguity_inputs(wildcards):
@@ -114,9 +120,7 @@ def ambiguity_inputs(wildcards):
         "obs": [f"results/ingest/{sat}/{d}_obs.nc" for d in days],
         "quality": [f"results/quality/{sat}/{d}.nc" for d in days],
     }
-    period = applied_code_bias_period(config, wildcards.date)
-    if period is not None:
-        files["code_bias"] = f"results/code_bias/{sat}/{period}.nc"
+    files.update(applied_code_bias_map(wildcards))
     for key in ("wl_bias", "osb"):
         if config["products"].get(key):
             files[key] = expand_template(config["products"][key], wildcards.date, sat)

@@ -5,14 +5,13 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-import xarray as xr
 
 from leopod.ambiguity.narrow_lane import sat_if_phase_bias_osb
 from leopod.ambiguity.wide_lane import sat_wl_bias_cnes, sat_wl_bias_osb
 from leopod.io.bias_sinex import read_bias_sinex
 from leopod.io.wlbias import read_wl_bias
 
-__all__ = ["ArProduct", "ar_product", "merge_observations"]
+__all__ = ["ArProduct", "ar_product"]
 
 log = logging.getLogger(__name__)
 
@@ -67,9 +66,4 @@ def ar_product(epoch, svs, phases, codes, *, wl_bias_path=None, osb_path=None) -
         return ArProduct(ws, ifb, f"Bias-SINEX OSB ({osb_path})")
     log.warning("no AR product (products.wl_bias / products.osb): ambiguities are not fixed")
     return ArProduct(None, None, "none")
-
-
-def merge_observations(days: list[xr.Dataset]) -> xr.Dataset:
-    """Observations of consecutive days on one time axis (union of satellites)."""
-    return xr.concat(days, dim="time", join="outer")
 

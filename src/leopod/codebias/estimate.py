@@ -87,13 +87,6 @@ class MapFit:
         Node values and formal sigmas [m] (NaN for nodes not estimated).
     count : ndarray of int, shape (n_nodes,)
         Observations with a non-zero weight on the node.
-    residual_m : ndarray, shape (n,)
-        Post-fit residuals ``MP − o_p − A x`` (NaN for observations not used).
-    corrected_m : ndarray, shape (n,)
-        ``MP − A x`` minus its (unweighted) pass mean: the multipath after the correction, as
-        the quality step shows it before (NaN for observations not used).
-    weight : ndarray, shape (n,)
-        Final observation weights [1/m²] (0 for observations not used).
     sigma0 : float
         A-posteriori standard deviation of unit weight.
     n_downweighted : int
@@ -103,11 +96,13 @@ class MapFit:
     value_m: np.ndarray
     sigma_m: np.ndarray
     count: np.ndarray
-    residual_m: np.ndarray
-    corrected_m: np.ndarray
-    weight: np.ndarray
     sigma0: float
     n_downweighted: int
+
+    def empty(self, min_count: int) -> np.ndarray:
+        """Nodes without a usable value: fewer than ``min_count`` observations or not
+        estimated (n_nodes,)."""
+        return (self.count < min_count) | ~np.isfinite(self.value_m)
 
 
 def band_index(el_deg: np.ndarray, band_width_deg: float) -> np.ndarray:
@@ -219,7 +214,6 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSett
     grid = settings.grid
     az, el, y = (np.asarray(v, dtype=float) for v in (az_deg, el_deg, mp_m))
     key = np.asarray(pass_key)
-    n_all = y.size
     used = np.isfinite(y) & np.isfinite(az) & np.isfinite(el)
     if not used.any():
         raise ValueError("no finite multipath observation to estimate a code-bias map from")
@@ -277,14 +271,7 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSett
     sigma[cols] = np.where(undetermined, np.nan, sigma0 * np.sqrt(np.maximum(cov_diag, 0.0)))
     count = np.zeros(grid.n_nodes, dtype=np.int64)
     count[cols] = count_act
-    residual = np.full(n_all, np.nan)
-    residual[used] = resid
-    corr = y_u - fitted
-    corrected = np.full(n_all, np.nan)
-    corrected[used] = corr - _pass_mean(corr, g, np.ones_like(corr))
-    weight = np.zeros(n_all)
-    weight[used] = w
     log.info("code-bias map: %d observations, %d passes, %d nodes, sigma0 %.3f, "
              "%d down-weighted", y_u.size, g.shape[1], m, sigma0, n_down)
-    return MapFit(value_m=value, sigma_m=sigma, count=count, residual_m=residual,
-                  corrected_m=corrected, weight=weight, sigma0=sigma0, n_downweighted=n_down)
+    return MapFit(value_m=value, sigma_m=sigma, count=count, sigma0=sigma0,
+                  n_downweighted=n_down)

@@ -125,6 +125,12 @@ class AntennaGrid:
         out[ok] = val
         return out
 
+    def node_directions(self) -> tuple[np.ndarray, np.ndarray]:
+        """Azimuth and elevation of every node (n_nodes,) [deg], in node order."""
+        az = np.r_[np.tile(self.azimuth_deg, self.n_rings), 0.0]
+        el = np.r_[np.repeat(self.elevation_deg[:-1], self.n_az), 90.0]
+        return az, el
+
     def neighbour_pairs(self) -> np.ndarray:
         """Pairs of adjacent nodes (k, 2): along each ring, between rings, to the zenith."""
         idx = np.arange(self.n_rings * self.n_az).reshape(self.n_rings, self.n_az)

@@ -62,18 +62,18 @@ def estimate_period(quality_days: list[xr.Dataset], codes, settings: MapSettings
                      sub.mp_m.size)
             fit = estimate_map(sub.az_deg, sub.el_deg, sub.mp_m, sub.pass_key, settings)
             fits[(code, int(mode))] = fit
-            empty = fit.count < settings.min_count
             stats[(code, int(mode))] = mp_statistics(
-                sub, np.where(empty, np.nan, fit.value_m), settings.grid)
+                sub, np.where(fit.empty(settings.min_count), np.nan, fit.value_m),
+                settings.grid)
     if not fits:
         raise ValueError(f"no multipath observations of {' '.join(codes)} in period {period}")
     maps, per_signal = map_dataset(fits, stats, settings, period=period, satellite=satellite)
     for code in maps.signal.values:
         s = maps.sel(signal=code)
+        filled = sum(int((~fit.empty(settings.min_count)).sum())
+                     for (c, _), fit in fits.items() if c == code)
         log.info("%s %s: MP RMS %.3f -> %.3f m over %.1f %% of the observations; "
                  "%d of %d nodes non-empty", period, code, float(s.mp_rms_all_before_m),
-                 float(s.mp_rms_all_after_m), 100 * float(s.covered_fraction),
-                 int((~s.empty.isel(elevation_deg=slice(None, -1))).sum()
-                     + (~s.empty.isel(elevation_deg=-1, azimuth_deg=0)).sum()),
+                 float(s.mp_rms_all_after_m), 100 * float(s.covered_fraction), filled,
                  settings.grid.n_nodes * s.sizes["mode"])
     return maps, per_signal

@@ -115,7 +115,7 @@ def map_dataset(fits: dict[tuple[str, int], MapFit], stats: dict[tuple[str, int]
     count = np.zeros(shape, dtype=np.int64)
     for (s, m), fit in fits.items():
         i, j = signals.index(s), modes.index(m)
-        empty = fit.count < settings.min_count
+        empty = fit.empty(settings.min_count)
         value[i, j] = grid.to_grid(np.where(empty, np.nan, fit.value_m))
         sigma[i, j] = grid.to_grid(np.where(empty, np.nan, fit.sigma_m))
         count[i, j] = grid.to_grid(fit.count)
@@ -140,8 +140,9 @@ def map_dataset(fits: dict[tuple[str, int], MapFit], stats: dict[tuple[str, int]
             "sigma_m": (dims, sigma, {"units": "m", "long_name": "formal standard deviation"}),
             "count": (dims, count, {"units": "1",
                                     "long_name": "observations with weight on the node"}),
-            "empty": (dims, count < settings.min_count,
-                      {"units": "1", "long_name": f"fewer than {settings.min_count} observations"}),
+            "empty": (dims, ~np.isfinite(value),
+                      {"units": "1", "long_name": f"fewer than {settings.min_count} "
+                                                  "observations or not estimated"}),
             "mp_rms_before_m": (("signal", "el_band_deg"), band_vars["rms_before"],
                                 {"units": "m", "long_name": "RMS of MP before correction"}),
             "mp_rms_after_m": (("signal", "el_band_deg"), band_vars["rms_after"],
@@ -177,14 +178,24 @@ def map_dataset(fits: dict[tuple[str, int], MapFit], stats: dict[tuple[str, int]
     return ds, per_signal
 
 
+_NODE_DIMS = ("elevation_deg", "azimuth_deg")
+
+
+def _node_mean(values: xr.DataArray) -> xr.DataArray:
+    """Mean over the finite nodes, the repeated zenith row (the last) counted once."""
+    once = xr.ones_like(values.isel({d: 0 for d in values.dims if d not in _NODE_DIMS},
+                                    drop=True))
+    once[{"elevation_deg": -1, "azimuth_deg": slice(1, None)}] = np.nan
+    return (values * once).mean(dim=_NODE_DIMS, skipna=True)
+
+
 def _aligned(maps: list[xr.Dataset]) -> list[xr.DataArray]:
     """Map values shifted by their mean difference to the first over common nodes."""
     ref = maps[0].value_m
     out = [ref]
     for ds in maps[1:]:
         v = ds.value_m.reindex_like(ref)
-        shift = (v - ref).mean(dim=("elevation_deg", "azimuth_deg"), skipna=True)
-        out.append(v - shift.fillna(0.0))
+        out.append(v - _node_mean(v - ref).fillna(0.0))
     return out
 
 
@@ -227,11 +238,8 @@ def map_difference(map_a: xr.Dataset, map_b: xr.Dataset) -> tuple[xr.DataArray, 
     rms : xarray.DataArray (signal, mode) [m]
     """
     d = map_b.value_m - map_a.value_m
-    once = xr.ones_like(d.isel(signal=0, mode=0, drop=True))
-    once[-1, 1:] = np.nan
-    d1 = d * once
-    d = d - d1.mean(dim=("elevation_deg", "azimuth_deg"), skipna=True)
-    rms = np.sqrt(((d * once) ** 2).mean(dim=("elevation_deg", "azimuth_deg"), skipna=True))
+    d = d - _node_mean(d)
+    rms = np.sqrt(_node_mean(d**2))
     d.attrs.update(units="m", long_name="map difference minus its mean")
     rms.attrs.update(units="m", long_name="RMS of the map difference over common nodes")
     return d, rms

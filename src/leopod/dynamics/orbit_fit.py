@@ -225,7 +225,9 @@ def fit_orbit(times, pos_m, force_config: Mapping | None = None, *, frame: str =
     if force_model is None:
         if force_config is None:
             raise ValueError("give force_config or force_model")
-        force_model = build_force_model(force_config, t_ref, t_s[0], t_s[-1], eop=eop)
+        # from t_ref on: the state is propagated back to it if the first epochs are missing
+        force_model = build_force_model(force_config, t_ref, min(0.0, t_s[0]), t_s[-1],
+                                        eop=eop)
     if state0_gcrf is not None:
         state = np.asarray(state0_gcrf, dtype=float).copy()
     elif vel is not None and np.isfinite(vel[0]).all():
