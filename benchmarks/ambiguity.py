@@ -9,6 +9,13 @@ with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W) instead, 
 same figures for each (issue 6 and 7: the effect of the map on the fixing rates).
 
     .venv/bin/python benchmarks/ambiguity.py [--codes [--day 2019-002]]
+
+``--configfile``/``--directory`` evaluate another simulated campaign run in its own working
+directory, e.g. the real WHU product set (config/whu-2008.yaml)::
+
+    .venv/bin/snakemake --cores 2 --directory ../whu-run --configfile config/whu-2008.yaml
+    .venv/bin/python benchmarks/ambiguity.py --configfile config/whu-2008.yaml \
+        --directory ../whu-run
 """
 
 from __future__ import annotations
@@ -58,27 +65,34 @@ def _summary(label, table, residuals, truth_days) -> None:
           f"(wrong {wrong['constrained_wrong']})")
 
 
-def _seconds(step: str, date: str) -> float:
-    path = REPO / "benchmarks" / step / SAT / f"{date}.tsv"
+def _seconds(workdir: Path, step: str, date: str) -> float:
+    path = workdir / "benchmarks" / step / SAT / f"{date}.tsv"
     return float(path.read_text().splitlines()[1].split("\t")[0]) if path.exists() else np.nan
 
 
-def campaign(cfg: dict, truth: xr.Dataset) -> None:
-    res = REPO / "results"
+def campaign(cfg: dict, workdir: Path) -> None:
+    res = workdir / "results"
+    sim = workdir / "resources" / "simulate"
+    truth = xr.load_dataset(sim / SAT / "truth_orbit.nc")
+    label = "+".join(cfg["signals"]["G"]["pod_code"]) + (
+        " + map on " + "+".join(cfg["code_bias"]["apply"]) if cfg["code_bias"].get("apply")
+        else "")
     for date in campaign_days(cfg):
         table = xr.load_dataset(res / "ambiguity" / SAT / f"{date}.nc")
         residuals = xr.load_dataset(res / "float_pod" / SAT / f"{date}_residuals.nc")
-        truth_days = [xr.load_dataset(SIM / SAT / f"{d}_truth.nc") for d in arc_days(cfg, date)]
-        print(f"{date}:")
-        _summary("P1 + map", table, residuals, truth_days)
+        truth_days = [xr.load_dataset(sim / SAT / f"{d}_truth.nc") for d in arc_days(cfg, date)]
+        print(f"{date} (AR product: {table.attrs.get('ar_product')}):")
+        _summary(label, table, residuals, truth_days)
         for kind in ("float", "fixed"):
             orbit = xr.load_dataset(res / f"{kind}_pod" / SAT / f"{date}_orbit.nc")
             print(f"  {kind} vs truth: {_rms_cm(orbit, truth, date)}")
-        print(f"  wall time: float_pod {_seconds('float_pod', date):.1f} s, ambiguity "
-              f"{_seconds('ambiguity', date):.1f} s, fixed_pod {_seconds('fixed_pod', date):.1f} s")
+        times = {step: _seconds(workdir, step, date)
+                 for step in ("float_pod", "ambiguity", "fixed_pod")}
+        print("  wall time: " + ", ".join(f"{k} {v:.1f} s" for k, v in times.items()))
 
 
-def code_variants(cfg: dict, truth: xr.Dataset, date: str) -> None:
+def code_variants(cfg: dict, date: str) -> None:
+    truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
     days = arc_days(cfg, date)
     res = REPO / "results"
     obs = [xr.load_dataset(res / "ingest" / SAT / f"{d}_obs.nc") for d in days]
@@ -116,15 +130,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--codes", action="store_true")
     parser.add_argument("--day", default="2019-002")
+    parser.add_argument("--configfile", type=Path, default=REPO / "config" / "config.yaml")
+    parser.add_argument("--directory", type=Path, default=REPO)
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
-    cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
-    truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
+    cfg = yaml.safe_load(args.configfile.read_text())
     if args.codes:
         print(f"{args.day}, arc of {' '.join(arc_days(cfg, args.day))}:")
-        code_variants(cfg, truth, args.day)
+        code_variants(cfg, args.day)
     else:
-        campaign(cfg, truth)
+        campaign(cfg, args.directory)
 
 
 if __name__ == "__main__":

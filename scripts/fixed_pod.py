@@ -24,16 +24,20 @@ def main(inp, out, params, date, log):
     if constraints[0].size == 0:
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
     a = ArcInputs(inp)
-    start = xr.load_dataset(inp.float_orbit).pos_itrf_m  # converges faster; fixed - float
+    # continue from the float solution; its orbit is the reference of the RTN figure
+    float_solution = tuple(xr.load_dataset(p) for p in (inp.float_parameters,
+                                                         inp.float_ambiguities,
+                                                         inp.float_residuals))
     arc = run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex, params.signals,
                   params.pod, params.pco_body_m, code_maps=a.code_maps,
                   code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips,
                   ambiguity_constraints=constraints if constraints[0].size else None,
-                  apriori_orbit=start)
+                  apriori_orbit=xr.load_dataset(inp.float_orbit).pos_itrf_m,
+                  continue_from=float_solution)
     log_arc(arc, f"fixed POD {date}")
     write_arc(arc, out, step="fixed_pod", kind="ambiguity-fixed", title=params.title,
               sp3_id=params.sp3_id,
-              inputs=[inp.table, inp.float_orbit, *a.files])
+              inputs=[inp.table, inp.float_orbit, inp.float_parameters, *a.files])
 
 
 if __name__ == "__main__":

@@ -86,17 +86,10 @@ def test_daily_indicators_are_plausible(day):
     assert 10 < float(q.G_obs_per_slip) < 1000
 
 
-def test_float_pod_three_hour_arc(day, shared_data):
-    """Float reduced-dynamic POD of 00-03 h with the campaign settings of the GRACE-A config.
-
-    Authority for the residual level: seed 001 sec. 3.3.1 (HY-2A float reduced-dynamic POD,
-    undifferenced IF phase residual RMS 7.04-7.76 mm per day); GRACE's BlackJack tracks L1/L2
-    at least as well. The code residual follows the IF P-code noise of the day (~0.9 m
-    from MP1/MP2, see test_code_only_orbit_is_a_grace_orbit) plus low-elevation multipath.
-    """
-    import yaml
-
-    from leopod.estimation.arc import run_arc
+@pytest.fixture(scope="module")
+def three_hour_arc(day, shared_data):
+    """Float reduced-dynamic POD of 00-03 h with the campaign settings of the GRACE-A config
+    (the arc and its run_arc arguments)."""
     cfg = yaml.safe_load((REPO / "config" / "grace-a-2007.yaml").read_text())
     pod = dict(cfg["pod"])
     models = shared_data.parent / "models"
@@ -107,10 +100,22 @@ def test_float_pod_three_hour_arc(day, shared_data):
     pod["forces"] = forces
     d = shared_data / "grace-a_2007-080"
     t0 = np.datetime64("2007-03-21T00:00", "ns")
-    arc = run_arc("2007-080", [day["obs"]], [day["q"]], [day["leo"]],
-                  read_sp3(d / "cod14193.sp3.gz"), read_rinex_clock(d / "cod14193.clk.gz"),
-                  read_antex(d / "igs05_1402.atx.gz"), SIGNALS, pod, PCO,
-                  limits=(t0, t0 + np.timedelta64(3, "h")))
+    args = ("2007-080", [day["obs"]], [day["q"]], [day["leo"]],
+            read_sp3(d / "cod14193.sp3.gz"), read_rinex_clock(d / "cod14193.clk.gz"),
+            read_antex(d / "igs05_1402.atx.gz"), SIGNALS, pod, PCO)
+    limits = (t0, t0 + np.timedelta64(3, "h"))
+    return run_arc(*args, limits=limits), args, limits
+
+
+def test_float_pod_three_hour_arc(three_hour_arc):
+    """Float reduced-dynamic POD of 00-03 h with the campaign settings of the GRACE-A config.
+
+    Authority for the residual level: seed 001 sec. 3.3.1 (HY-2A float reduced-dynamic POD,
+    undifferenced IF phase residual RMS 7.04-7.76 mm per day); GRACE's BlackJack tracks L1/L2
+    at least as well. The code residual follows the IF P-code noise of the day (~0.9 m
+    from MP1/MP2, see test_code_only_orbit_is_a_grace_orbit) plus low-elevation multipath.
+    """
+    arc = three_hour_arc[0]
     r = arc.result
     assert r.converged
     phase_rms = np.sqrt(np.nanmean(r.phase_residual_m**2))
@@ -123,3 +128,17 @@ def test_float_pod_three_hour_arc(day, shared_data):
     assert np.all(np.sqrt(np.nanmean(diff**2, axis=0)) < 5.0)
     # formal sigmas: mm to cm level
     assert 1e-4 < float(arc.orbit.sigma_rtn_m.median()) < 0.05
+
+
+def test_warm_start_reproduces_a_converged_solution(three_hour_arc):
+    """A converged solution is a fixed point of the iteration (analytic property of Gauss-
+    Newton at convergence): continuing from its datasets (the fixed POD's warm start) without
+    constraints converges at once and returns the same orbit, to far below its 1 mm
+    convergence tolerance times the ~1e-2 contraction of the last float iteration."""
+    arc, args, limits = three_hour_arc
+    again = run_arc(*args, limits=limits,
+                    continue_from=(arc.parameters, arc.ambiguities, arc.residuals))
+    assert again.result.converged and again.result.iterations <= 2
+    d = again.orbit.pos_gcrf_m.values - arc.orbit.pos_gcrf_m.values
+    assert np.max(np.abs(d)) < 1e-3
+    assert np.array_equal(again.result.phase_rejected, arc.result.phase_rejected)

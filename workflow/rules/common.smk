@@ -56,6 +56,18 @@ def simulated(wildcards):
 PERIODS = code_bias_periods(config)
 
 
+def simulation_product_files(wildcards):
+    """The real GNSS product set the simulator uses (simulate.gnss_products), if any."""
+    products = config.get("simulate", {}).get("gnss_products")
+    if not products:
+        return []
+    files = []
+    for key in ("orbit", "clock"):
+        value = products[key]
+        files += [value] if isinstance(value, str) else list(value)
+    return [*files, products["osb"], *([products["dcb_p1c1"]] if products.get("dcb_p1c1") else [])]
+
+
 def all_targets():
     """Final products of every satellite-day and code-bias period of the campaign."""
     per_day = ["results/quality/{sat}/{date}.nc", "results/quality/{sat}/{date}_summary.html"]

@@ -111,6 +111,9 @@ rule fixed_pod:
         unpack(float_pod_inputs),
         table=rules.ambiguity.output.table,
         float_orbit=rules.float_pod.output.orbit,
+        float_parameters=rules.float_pod.output.parameters,
+        float_ambiguities=rules.float_pod.output.ambiguities,
+        float_residuals=rules.float_pod.output.residuals,
         code=library_files(
             "estimation", "codebias", "dynamics", "gnss", "orbit", "frames", "io", "plots"
         ),

@@ -53,11 +53,13 @@ rule simulate_world:
         # the satellites whose files the simulate rules write
         sats=[s for s in SATS if config["satellites"][s].get("source") == "simulate"],
     input:
+        gnss_products=simulation_product_files,
         code=library_files(
             "simulate/campaign.py",
             "simulate/settings.py",
             "simulate/biases.py",
             "simulate/world.py",
+            "simulate/product_world.py",
             "io",
             "netcdf.py",
         ),
@@ -126,6 +128,7 @@ rule simulate:
     input:
         truth=rules.simulate_truth.output.truth,
         biases=rules.simulate_world.output.biases,
+        gnss_products=simulation_product_files,
         code=library_files(
             "simulate",
             "io",

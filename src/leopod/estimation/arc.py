@@ -3,7 +3,8 @@
 Steps: arc limits from the day and the campaign's ``pod`` settings; ionosphere-free
 observations (:mod:`leopod.estimation.inputs`); GNSS products of the arc's days merged;
 force model of the estimator; a dynamic fit to the a-priori (code-only or SP3) positions
-gives the initial state; :func:`leopod.estimation.float_pod.float_pod`; output datasets
+gives the initial state (or an earlier solution of the arc is continued: the fixed POD);
+:func:`leopod.estimation.float_pod.float_pod`; output datasets
 (:mod:`leopod.estimation.outputs`).
 """
 
@@ -27,6 +28,7 @@ from leopod.estimation.outputs import (
     orbit_dataset,
     output_epochs,
     parameter_dataset,
+    pod_start,
     residual_dataset,
 )
 from leopod.orbit.products import GnssProducts
@@ -77,7 +79,8 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
             clock: xr.Dataset, antex, signal_cfg: dict, pod_cfg: dict,
             pco_body_m: dict | None, *, eop=None, limits=None, code_maps=None,
             code_bias_cfg: dict | None = None, yaw_flips=None,
-            ambiguity_constraints=None, apriori_orbit: xr.DataArray | None = None
+            ambiguity_constraints=None, apriori_orbit: xr.DataArray | None = None,
+            continue_from: tuple[xr.Dataset, xr.Dataset, xr.Dataset] | None = None
             ) -> ArcOutputs:
     """Float POD of the arc of ``date`` (module docstring).
 
@@ -112,8 +115,12 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
         (:func:`leopod.ambiguity.resolve.resolve_arc`): the ambiguity-fixed solution.
     apriori_orbit : xarray.DataArray (time, xyz), optional
         ITRF positions [m] replacing the ingest a-priori orbit as the start of the dynamic
-        fit and the reference of ``apriori_diff_rtn_m`` (the fixed POD starts from the float
-        orbit, so it converges in fewer iterations and reports fixed minus float).
+        fit and the reference of ``apriori_diff_rtn_m`` (the fixed POD reports fixed minus
+        float this way).
+    continue_from : (parameters, ambiguities, residuals), optional
+        Datasets of an earlier solution of the arc to continue from
+        (:func:`leopod.estimation.outputs.pod_start`; no dynamic fit): the fixed POD
+        continues from the float one.
 
     Returns
     -------
@@ -157,15 +164,20 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
         apriori = apriori.isel(time=np.sort(first))
     else:
         apriori = apriori_orbit
-    apriori_at_obs = apriori.reindex(time=po.times).values
-    fit = fit_orbit(po.times, apriori_at_obs, force_model=force_model, t_ref=t_ref,
-                    sigma_obs_m=float(pod_cfg.get("apriori_fit_sigma_m", 1.0)), eop=eop)
-    log.info("initial dynamic fit to the a-priori orbit: RMS R %.2f T %.2f N %.2f m",
-             *fit.rms_rtn_m)
     settings = pod_settings(pod_cfg)
-    result = float_pod(po, products, force_model, t_ref, fit.state0_gcrf, settings, eop=eop,
+    if continue_from is None:
+        fit = fit_orbit(po.times, apriori.reindex(time=po.times).values,
+                        force_model=force_model, t_ref=t_ref,
+                        sigma_obs_m=float(pod_cfg.get("apriori_fit_sigma_m", 1.0)), eop=eop)
+        log.info("initial dynamic fit to the a-priori orbit: RMS R %.2f T %.2f N %.2f m",
+                 *fit.rms_rtn_m)
+        state0, warm = fit.state0_gcrf, None
+    else:
+        state0, warm = None, pod_start(*continue_from, po)
+        log.info("continuing from the earlier solution of the arc (warm start)")
+    result = float_pod(po, products, force_model, t_ref, state0, settings, eop=eop,
                        leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
-                       ambiguity_constraints=ambiguity_constraints)
+                       ambiguity_constraints=ambiguity_constraints, start=warm)
     out_times = output_epochs(po.times[0], po.times[-1], float(pod_cfg["output_step_s"]))
     orbit_ds = orbit_dataset(result, out_times, eop=eop,
                              apriori_itrf_m=apriori.reindex(time=out_times).values)

@@ -45,7 +45,8 @@ from leopod.orbit.products import GnssProducts
 from leopod.time import seconds_since
 from leopod.timescales import EarthOrientation
 
-__all__ = ["PodObservations", "PodResult", "PodSettings", "float_pod", "pulse_epochs"]
+__all__ = ["PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
+           "pulse_epochs"]
 
 log = logging.getLogger(__name__)
 
@@ -134,6 +135,38 @@ class PodObservations:
     nl_wavelength_m: float
 
 
+@dataclass
+class PodStart:
+    """Estimates of an earlier solution of the same arc to continue from (warm start).
+
+    The ambiguity-fixed solution starts from the converged float one: its corrections are
+    the (cm-level) effect of the constraints, so two linearisations suffice and no dynamic
+    fit to an a-priori orbit is needed.
+
+    Attributes
+    ----------
+    parameter_names : list of str
+        Must equal the arc parameters of the new run (same force model and pulses).
+    estimates : ndarray, shape (k,)
+        Values of the arc parameters (:attr:`PodResult.estimates`).
+    ambiguity_pass : ndarray of int, shape (a,)
+    ambiguity_m : ndarray, shape (a,)
+        Float ambiguities [m] of these passes.
+    clk_rx_m : ndarray, shape (m,)
+        Receiver clock per epoch of the observations [m] (NaN: unknown).
+    code_rejected, phase_rejected : ndarray of bool, shape (n,)
+        Outliers of the earlier solution (per observation pair); screening continues.
+    """
+
+    parameter_names: list[str]
+    estimates: np.ndarray
+    ambiguity_pass: np.ndarray
+    ambiguity_m: np.ndarray
+    clk_rx_m: np.ndarray
+    code_rejected: np.ndarray
+    phase_rejected: np.ndarray
+
+
 @dataclass(eq=False)
 class PodResult:
     """Outcome of :func:`float_pod` (see the attributes; arrays as in PodObservations).
@@ -213,7 +246,7 @@ class PodResult:
         g = _position_partials(traj, self.trajectory, self.pulses, self._est_columns,
                                len(self.parameter_names))
         k = g.shape[2]
-        cov = np.einsum("mik,kl,mjl->mij", g, self.covariance[:k, :k], g)
+        cov = np.einsum("mil,mjl->mij", g @ self.covariance[:k, :k], g)
         return traj.states, cov, g
 
     _est_columns: np.ndarray = field(default=None, repr=False)
@@ -307,6 +340,23 @@ class _Problem:
         if self.settings.estimate_pco_z:
             parts.append([self.pco_dz])
         return np.concatenate(parts)
+
+    def load(self, start: PodStart) -> np.ndarray:
+        """Take the estimates of ``start``; returns the initial state."""
+        if list(start.parameter_names) != self.names:
+            raise ValueError("warm start: the arc parameters differ from those of the earlier "
+                             "solution (force model, pulses or PCO settings changed)")
+        est = np.asarray(start.estimates, dtype=float)
+        n_e = int(self.est.sum())
+        self.params[self.est] = est[6:6 + n_e]
+        self.dv = est[6 + n_e:self.k_orbit].reshape(self.dv.shape).copy()
+        if self.settings.estimate_pco_z:
+            self.pco_dz = float(est[self.k_orbit])
+        self.ambiguity[np.asarray(start.ambiguity_pass, dtype=int)] = start.ambiguity_m
+        self.clk_rx_m = np.where(np.isfinite(start.clk_rx_m), start.clk_rx_m, self.clk_rx_m)
+        self.code_rej = np.asarray(start.code_rejected, dtype=bool).copy()
+        self.phase_rej = np.asarray(start.phase_rejected, dtype=bool).copy()
+        return est[:6].copy()
 
     def apply(self, state0: np.ndarray, dx: np.ndarray) -> np.ndarray:
         n_e = int(self.est.sum())
@@ -424,7 +474,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
               state0_gcrf: np.ndarray, settings: PodSettings | None = None, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
               sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
-              ambiguity_constraints=None) -> PodResult:
+              ambiguity_constraints=None, start: PodStart | None = None) -> PodResult:
     """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -436,9 +486,9 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         Arc force model, time origin ``t_ref``.
     t_ref : datetime64
         Time origin of the force model (GPS time label).
-    state0_gcrf : array_like, shape (6,)
-        A-priori GCRF state at the first epoch of ``obs`` (e.g. a dynamic fit to a
-        code-only orbit, :func:`leopod.dynamics.orbit_fit.fit_orbit`).
+    state0_gcrf : array_like, shape (6,) or None
+        A-priori GCRF state at ``t_ref`` (e.g. a dynamic fit to a code-only orbit,
+        :func:`leopod.dynamics.orbit_fit.fit_orbit`); None with ``start``.
     settings : PodSettings, optional
     eop : EarthOrientation, optional
     leo_pco_body_m : array_like, shape (3,), optional
@@ -452,6 +502,9 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         ``pass_i``/``pass_j`` (values of ``obs.pass_index``): the fixed single-differenced
         ambiguities of the ambiguity-fixed solution (seed 000 sec. III-B). Constraints on
         passes without used phase are skipped.
+    start : PodStart, optional
+        Continue from an earlier solution of the same arc (its estimates, clocks and
+        outliers; screening active from the first iteration) instead of ``state0_gcrf``.
 
     Returns
     -------
@@ -460,16 +513,17 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
     settings = settings or PodSettings()
     prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
                     sat_pco_body_m, sat_pcv_m)
-    state = np.asarray(state0_gcrf, dtype=float).copy()
+    screening = start is not None
+    state = (prob.load(start) if start is not None
+             else np.asarray(state0_gcrf, dtype=float).copy())
     log.info("float POD: %d epochs, %d code and %d phase observations, %d passes, "
              "%d arc parameters (%d pulses)", obs.times.size, int(prob.code_ok.sum()),
              int(prob.phase_ok.sum()), prob.ambiguity.size, prob.k,
              0 if prob.pulses is None else prob.pulses.epochs_s.size)
     converged = False
-    screening = False
     for iteration in range(1, settings.max_iterations + 1):
         traj, model, g = prob.linearise(state)
-        if iteration == 1:
+        if iteration == 1 and start is None:
             log.info("rejected %d code observations with gross errors (> %.0f m)",
                      prob.reject_gross_code(model), settings.gross_code_m)
         while True:

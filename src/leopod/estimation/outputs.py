@@ -24,12 +24,12 @@ import numpy as np
 import xarray as xr
 
 from leopod.dynamics.empirical import rtn_matrix
-from leopod.estimation.float_pod import PodObservations, PodResult
+from leopod.estimation.float_pod import PodObservations, PodResult, PodStart
 from leopod.frames.earth_rotation import gcrf_to_itrf, itrf_to_gcrf
 from leopod.time import from_seconds, seconds_since
 
 __all__ = ["ambiguity_dataset", "orbit_dataset", "output_epochs", "parameter_dataset",
-           "residual_dataset", "sp3_dataset"]
+           "pod_start", "residual_dataset", "sp3_dataset"]
 
 _XYZ = ["x", "y", "z"]
 _RTN = ["R", "T", "N"]
@@ -186,6 +186,43 @@ def ambiguity_dataset(result: PodResult, obs: PodObservations) -> xr.Dataset:
         },
         attrs={"nl_wavelength_m": obs.nl_wavelength_m},
     )
+
+
+def pod_start(parameters: xr.Dataset, ambiguities: xr.Dataset, residuals: xr.Dataset,
+              obs: PodObservations) -> PodStart:
+    """Warm start of a new run of an arc from the datasets of an earlier solution.
+
+    Parameters
+    ----------
+    parameters, ambiguities, residuals : xarray.Dataset
+        :func:`parameter_dataset`, :func:`ambiguity_dataset`, :func:`residual_dataset` of
+        the earlier solution.
+    obs : PodObservations
+        Observations of the new run; their epochs must be those of ``residuals``.
+
+    Returns
+    -------
+    PodStart
+    """
+    times = residuals.time.values
+    if times.shape != obs.times.shape or np.any(times != obs.times):
+        raise ValueError("warm start: the epochs of the earlier solution differ from those "
+                         "of the observations")
+    col = {sv: i for i, sv in enumerate(residuals.sv.values.astype(str))}
+    if any(sv not in col for sv in obs.sv):
+        raise ValueError("warm start: satellites without a column in the earlier residuals")
+    sat = np.array([col[sv] for sv in obs.sv])[obs.sat]
+
+    def flags(name):
+        return residuals[name].values[obs.epoch, sat].astype(bool)
+
+    return PodStart(parameter_names=[str(n) for n in parameters.parameter.values],
+                    estimates=parameters.estimate.values,
+                    ambiguity_pass=ambiguities.pass_index.values,
+                    ambiguity_m=ambiguities.value_m.values,
+                    clk_rx_m=residuals.clk_rx_m.values,
+                    code_rejected=flags("code_rejected"),
+                    phase_rejected=flags("phase_rejected"))
 
 
 def output_epochs(t_start, t_end, step_s: float) -> np.ndarray:

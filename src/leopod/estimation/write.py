@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import textwrap
 
 import numpy as np
 import xarray as xr
@@ -90,7 +91,8 @@ def write_arc(arc: ArcOutputs, out, *, step: str, kind: str, title: str, sp3_id:
     write_netcdf(arc.ambiguities, out.ambiguities, title=f"{kind} ambiguities {title}",
                  **common)
     write_sp3(sp3_dataset(arc.orbit, sp3_id), out.sp3, orbit_type="FIT",
-              comments=(f"leopod {kind} reduced-dynamic orbit {title}",))
+              comments=tuple(textwrap.wrap(f"leopod {kind} reduced-dynamic orbit {title}",
+                                           77)))
     plot_residuals_time(arc.residuals, out.res_time, title=f"{kind} {title}")
     plot_residuals_elevation(arc.residuals, out.res_elevation, title=f"{kind} {title}")
     plot_residual_skymap(arc.residuals, out.res_skymap, title=f"{kind} {title}")

@@ -57,6 +57,7 @@ from leopod.simulate.biases import (
 )
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.observations import GnssWorld, simulate_observations
+from leopod.simulate.product_world import osb_biases, product_world
 from leopod.simulate.settings import DEFAULT_PCO_BODY_M, SimulationSettings
 from leopod.simulate.slr import simulate_normal_points, write_normal_points, write_station_sinex
 from leopod.simulate.truth_orbit import simulate_truth_orbit, write_truth_files
@@ -113,11 +114,16 @@ def gnss_world(settings: SimulationSettings, world_start: str, world_end: str) -
     Returns
     -------
     GnssWorld
-        The slots of :func:`gps_constellation` / :func:`beidou3_constellation` as
+        With ``settings.gnss_products``: the real products
+        (:func:`leopod.simulate.product_world.product_world`). Else the slots of
+        :func:`gps_constellation` / :func:`beidou3_constellation` as
         :class:`KeplerOrbit` with random eccentricities below ``gnss_eccentricity_max`` and
         random perigees (label ``gnss-orbit/<sv>``); clocks with a
         uniform offset and drift and a random walk with nodes on the clock-product grid.
     """
+    if settings.gnss_products is not None:
+        return product_world(settings.gnss_products, _epoch(world_start),
+                             systems=sorted(settings.systems))
     unknown = sorted(set(settings.systems) - set(_CONSTELLATIONS))
     if unknown:
         raise ValueError(f"no simulated constellation for systems {unknown} (known: "
@@ -205,12 +211,14 @@ def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, wor
 
 def _campaign_biases(settings: SimulationSettings, svs: Sequence[str], sat: str | None,
                      world_start: str) -> SimulatedBiases:
-    """GNSS satellite biases (label ``biases/gnss``), receiver biases of ``sat`` (label
-    ``biases/rx/<sat>``)."""
+    """GNSS satellite biases (label ``biases/gnss``, or the OSBs of the real product set),
+    receiver biases of ``sat`` (label ``biases/rx/<sat>``)."""
     signals = settings.signal_codes()
     epoch = _epoch(world_start)
     sat_part = simulate_biases(svs, signals, settings.rng("biases/gnss"), epoch=epoch,
                                settings=settings.biases)
+    if settings.gnss_products is not None:
+        sat_part = osb_biases(settings.gnss_products, sat_part, epoch)
     if sat is None:
         return sat_part
     rx_part = simulate_biases(svs, signals, settings.rng(f"biases/rx/{sat}"), epoch=epoch,

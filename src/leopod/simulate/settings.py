@@ -16,6 +16,7 @@ import numpy as np
 
 from leopod.simulate.biases import BiasSettings
 from leopod.simulate.observations import ObservationSettings
+from leopod.simulate.product_world import ProductSet
 from leopod.simulate.slr import DEFAULT_STATIONS, SlrSettings
 from leopod.simulate.truth_orbit import TruthDynamics
 
@@ -170,6 +171,9 @@ class SimulationSettings:
         Configurations of :meth:`CodeBiasMap.from_config` (model, signal, parameters).
     gnss_antex : str or None
         ANTEX file of the GNSS antenna offsets/variations (None: centre of mass).
+    gnss_products : ProductSet or None
+        Real GNSS orbits, clocks and OSBs to simulate against
+        (:mod:`leopod.simulate.product_world`) instead of the simulated constellation.
     gnss_eccentricity_max : float
         GNSS orbit eccentricities are uniform in [0, this) (GPS: up to ~0.02; IS-GPS-200
         Table 20-III: broadcast range up to 0.03); 0.015 gives periodic relativistic clock
@@ -192,6 +196,7 @@ class SimulationSettings:
     biases: BiasSettings = field(default_factory=BiasSettings)
     code_bias_maps: tuple = ({"model": "hy2b_p1", "signal": "C1W"},)
     gnss_antex: str | None = None
+    gnss_products: ProductSet | None = None
     gnss_eccentricity_max: float = 0.015
     slr: SlrSimulation = field(default_factory=SlrSimulation)
     leo_sp3_id: str = "L01"
@@ -274,6 +279,7 @@ _PARSERS = {
     "biases": lambda v: {"biases": _checked(BiasSettings, v, "biases")},
     "code_bias_maps": lambda v: {"code_bias_maps": tuple(dict(m) for m in (v or ()))},
     "gnss_antex": lambda v: {"gnss_antex": None if v is None else str(v)},
+    "gnss_products": lambda v: {"gnss_products": ProductSet.from_config(v)},
     "gnss_eccentricity_max": lambda v: {"gnss_eccentricity_max": float(v)},
     "slr": _parse_slr,
     "leo_sp3_id": lambda v: {"leo_sp3_id": str(v)},

@@ -1,0 +1,225 @@
+"""A simulated world whose GNSS satellites are those of a real product set.
+
+With ``simulate.gnss_products`` the simulator does not invent the GNSS constellation: the
+satellite orbits are the real SP3 orbits, the satellite clocks the real clock product (e.g.
+the WHU integer-recovery "phase" clocks) and the satellite code and phase biases the real
+Bias-SINEX OSBs. The LEO observations are simulated against them, so the campaign processes
+the **real product files** unchanged (reading, sign conventions, wide-lane/narrow-lane
+fixing), while the truth orbit, the receiver and its biases remain simulated.
+
+Orbits. The SP3 positions (ITRF, centre of mass) are Lagrange-interpolated in the ITRF
+(:class:`leopod.orbit.products.GnssProducts`, as the POD does) and rotated to the GCRF at
+the same epoch (:func:`leopod.frames.earth_rotation.itrf_to_gcrf`), the inertial frame of
+:class:`leopod.simulate.observations.GnssWorld`.
+
+Clocks. Linear interpolation between the product samples (the POD's rule), held constant
+over the < 0.1 s before the first and after the last sample (transmission times of the
+day's first and last epochs); satellites without a clock sample are left out.
+
+Biases (:func:`osb_biases`). Bias-SINEX "observation corrected = observation − OSB"
+(:mod:`leopod.simulate.biases`): satellite code bias ``d^s_i`` = code OSB, phase bias
+``β^s_i`` = phase OSB / ``λ_i``. Codes without an OSB (GPS C1C in the WHU 2008 file) take
+``d^s_C1C = d^s_C1W − DCB(P1−C1)`` from a CODE P1C1 file.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from leopod.constants import C_LIGHT_M_S
+from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.gnss.signals import frequency_hz
+from leopod.io.bias_sinex import read_bias_sinex
+from leopod.io.clock import read_rinex_clock
+from leopod.io.dcb import read_code_dcb
+from leopod.io.sp3 import read_sp3
+from leopod.orbit.products import GnssProducts
+from leopod.simulate.biases import SimulatedBiases
+from leopod.simulate.observations import GnssWorld
+from leopod.time import seconds_since
+
+__all__ = ["ProductSet", "osb_biases", "product_world"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class ProductSet:
+    """Files of a real GNSS product set (``simulate.gnss_products``).
+
+    Attributes
+    ----------
+    orbit : tuple of str
+        SP3 files covering the campaign (and the arcs' margins), in time order.
+    clock : tuple of str
+        RINEX clock files of the campaign days.
+    osb : str
+        Bias-SINEX file with the satellite code and phase OSBs.
+    dcb_p1c1 : str or None
+        CODE P1−C1 DCB file for C1C (None: C1C is not simulated with a satellite bias).
+    """
+
+    orbit: tuple[str, ...]
+    clock: tuple[str, ...]
+    osb: str
+    dcb_p1c1: str | None = None
+
+    @classmethod
+    def from_config(cls, value) -> ProductSet | None:
+        """From the ``simulate.gnss_products`` mapping (None stays None)."""
+        if value is None:
+            return None
+        value = dict(value)
+        unknown = sorted(set(value) - {"orbit", "clock", "osb", "dcb_p1c1"})
+        if unknown:
+            raise ValueError(f"'gnss_products': unknown key(s) {unknown}")
+
+        def paths(v):
+            return (str(v),) if isinstance(v, str) else tuple(str(p) for p in v)
+
+        return cls(orbit=paths(value["orbit"]), clock=paths(value["clock"]),
+                   osb=str(value["osb"]),
+                   dcb_p1c1=None if value.get("dcb_p1c1") is None else str(value["dcb_p1c1"]))
+
+    @property
+    def files(self) -> list[str]:
+        """All files of the set (workflow inputs)."""
+        return [*self.orbit, *self.clock, self.osb] + ([self.dcb_p1c1] if self.dcb_p1c1 else [])
+
+
+class _ProductOrbit:
+    """One satellite of a :class:`GnssProducts` table as a GCRF orbit of world time."""
+
+    def __init__(self, products: GnssProducts, isv: int, epoch: np.datetime64):
+        self._products, self._isv, self._epoch = products, isv, epoch
+
+    def inertial(self, t_s) -> tuple[np.ndarray, np.ndarray]:
+        """GCRF position [m] and velocity [m/s] (n, 3) at world times ``t_s`` [s]."""
+        t_s = np.asarray(t_s, dtype=float)
+        pos, vel, _ = self._products.position(np.full(t_s.shape, self._isv), t_s)
+        times = self._epoch + np.round(t_s * 1e9).astype("timedelta64[ns]")
+        return itrf_to_gcrf(times, pos, vel)
+
+
+class _ProductClock:
+    """Linear interpolation of one satellite's clock samples (constant beyond the ends)."""
+
+    def __init__(self, t_s: np.ndarray, clk_s: np.ndarray):
+        ok = np.isfinite(clk_s)
+        self._t, self._c = t_s[ok], clk_s[ok]
+
+    def __call__(self, t_s) -> np.ndarray:
+        return np.interp(np.asarray(t_s, dtype=float), self._t, self._c)
+
+
+def _merge(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
+    merged = xr.concat(list(datasets), dim="time", data_vars="minimal", coords="minimal",
+                       compat="override", join="outer")
+    _, first = np.unique(merged.time.values, return_index=True)
+    return merged.isel(time=np.sort(first))
+
+
+def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",)) -> GnssWorld:
+    """The GNSS world of a real product set.
+
+    Parameters
+    ----------
+    files : ProductSet
+    epoch : datetime64
+        World epoch (GPS time): ``t = 0`` of the orbits and clocks.
+    systems : sequence of str
+        Systems to keep.
+
+    Returns
+    -------
+    GnssWorld
+        Satellites present in the orbit, clock and OSB files.
+    """
+    epoch = np.datetime64(epoch, "ns")
+    orbit = _merge([read_sp3(p) for p in files.orbit])
+    clock = _merge([read_rinex_clock(p) for p in files.clock])
+    osb = read_bias_sinex(files.osb)
+    svs = sorted(set(map(str, orbit.sv.values)) & set(map(str, clock.sv.values))
+                 & set(map(str, osb.prn.values)))
+    svs = [s for s in svs if s[0] in systems
+           and np.isfinite(clock.clk_s.sel(sv=s).values).any()]
+    products = GnssProducts.from_datasets(orbit.sel(sv=svs), clock, epoch)
+    t_clk = seconds_since(clock.time.values, epoch)
+    world = GnssWorld(
+        epoch=epoch,
+        orbits={sv: _ProductOrbit(products, int(products.sv_index([sv])[0]), epoch)
+                for sv in svs},
+        clocks={sv: _ProductClock(t_clk, clock.clk_s.sel(sv=sv).values) for sv in svs})
+    log.info("GNSS world from real products: %d satellites (%s), orbits %s to %s, clocks %s "
+             "to %s", len(svs), " ".join(files.orbit + files.clock), orbit.time.values[0],
+             orbit.time.values[-1], clock.time.values[0], clock.time.values[-1])
+    return world
+
+
+def _osb_value_m(osb: xr.Dataset, sv: str, signal: str, epoch) -> float:
+    sel = ((osb.prn.values == sv) & (osb.obs1.values == signal)
+           & (osb.start.values <= epoch) & (epoch < osb.end.values))
+    return float(osb.value_s.values[sel][0] * C_LIGHT_M_S) if sel.any() else np.nan
+
+
+def osb_biases(files: ProductSet, template: SimulatedBiases, epoch) -> SimulatedBiases:
+    """Satellite biases of ``template`` replaced by those of the product set's OSBs.
+
+    Parameters
+    ----------
+    files : ProductSet
+    template : SimulatedBiases
+        Simulated biases (satellite axis and signals; receiver part kept).
+    epoch : datetime64
+        Epoch at which the OSB windows are read (GPS time).
+
+    Returns
+    -------
+    SimulatedBiases
+        Without drift (the OSB values are taken as constant over the campaign).
+
+    Raises
+    ------
+    ValueError
+        If a simulated signal of a satellite has neither an OSB nor (C1C) a P1−C1 DCB.
+    """
+    epoch = np.datetime64(epoch, "ns")
+    osb = read_bias_sinex(files.osb)
+    dcb = read_code_dcb(files.dcb_p1c1) if files.dcb_p1c1 else None
+    code = template.code_sat_m.copy()
+    phase = template.phase_sat_cyc.copy()
+    for sv in code.sv.values:
+        for sig in code.code_signal.values:
+            if np.isnan(code.sel(sv=sv, code_signal=sig)):
+                continue
+            value = _osb_value_m(osb, sv, sig, epoch)
+            if np.isnan(value) and sig == "C1C" and dcb is not None:
+                value = _osb_value_m(osb, sv, "C1W", epoch) - _p1c1_m(dcb, sv, files)
+            if np.isnan(value):
+                raise ValueError(f"{files.osb}: no OSB for {sv} {sig} at {epoch} (and no "
+                                 "P1-C1 DCB for C1C)")
+            code.loc[{"sv": sv, "code_signal": sig}] = value
+        for sig in phase.phase_signal.values:
+            if np.isnan(phase.sel(sv=sv, phase_signal=sig)):
+                continue
+            value = _osb_value_m(osb, sv, sig, epoch)
+            if np.isnan(value):
+                raise ValueError(f"{files.osb}: no phase OSB for {sv} {sig} at {epoch}")
+            phase.loc[{"sv": sv, "phase_signal": sig}] = value * frequency_hz(
+                sv[0], sig) / C_LIGHT_M_S
+    return SimulatedBiases(code_sat_m=code, phase_sat_cyc=phase,
+                           phase_drift_sat_cyc_s=xr.zeros_like(template.phase_drift_sat_cyc_s),
+                           code_rx_m=template.code_rx_m, phase_rx_cyc=template.phase_rx_cyc,
+                           epoch=template.epoch, phase_pairs=template.phase_pairs)
+
+
+def _p1c1_m(dcb: xr.Dataset, sv: str, files: ProductSet) -> float:
+    """P1 − C1 satellite DCB [m] of ``sv`` (= OSB(C1W) − OSB(C1C), :mod:`leopod.io.dcb`)."""
+    if sv not in dcb.sv.values or not np.isfinite(dcb.dcb_s.sel(sv=sv)):
+        raise ValueError(f"{files.dcb_p1c1}: no P1-C1 DCB for {sv}")
+    return float(dcb.dcb_s.sel(sv=sv)) * C_LIGHT_M_S
