@@ -1,25 +1,94 @@
 """Orbit comparison in the radial, along-track and cross-track frame.
 
-Used for orbit overlaps of consecutive or sub-arcs (seed 002 sec. 4.3: the self-consistency
-of the POD) and for comparisons with external orbits (seed 001 sec. 3.3, the precise science
-orbits). Differences are ``orbit − reference`` rotated into the RTN axes of the reference
-(:func:`leopod.dynamics.empirical.rtn_matrix`; radial, along-track, cross-track), at the
-common epochs.
+Used for orbit overlaps of consecutive arcs (seed 002, "Internal consistency validation";
+:mod:`.overlap`) and for comparisons with external orbits (seed 001 sec. 3.4.2 and Table 4,
+seed 002 Figs. 17, 18: the precise science orbits / DORIS orbits of CNES).
+
+External-orbit comparison (:func:`compare_orbits`)
+    1. The reference's time labels are converted to GPS time (:func:`to_gps_time`: TAI = GPST
+       + 19 s and TT = GPST + 51.184 s exactly, UTC with the leap seconds; seed 001 converts
+       the TAI-labelled CNES orbits to GPST the same way), plus an optional extra offset.
+    2. The reference is interpolated onto the orbit's epochs (:func:`interpolate_orbit`,
+       Lagrange, Montenbruck & Gill 2000 sec. 4.1) without crossing data gaps.
+    3. Optionally a 3-, 6- or 7-parameter Helmert transformation from the reference to the
+       orbit is estimated and removed (:func:`fit_helmert`, IERS Conventions 2010 eq. 4.4).
+    4. The differences ``orbit − reference`` are rotated into the RTN axes (radial,
+       along-track, cross-track) of the reference's *inertial* state (:func:`rtn_axes`): the
+       along-track axis follows the inertial velocity, i.e. the orbital motion, as in seed 001
+       sec. 3.4.3 (RTN built in the J2000 frame). Earth-fixed velocities would tilt the T/N axes
+       by up to ``ω r / v`` ≈ 3.7° for a LEO.
+    5. :func:`orbit_statistics` gives mean, STD and RMS of R, T, N and 3D per GPS day and in
+       total (seed 001 Table 4, seed 002 Fig. 18); :func:`statistics_table` flattens them for
+       CSV.
+
+Statistics convention: for R, T and N the mean, the (population) STD and the RMS of the
+component; for "3D" those of the distance ``|d|``, so ``RMS² = mean² + STD²`` holds for every
+component and the 3D RMS equals ``sqrt(RMS_R² + RMS_T² + RMS_N²)``.
+
+:func:`difference_rtn` and :func:`rms_rtn` are the simple forms used by the workflow tests:
+common epochs only, RTN axes of the reference in the frame of the compared variables.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
+from leopod.constants import GPST_MINUS_TAI_S, TT_MINUS_TAI_S
 from leopod.dynamics.empirical import rtn_matrix
+from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
+from leopod.orbit.interpolate import interpolate_table
+from leopod.time import seconds_since
+from leopod.timescales import utc_to_gps
 
-__all__ = ["difference_rtn", "rms_rtn"]
+__all__ = [
+    "COMPONENTS",
+    "HELMERT_PARAMETERS",
+    "compare_orbits",
+    "component_statistics",
+    "difference_rtn",
+    "fit_helmert",
+    "fit_time_offset",
+    "helmert_displacement",
+    "interpolate_orbit",
+    "orbit_from_sp3",
+    "orbit_statistics",
+    "rms_rtn",
+    "rtn_axes",
+    "statistics_table",
+    "to_gps_time",
+]
+
+#: Components of the statistics: radial, along-track, cross-track and the 3D distance.
+COMPONENTS = ("R", "T", "N", "3D")
+#: Helmert parameters, IERS Conventions 2010 eq. (4.4): translations [m], scale D [1],
+#: rotations [rad].
+HELMERT_PARAMETERS = ("tx_m", "ty_m", "tz_m", "scale", "rx_rad", "ry_rad", "rz_rad")
+_HELMERT_UNITS = ("m", "m", "m", "1", "rad", "rad", "rad")
+#: Parameters estimated for each allowed ``helmert`` value (indices into HELMERT_PARAMETERS).
+_HELMERT_SETS = {3: (0, 1, 2), 6: (0, 1, 2, 4, 5, 6), 7: (0, 1, 2, 3, 4, 5, 6)}
+#: Label of the time system minus GPS time [s] for the scales with a constant offset.
+_SYSTEM_MINUS_GPS_S = {"GPS": 0.0, "TAI": -GPST_MINUS_TAI_S,
+                       "TT": TT_MINUS_TAI_S - GPST_MINUS_TAI_S}
+_FRAME_VARIABLES = {"itrf": ("pos_itrf_m", "vel_itrf_m_s"), "gcrf": ("pos_gcrf_m", "vel_gcrf_m_s")}
+#: Default largest node spacing inside an interpolation window, in median node spacings
+#: (one missing node is bridged, two are not).
+_GAP_FACTOR = 2.0
+_NS_PER_S = 1_000_000_000
+#: Convergence threshold of the time-offset iteration [s].
+_TIME_OFFSET_TOL_S = 1e-9
+_RTN_ATTRS = {"units": "m", "long_name": "orbit minus reference in radial, along-track, "
+              "cross-track"}
 
 
+# --------------------------------------------------------------------------- simple forms
 def difference_rtn(orbit: xr.Dataset, reference: xr.Dataset, *, pos: str = "pos_itrf_m",
                    vel: str = "vel_itrf_m_s", start=None, end=None) -> xr.Dataset:
     """Position differences ``orbit − reference`` in the reference's RTN axes.
+
+    The axes are built from ``pos``/``vel`` as given (for ITRF variables: Earth-fixed
+    velocity); :func:`compare_orbits` uses inertial axes and interpolates.
 
     Parameters
     ----------
@@ -46,9 +115,7 @@ def difference_rtn(orbit: xr.Dataset, reference: xr.Dataset, *, pos: str = "pos_
     ref = reference.sel(time=common)
     rtn = rtn_matrix(ref[pos].values, ref[vel].values)
     diff = np.einsum("nij,nj->ni", rtn, a - ref[pos].values)
-    return xr.Dataset({"diff_rtn_m": (("time", "rtn"), diff,
-                                      {"units": "m", "long_name": "orbit minus reference in "
-                                       "radial, along-track, cross-track"})},
+    return xr.Dataset({"diff_rtn_m": (("time", "rtn"), diff, dict(_RTN_ATTRS))},
                       coords={"time": common, "rtn": ["R", "T", "N"]})
 
 
@@ -59,3 +126,476 @@ def rms_rtn(diff: xr.Dataset) -> dict[str, float]:
     r = np.sqrt(np.mean(d**2, axis=0))
     return {"R": float(r[0]), "T": float(r[1]), "N": float(r[2]),
             "3D": float(np.sqrt(np.sum(r**2)))}
+
+
+def orbit_from_sp3(sp3: xr.Dataset, sv: str) -> xr.Dataset:
+    """One satellite of a :func:`leopod.io.sp3.read_sp3` Dataset in the orbit schema.
+
+    Parameters
+    ----------
+    sp3 : xarray.Dataset
+        ``pos_m`` (and ``vel_m_s`` for SP3 with V records) (time, sv, xyz) [m, m/s],
+        Earth-fixed.
+    sv : str
+        Satellite id, e.g. ``"L47"``.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``pos_itrf_m`` (and ``vel_itrf_m_s``) (time, xyz); attrs ``time_system`` of the file.
+    """
+    data = {"pos_itrf_m": (("time", "xyz"), sp3.pos_m.sel(sv=sv).transpose("time", "xyz").values,
+                           {"units": "m", "long_name": "position"})}
+    if "vel_m_s" in sp3:
+        data["vel_itrf_m_s"] = (("time", "xyz"),
+                                sp3.vel_m_s.sel(sv=sv).transpose("time", "xyz").values,
+                                {"units": "m s-1", "long_name": "Earth-fixed velocity"})
+    return xr.Dataset(data, coords={"time": sp3.time.values, "xyz": ["x", "y", "z"]},
+                      attrs={"time_system": str(sp3.attrs.get("time_system", "GPS")),
+                             "reference_frame": str(sp3.attrs.get("coordinate_system", ""))})
+
+
+# --------------------------------------------------------------------------- time and epochs
+def to_gps_time(times, time_system: str = "GPS", *, offset_s: float = 0.0) -> np.ndarray:
+    """GPS-time labels of epochs labelled in another time system, plus an extra offset.
+
+    ``GPS = TAI − 19 s`` and ``GPS = TT − 51.184 s`` exactly (IERS Conventions 2010, ch. 10;
+    IS-GPS-200); UTC labels use the leap seconds of :func:`leopod.timescales.utc_to_gps`.
+
+    Parameters
+    ----------
+    times : array_like of datetime64, shape (n,)
+        Labels in ``time_system``.
+    time_system : {"GPS", "TAI", "TT", "UTC"}
+        Time system of the labels (case-insensitive).
+    offset_s : float
+        Added after the conversion [s] (e.g. an estimated timing offset, :func:`fit_time_offset`).
+
+    Returns
+    -------
+    ndarray of datetime64[ns], shape (n,)
+    """
+    system = time_system.strip().upper()
+    t = np.atleast_1d(np.asarray(times, dtype="datetime64[ns]"))
+    if system == "UTC":
+        t = utc_to_gps(t)
+    elif system in _SYSTEM_MINUS_GPS_S:
+        t = t - np.timedelta64(round(_SYSTEM_MINUS_GPS_S[system] * _NS_PER_S), "ns")
+    else:
+        raise ValueError(f"unknown time system {time_system!r}; use GPS, TAI, TT or UTC")
+    return t + np.timedelta64(round(offset_s * _NS_PER_S), "ns")
+
+
+def interpolate_orbit(orbit: xr.Dataset, times, *, pos: str = "pos_itrf_m",
+                      vel: str = "vel_itrf_m_s", order: int = 10,
+                      max_gap_s: float | None = None) -> xr.Dataset:
+    """Positions and velocities of a tabulated orbit at other epochs (Lagrange).
+
+    Each query uses the ``order + 1`` nearest valid nodes (:func:`interpolate_table`,
+    Montenbruck & Gill 2000 sec. 4.1); at a node the tabulated value is returned exactly.
+    Nodes with non-finite positions are dropped first, so they act as gaps.
+
+    Parameters
+    ----------
+    orbit : xarray.Dataset
+        ``time`` and ``pos`` (time, xyz) [m]; ``vel`` (time, xyz) [m/s] is interpolated too when
+        present, otherwise the velocity is the derivative of the position polynomial.
+    times : array_like of datetime64, shape (m,)
+        Query epochs, same time system as ``orbit.time``.
+    pos, vel : str
+        Variable names.
+    order : int
+        Polynomial degree (default 10: 11 nodes).
+    max_gap_s : float, optional
+        Queries whose window spans a node spacing larger than this are NaN [s]. Default:
+        twice the median node spacing (bridges one missing node). Queries outside the
+        table are NaN (no extrapolation).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``pos`` and ``vel`` (time, xyz) at ``times`` (NaN where not interpolable).
+    """
+    times = np.atleast_1d(np.asarray(times, dtype="datetime64[ns]"))
+    p = orbit[pos].transpose("time", "xyz").values
+    has_vel = vel in orbit
+    values = np.concatenate([p, orbit[vel].transpose("time", "xyz").values], axis=1) \
+        if has_vel else p
+    ok = np.isfinite(values).all(axis=1)
+    if ok.sum() < order + 1:
+        raise ValueError(f"the orbit has {ok.sum()} valid epochs; interpolation of order "
+                         f"{order} needs {order + 1}")
+    t0 = orbit.time.values[ok][0]
+    t_nodes = seconds_since(orbit.time.values[ok], t0)
+    if max_gap_s is None:
+        max_gap_s = _GAP_FACTOR * float(np.median(np.diff(t_nodes))) * (1.0 + 1e-9)
+    val, rate = interpolate_table(t_nodes, values[ok], seconds_since(times, t0), order,
+                                  max_gap_s=max_gap_s)
+    pos_q, vel_q = (val[:, :3], val[:, 3:]) if has_vel else (val, rate)
+    frame = {k: v for k, v in orbit[pos].attrs.items() if k == "reference_frame"}
+    return xr.Dataset(
+        {pos: (("time", "xyz"), pos_q, {"units": "m", "long_name": "interpolated position",
+                                         **frame}),
+         vel: (("time", "xyz"), vel_q, {"units": "m s-1", "long_name": "interpolated velocity",
+                                         **frame})},
+        coords={"time": times, "xyz": ["x", "y", "z"]},
+        attrs={"interpolation_order": order, "max_gap_s": max_gap_s,
+               "velocity_source": "tabulated" if has_vel else "position polynomial"})
+
+
+# --------------------------------------------------------------------------- axes and Helmert
+def rtn_axes(times, pos_m, vel_m_s, *, frame: str = "itrf", eop=None) -> np.ndarray:
+    """Inertial RTN axes of states, expressed in the frame of the states.
+
+    For ITRF states the state is first rotated to the GCRF (``r_g = Q R W r``, ``v_g = Q R W v
+    + d(QRW)/dt r``, IERS Conventions 2010 eq. 5.1, :func:`gcrf_from_itrf_matrices`); the
+    radial axis is ``r/|r|``, cross-track ``r × v_g`` normalised, along-track completes the
+    right-handed triad (:func:`leopod.dynamics.empirical.rtn_matrix`).
+
+    Parameters
+    ----------
+    times : array_like of datetime64, shape (n,)
+        GPS-time epochs (used for ``frame="itrf"``).
+    pos_m, vel_m_s : array_like, shape (n, 3)
+        Position [m] and velocity [m/s] in ``frame``.
+    frame : {"itrf", "gcrf"}
+    eop : EarthOrientation, optional
+        EOP source for the ITRF → GCRF rotation (default: installed IERS data).
+
+    Returns
+    -------
+    ndarray, shape (n, 3, 3)
+        Rows R, T, N: ``d_rtn = M @ d`` for a difference vector ``d`` in ``frame``.
+    """
+    pos = np.asarray(pos_m, dtype=float)
+    vel = np.asarray(vel_m_s, dtype=float)
+    if frame == "gcrf":
+        return rtn_matrix(pos, vel)
+    if frame != "itrf":
+        raise ValueError(f"frame must be 'itrf' or 'gcrf', not {frame!r}")
+    rot, d_rot = gcrf_from_itrf_matrices(times, eop)
+    pos_g = np.einsum("nij,nj->ni", rot, pos)
+    vel_g = np.einsum("nij,nj->ni", rot, vel) + np.einsum("nij,nj->ni", d_rot, pos)
+    return rtn_matrix(pos_g, vel_g) @ rot
+
+
+def helmert_displacement(params, pos_m) -> np.ndarray:
+    """``T + D r + R × r`` of the 7-parameter Helmert transformation, IERS 2010 eq. (4.4).
+
+    ``x_s = x + T1 + D x − R3 y + R2 z``, ``y_s = y + T2 + R3 x + D y − R1 z``,
+    ``z_s = z + T3 − R2 x + R1 y + D z``.
+
+    Parameters
+    ----------
+    params : array_like, shape (7,)
+        Values in the order of :data:`HELMERT_PARAMETERS` [m, m, m, 1, rad, rad, rad].
+    pos_m : array_like, shape (n, 3)
+        Positions ``x`` [m].
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+        ``x_s − x`` [m].
+    """
+    p = np.asarray(params, dtype=float)
+    r = np.asarray(pos_m, dtype=float)
+    return p[:3] + p[3] * r + np.cross(p[4:7], r)
+
+
+def _helmert_design(pos_m: np.ndarray) -> np.ndarray:
+    """Partials of eq. (4.4) with respect to all 7 parameters, shape (3n, 7)."""
+    x, y, z = pos_m.T
+    n = x.size
+    a = np.zeros((n, 3, 7))
+    a[:, 0, 0] = a[:, 1, 1] = a[:, 2, 2] = 1.0
+    a[:, :, 3] = pos_m
+    a[:, 0, 5], a[:, 0, 6] = z, -y
+    a[:, 1, 4], a[:, 1, 6] = -z, x
+    a[:, 2, 4], a[:, 2, 5] = y, -x
+    return a.reshape(3 * n, 7)
+
+
+def fit_helmert(pos_m, ref_pos_m, n_parameters: int = 7) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares Helmert transformation from reference positions to positions.
+
+    Solves ``pos − ref = T + D ref + R × ref`` (IERS Conventions 2010 eq. 4.4, linearised
+    small-angle form) with equal weights, by ``numpy.linalg.lstsq`` on column-scaled partials.
+
+    Parameters
+    ----------
+    pos_m, ref_pos_m : array_like, shape (n, 3)
+        Positions and reference positions at the same epochs, finite [m].
+    n_parameters : {3, 6, 7}
+        Translations only; translations and rotations; or all seven (with scale).
+
+    Returns
+    -------
+    estimate : ndarray, shape (7,)
+        In the order of :data:`HELMERT_PARAMETERS` (0 for parameters not estimated).
+    sigma : ndarray, shape (7,)
+        Formal standard deviations from the a-posteriori unit weight (NaN for parameters not
+        estimated). Epoch-to-epoch correlation of orbit errors is ignored, so they are
+        optimistic.
+    """
+    if n_parameters not in _HELMERT_SETS:
+        raise ValueError(f"n_parameters must be one of {sorted(_HELMERT_SETS)}")
+    pos = np.asarray(pos_m, dtype=float)
+    ref = np.asarray(ref_pos_m, dtype=float)
+    cols = list(_HELMERT_SETS[n_parameters])
+    a = _helmert_design(ref)[:, cols]
+    b = (pos - ref).reshape(-1)
+    if b.size <= len(cols):
+        raise ValueError(f"{pos.shape[0]} epochs cannot determine {len(cols)} Helmert parameters")
+    scale = np.linalg.norm(a, axis=0)
+    x, *_ = np.linalg.lstsq(a / scale, b, rcond=None)
+    res = b - (a / scale) @ x
+    s0_sq = float(res @ res) / (b.size - len(cols))
+    cov = np.linalg.inv((a / scale).T @ (a / scale)) * s0_sq
+    estimate = np.zeros(7)
+    sigma = np.full(7, np.nan)
+    estimate[cols] = x / scale
+    sigma[cols] = np.sqrt(np.diag(cov)) / scale
+    return estimate, sigma
+
+
+# --------------------------------------------------------------------------- comparison
+def _window(times: np.ndarray, start, end) -> np.ndarray:
+    keep = np.ones(times.size, dtype=bool)
+    if start is not None:
+        keep &= times >= np.datetime64(start, "ns")
+    if end is not None:
+        keep &= times <= np.datetime64(end, "ns")
+    if not keep.any():
+        raise ValueError("the orbit has no epochs in the window")
+    return keep
+
+
+def _reference_in_gps(reference: xr.Dataset, time_system: str | None,
+                      time_offset_s: float) -> tuple[xr.Dataset, str]:
+    system = time_system or str(reference.attrs.get("time_system", "GPS"))
+    return reference.assign_coords(time=to_gps_time(reference.time.values, system,
+                                                    offset_s=time_offset_s)), system
+
+
+def _variables(frame: str) -> tuple[str, str]:
+    try:
+        return _FRAME_VARIABLES[frame]
+    except KeyError:
+        raise ValueError(f"frame must be one of {sorted(_FRAME_VARIABLES)}, not {frame!r}") \
+            from None
+
+
+def fit_time_offset(orbit: xr.Dataset, reference: xr.Dataset, *, frame: str = "itrf",
+                    reference_time_system: str | None = None, order: int = 10,
+                    max_gap_s: float | None = None, start=None, end=None,
+                    max_iterations: int = 10) -> float:
+    """Timing offset of a reference orbit by least squares along its velocity.
+
+    Finds the ``offset_s`` for which ``to_gps_time(labels, system, offset_s=offset_s)`` makes
+    the reference coincide best with the orbit: with ``d = orbit(t) − ref(t − δ)`` and
+    ``∂ref(t − δ)/∂δ = −v``, each Gauss–Newton step is ``Δδ = −Σ v·d / Σ v·v``, repeated with
+    re-interpolation until ``|Δδ| < 1 ns``.
+
+    Parameters
+    ----------
+    orbit, reference : xarray.Dataset
+        As for :func:`compare_orbits`.
+    frame, reference_time_system, order, max_gap_s, start, end
+        As for :func:`compare_orbits`.
+    max_iterations : int
+        Upper limit of Gauss–Newton steps.
+
+    Returns
+    -------
+    float
+        Offset [s] to pass as ``time_offset_s`` to :func:`compare_orbits`.
+    """
+    pos, vel = _variables(frame)
+    keep = _window(orbit.time.values, start, end)
+    times = orbit.time.values[keep]
+    p = orbit[pos].transpose("time", "xyz").values[keep]
+    offset = 0.0
+    for _ in range(max_iterations):
+        ref, _ = _reference_in_gps(reference, reference_time_system, offset)
+        r = interpolate_orbit(ref, times, pos=pos, vel=vel, order=order, max_gap_s=max_gap_s)
+        d = p - r[pos].values
+        v = r[vel].values
+        ok = np.isfinite(d).all(axis=1) & np.isfinite(v).all(axis=1)
+        if not ok.any():
+            raise ValueError("the orbit and the reference have no common span")
+        step = -float(np.sum(v[ok] * d[ok]) / np.sum(v[ok] * v[ok]))
+        offset += step
+        if abs(step) < _TIME_OFFSET_TOL_S:
+            break
+    return offset
+
+
+def compare_orbits(orbit: xr.Dataset, reference: xr.Dataset, *, frame: str = "itrf",
+                   reference_time_system: str | None = None, time_offset_s: float = 0.0,
+                   order: int = 10, max_gap_s: float | None = None, helmert: int | None = None,
+                   start=None, end=None, eop=None) -> xr.Dataset:
+    """Differences ``orbit − reference`` in inertial RTN axes at the orbit's epochs.
+
+    Parameters
+    ----------
+    orbit : xarray.Dataset
+        Orbit to validate: ``time`` (GPS) and ``pos_<frame>_m``, ``vel_<frame>_m_s``
+        (time, xyz) [m, m/s] (the POD orbit schema of :mod:`leopod.estimation.outputs`).
+    reference : xarray.Dataset
+        Reference orbit in the same schema (velocity optional); e.g. :func:`leopod.io.sp3.read_sp3`
+        output turned into it with ``pos_itrf_m=sp3.pos_m.sel(sv=...)``.
+    frame : {"itrf", "gcrf"}
+        Frame of the compared variables (and of the Helmert transformation).
+    reference_time_system : {"GPS", "TAI", "TT", "UTC"}, optional
+        Time system of the reference's labels; default ``reference.attrs["time_system"]``,
+        else GPS.
+    time_offset_s : float
+        Extra offset added to the reference's GPS-converted labels [s] (see
+        :func:`fit_time_offset`).
+    order : int
+        Lagrange degree of the interpolation of the reference (default 10).
+    max_gap_s : float, optional
+        Largest node spacing inside an interpolation window [s]; default twice the median
+        spacing of the reference.
+    helmert : {None, 3, 6, 7}
+        Estimate and remove a Helmert transformation reference → orbit with this many
+        parameters (translations; + rotations; + scale).
+    start, end : datetime64, optional
+        Window of orbit epochs (inclusive).
+    eop : EarthOrientation, optional
+        EOP source of the ITRF → GCRF rotation of the RTN axes.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``diff_rtn_m`` (time, rtn) [m] and ``diff_3d_m`` (time) [m] at the orbit's epochs in the
+        window (NaN where the reference is not available); with ``helmert``:
+        ``helmert_estimate`` and ``helmert_sigma`` (helmert_parameter), units per parameter in
+        the ``helmert_unit`` coordinate. Attributes record the reference time system, offset,
+        interpolation, frame and the number of epochs without reference.
+    """
+    pos, vel = _variables(frame)
+    keep = _window(orbit.time.values, start, end)
+    times = orbit.time.values[keep]
+    ref, system = _reference_in_gps(reference, reference_time_system, time_offset_s)
+    r = interpolate_orbit(ref, times, pos=pos, vel=vel, order=order, max_gap_s=max_gap_s)
+    p = orbit[pos].transpose("time", "xyz").values[keep]
+    ref_p, ref_v = r[pos].values, r[vel].values
+    diff = p - ref_p
+    ok = np.isfinite(diff).all(axis=1) & np.isfinite(ref_v).all(axis=1)
+    if not ok.any():
+        raise ValueError("the orbit and the reference have no common span")
+    data = {}
+    coords = {"time": times, "rtn": ["R", "T", "N"]}
+    if helmert is not None:
+        estimate, sigma = fit_helmert(p[ok], ref_p[ok], helmert)
+        diff[ok] -= helmert_displacement(estimate, ref_p[ok])
+        data["helmert_estimate"] = ("helmert_parameter", estimate, {
+            "units": "1", "long_name": "Helmert transformation reference to orbit, IERS "
+            "Conventions 2010 eq. 4.4 (unit per parameter in helmert_unit)"})
+        data["helmert_sigma"] = ("helmert_parameter", sigma, {
+            "units": "1", "long_name": "formal standard deviation of the Helmert parameters"})
+        coords["helmert_parameter"] = list(HELMERT_PARAMETERS)
+        coords["helmert_unit"] = ("helmert_parameter", list(_HELMERT_UNITS))
+    diff_rtn = np.full_like(diff, np.nan)
+    axes = rtn_axes(times[ok], ref_p[ok], ref_v[ok], frame=frame, eop=eop)
+    diff_rtn[ok] = np.einsum("nij,nj->ni", axes, diff[ok])
+    data["diff_rtn_m"] = (("time", "rtn"), diff_rtn, dict(_RTN_ATTRS))
+    data["diff_3d_m"] = ("time", np.linalg.norm(diff_rtn, axis=1),
+                         {"units": "m", "long_name": "3D distance orbit to reference"})
+    return xr.Dataset(data, coords=coords, attrs={
+        "difference": "orbit - reference", "frame": frame,
+        "rtn_axes": "inertial RTN of the reference",
+        "reference_time_system": system, "time_offset_s": float(time_offset_s),
+        "interpolation_order": order, "max_gap_s": float(r.attrs["max_gap_s"]),
+        "helmert_parameters": int(helmert or 0), "n_epochs_without_reference": int((~ok).sum())})
+
+
+# --------------------------------------------------------------------------- statistics
+def component_statistics(diff_rtn_m) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Mean, STD, RMS of R, T, N and 3D distance over the finite rows of RTN differences.
+
+    Parameters
+    ----------
+    diff_rtn_m : array_like, shape (n, 3)
+        Differences [m]; rows with any non-finite value are skipped.
+
+    Returns
+    -------
+    mean, std, rms : ndarray, shape (4,)
+        Per :data:`COMPONENTS` [m] (population STD, ``rms² = mean² + std²``); NaN if no row.
+    n : int
+        Number of rows used.
+    """
+    d = np.asarray(diff_rtn_m, dtype=float).reshape(-1, 3)
+    d = d[np.isfinite(d).all(axis=1)]
+    if d.shape[0] == 0:
+        nan = np.full(len(COMPONENTS), np.nan)
+        return nan, nan.copy(), nan.copy(), 0
+    x = np.column_stack([d, np.linalg.norm(d, axis=1)])
+    return x.mean(axis=0), x.std(axis=0), np.sqrt(np.mean(x * x, axis=0)), int(d.shape[0])
+
+
+def _stats_variables(rows: list[tuple], dim: str) -> dict:
+    mean, std, rms, n = (np.array(v) for v in zip(*rows, strict=True))
+    what = {"mean_m": ("mean", mean), "std_m": ("standard deviation", std),
+            "rms_m": ("root mean square", rms)}
+    out = {name: ((dim, "component"), values,
+                  {"units": "m", "long_name": f"{label} of the differences (3D: of the distance)"})
+           for name, (label, values) in what.items()}
+    out["n_epochs"] = (dim, n.astype(np.int64), {"units": "1", "long_name": "epochs used"})
+    return out
+
+
+def orbit_statistics(diff: xr.Dataset, *, daily: bool = True) -> xr.Dataset:
+    """Mean, STD and RMS of R, T, N and 3D per GPS day and in total.
+
+    Parameters
+    ----------
+    diff : xarray.Dataset
+        ``diff_rtn_m`` (time, rtn) [m], e.g. from :func:`compare_orbits` (several arcs may be
+        concatenated along ``time``).
+    daily : bool
+        Include one row per GPS day (00:00–24:00 of the time labels) before ``"total"``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``period`` (str: ``"YYYY-MM-DD"`` days and ``"total"``) and ``component``
+        (R, T, N, 3D): ``mean_m``, ``std_m``, ``rms_m`` [m], ``n_epochs`` (period).
+    """
+    d = diff.diff_rtn_m.transpose("time", "rtn").values
+    days = diff.time.values.astype("datetime64[D]")
+    labels, rows = [], []
+    if daily:
+        for day in np.unique(days):
+            labels.append(str(day))
+            rows.append(component_statistics(d[days == day]))
+    labels.append("total")
+    rows.append(component_statistics(d))
+    return xr.Dataset(_stats_variables(rows, "period"),
+                      coords={"period": labels, "component": list(COMPONENTS)})
+
+
+def statistics_table(stats: xr.Dataset) -> pd.DataFrame:
+    """Flat table (one row per period or pair) of :func:`orbit_statistics` or overlap summaries.
+
+    Columns ``mean_<c>_m``, ``std_<c>_m``, ``rms_<c>_m`` for c in R, T, N, 3D and ``n_epochs``.
+    A summary with ``campaign_rms_mean_m``/``campaign_rms_std_m`` (:mod:`.overlap`) gets two
+    more rows, ``"campaign mean"`` and ``"campaign std"``, holding those values in the
+    ``rms_*`` columns (other columns NaN).
+    """
+    dim = stats.mean_m.dims[0]
+    columns = {}
+    for comp in stats.component.values:
+        for name in ("mean", "std", "rms"):
+            columns[f"{name}_{comp}_m"] = stats[f"{name}_m"].sel(component=comp).values
+    columns["n_epochs"] = pd.array(stats.n_epochs.values, dtype="Int64")
+    table = pd.DataFrame(columns, index=pd.Index([str(v) for v in stats[dim].values], name=dim))
+    if "campaign_rms_mean_m" in stats:
+        for label, name in (("campaign mean", "campaign_rms_mean_m"),
+                            ("campaign std", "campaign_rms_std_m")):
+            row = {f"rms_{c}_m": float(stats[name].sel(component=c))
+                   for c in stats.component.values}
+            table.loc[label] = pd.Series(row)
+    return table

@@ -1,0 +1,204 @@
+"""Figures of the orbit validation steps (``overlap``, ``reference_orbit``).
+
+Each function writes one PNG from the Datasets of :mod:`leopod.validation.overlap` and
+:mod:`leopod.validation.compare`; a Mapping ``{"float": ds, "fixed": ds}`` draws several
+solutions side by side (seed 002 compares ambiguity-float and -fixed orbits in every figure):
+
+- :func:`plot_overlaps`: per arc pair the RMS of the overlap differences in R, T, N and 3D as
+  grouped bars, with the campaign mean ± STD of the per-pair RMS in the legend (seed 002
+  Fig. 13, which shows the 3D panel);
+- :func:`plot_reference_differences`: time series of the differences to an external orbit in
+  R, T, N with mean and RMS in the legend and GPS day boundaries marked (seed 002 Fig. 17);
+- :func:`plot_daily_statistics`: daily RMS and mean per component as bars, with the totals in
+  the legend (seed 002 Fig. 18, seed 001 Fig. 9).
+
+Values are shown in millimetres. The PNGs carry no software or time stamp, so repeated runs
+give identical bytes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.dates as mdates
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+
+from leopod.plots.pod import _heading, _save
+
+__all__ = ["plot_daily_statistics", "plot_overlaps", "plot_reference_differences"]
+
+_M_TO_MM = 1e3
+"""Metres to millimetres (display unit of all validation figures)."""
+_COMPONENTS = ("R", "T", "N", "3D")
+_NAMES = {"R": "radial", "T": "along-track", "N": "cross-track", "3D": "3D"}
+_BAR_GROUP_WIDTH = 0.8
+"""Width of a group of bars (one bar per solution) in units of the category spacing."""
+_PANEL_HEIGHT_IN = 1.9
+"""Height of one component panel [inch]."""
+
+
+def _solutions(data: xr.Dataset | Mapping[str, xr.Dataset]) -> dict[str, xr.Dataset]:
+    """``{label: Dataset}``; a single Dataset gets the empty label."""
+    if isinstance(data, xr.Dataset):
+        return {"": data}
+    if not data:
+        raise ValueError("no solutions to plot")
+    return dict(data)
+
+
+def _label(name: str, text: str) -> str:
+    return f"{name}: {text}" if name else text
+
+
+def _bar_offsets(n: int) -> np.ndarray:
+    """Centre offsets of ``n`` bars within a group of width :data:`_BAR_GROUP_WIDTH`."""
+    width = _BAR_GROUP_WIDTH / n
+    return (np.arange(n) - (n - 1) / 2.0) * width
+
+
+def _legend_above(ax, n_entries: int) -> None:
+    """Legend in one row above the panel, so it never hides bars or curves."""
+    ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=n_entries,
+              frameon=False, borderaxespad=0.2)
+
+
+def _category_axis(ax, labels: list[str]) -> None:
+    ax.set_xticks(np.arange(len(labels)))
+    ax.set_xticklabels(labels, rotation=45 if len(labels) > 6 else 0, ha="right"
+                       if len(labels) > 6 else "center", fontsize=8)
+
+
+def plot_overlaps(summaries: xr.Dataset | Mapping[str, xr.Dataset], path,
+                  title: str = "") -> None:
+    """RMS of the orbit overlaps per arc pair in R, T, N and 3D (seed 002 Fig. 13).
+
+    Parameters
+    ----------
+    summaries : xarray.Dataset or Mapping[str, xarray.Dataset]
+        :func:`leopod.validation.overlap.overlap_summary` result(s): ``rms_m`` (pair,
+        component), ``campaign_rms_mean_m``, ``campaign_rms_std_m`` (component) [m]. Several
+        solutions (e.g. float, fixed) are drawn on the union of their pair labels.
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    sols = _solutions(summaries)
+    pairs = sorted({str(p) for ds in sols.values() for p in ds.pair.values})
+    offsets = _bar_offsets(len(sols))
+    width = _BAR_GROUP_WIDTH / len(sols)
+    fig, axes = plt.subplots(len(_COMPONENTS), 1, sharex=True,
+                             figsize=(max(6.0, 0.5 * len(pairs) + 3.0),
+                                      _PANEL_HEIGHT_IN * len(_COMPONENTS) + 1.0))
+    for ax, comp in zip(axes, _COMPONENTS, strict=True):
+        for off, (name, ds) in zip(offsets, sols.items(), strict=True):
+            rms = ds.rms_m.sel(component=comp).reindex(pair=pairs).values * _M_TO_MM
+            mean = float(ds.campaign_rms_mean_m.sel(component=comp)) * _M_TO_MM
+            std = float(ds.campaign_rms_std_m.sel(component=comp)) * _M_TO_MM
+            ax.bar(np.arange(len(pairs)) + off, np.nan_to_num(rms), width,
+                   label=_label(name, f"{mean:.1f} ± {std:.1f} mm"))
+        ax.set_ylabel(f"{_NAMES[comp]}\n{comp} RMS [mm]")
+        _legend_above(ax, len(sols))
+        ax.grid(alpha=0.3, axis="y")
+    _category_axis(axes[-1], pairs)
+    axes[-1].set_xlabel("arc pair (GPS date of the overlap centre)")
+    fig.suptitle(_heading(title, "orbit overlaps of consecutive arcs: RMS per pair "
+                          "(legend: campaign mean ± STD)"), fontsize=10)
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def _day_starts(times: np.ndarray) -> np.ndarray:
+    """GPS midnights strictly inside ``(times[0], times[-1])``."""
+    if times.size == 0:
+        return times
+    first = times.min().astype("datetime64[D]") + np.timedelta64(1, "D")
+    last = times.max().astype("datetime64[D]")
+    return np.arange(first, last + np.timedelta64(1, "D"), np.timedelta64(1, "D")) \
+        .astype("datetime64[ns]")
+
+
+def plot_reference_differences(diffs: xr.Dataset | Mapping[str, xr.Dataset], path,
+                               title: str = "") -> None:
+    """Orbit minus reference orbit in R, T, N versus time (seed 002 Fig. 17).
+
+    Parameters
+    ----------
+    diffs : xarray.Dataset or Mapping[str, xarray.Dataset]
+        :func:`leopod.validation.compare.compare_orbits` result(s) (``diff_rtn_m`` (time, rtn)
+        [m]), possibly several days concatenated along ``time``.
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    sols = _solutions(diffs)
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(10, 7))
+    all_times = np.concatenate([ds.time.values for ds in sols.values()])
+    for ax, comp in zip(axes, _COMPONENTS[:3], strict=True):
+        for name, ds in sols.items():
+            d = ds.diff_rtn_m.sel(rtn=comp).values * _M_TO_MM
+            ok = np.isfinite(d)
+            text = (f"mean {np.mean(d[ok]):.1f}, RMS {np.sqrt(np.mean(d[ok] ** 2)):.1f} mm"
+                    if ok.any() else "no data")
+            ax.plot(ds.time.values, d, lw=0.6, label=_label(name, text))
+        for day in _day_starts(all_times):
+            ax.axvline(day, color="grey", lw=0.6, ls=":")
+        ax.set_ylabel(f"{_NAMES[comp]}\n{comp} [mm]")
+        _legend_above(ax, len(sols))
+        ax.grid(alpha=0.3)
+    axes[-1].xaxis.set_major_formatter(mdates.DateFormatter("%m-%d %H:%M"))
+    axes[-1].set_xlabel("GPS time")
+    fig.suptitle(_heading(title, "orbit minus reference orbit (inertial R/T/N)"), fontsize=10)
+    fig.autofmt_xdate()
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def plot_daily_statistics(stats: xr.Dataset | Mapping[str, xr.Dataset], path,
+                          title: str = "") -> None:
+    """Daily RMS (left) and mean (right) of the reference-orbit differences per component.
+
+    Parameters
+    ----------
+    stats : xarray.Dataset or Mapping[str, xarray.Dataset]
+        :func:`leopod.validation.compare.orbit_statistics` result(s): ``rms_m``, ``mean_m``
+        (period, component) [m] with day periods and a ``"total"`` row (shown in the legend).
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    sols = _solutions(stats)
+    days = sorted({str(p) for ds in sols.values() for p in ds.period.values if p != "total"})
+    offsets = _bar_offsets(len(sols))
+    width = _BAR_GROUP_WIDTH / len(sols)
+    fig, axes = plt.subplots(len(_COMPONENTS), 2, sharex=True,
+                             figsize=(max(9.0, 0.8 * len(days) + 4.0),
+                                      _PANEL_HEIGHT_IN * len(_COMPONENTS) + 1.0))
+    for row, comp in enumerate(_COMPONENTS):
+        for col, what in enumerate(("rms", "mean")):
+            ax = axes[row, col]
+            for off, (name, ds) in zip(offsets, sols.items(), strict=True):
+                var = ds[f"{what}_m"].sel(component=comp)
+                daily = var.reindex(period=days).values * _M_TO_MM
+                total = (float(var.sel(period="total")) * _M_TO_MM
+                         if "total" in ds.period.values else np.nan)
+                ax.bar(np.arange(len(days)) + off, np.nan_to_num(daily), width,
+                       label=_label(name, f"total {total:.1f} mm"))
+            ax.axhline(0.0, color="black", lw=0.5)
+            ax.set_ylabel(f"{comp} {'RMS' if what == 'rms' else 'mean'} [mm]")
+            _legend_above(ax, len(sols))
+            ax.grid(alpha=0.3, axis="y")
+    for ax in axes[-1]:
+        _category_axis(ax, days)
+        ax.set_xlabel("GPS day")
+    fig.suptitle(_heading(title, "daily statistics of orbit minus reference orbit "
+                          "(3D: of the distance)"), fontsize=10)
+    fig.tight_layout()
+    _save(fig, path)
