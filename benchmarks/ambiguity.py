@@ -6,7 +6,10 @@ fixes counted against the simulated integers, float and fixed RMS errors (R/T/N/
 day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
 from Snakemake's benchmark files. With ``--codes`` it re-solves the arc of one day in-process
 with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W) instead, and prints the
-same figures for each (issue 6 and 7: the effect of the map on the fixing rates).
+same figures for each (issue 6 and 7: the effect of the map on the fixing rates). With
+``--wrong K`` it re-solves the fixed POD of one day with K of its constraints deliberately
+wrong by one narrow-lane cycle and reports whether the residual screening of the fixed POD
+(:mod:`leopod.ambiguity.screening`) finds the passes involved.
 
     .venv/bin/python benchmarks/ambiguity.py [--codes [--day 2019-002]]
 
@@ -126,16 +129,60 @@ def code_variants(cfg: dict, date: str) -> None:
               f"{_rms_cm(fixed.orbit, truth, date)}")
 
 
+def wrong_fix_screening(cfg: dict, date: str, k: int) -> None:
+    from leopod.ambiguity.screening import degraded_passes
+
+    days = arc_days(cfg, date)
+    res = REPO / "results"
+    obs = [xr.load_dataset(res / "ingest" / SAT / f"{d}_obs.nc") for d in days]
+    quality = [xr.load_dataset(res / "quality" / SAT / f"{d}.nc") for d in days]
+    leo = [xr.load_dataset(res / "ingest" / SAT / f"{d}_leo.nc") for d in days]
+    orbit = merge_days([read_sp3(SIM / "gnss" / f"{d}.sp3") for d in days])
+    clock = merge_days([read_rinex_clock(SIM / "gnss" / f"{d}_int.clk") for d in days])
+    maps = xr.load_dataset(res / "code_bias" / SAT / "2019-01.nc")
+    base = res / "float_pod" / SAT / date
+    start = tuple(xr.load_dataset(f"{base}_{n}.nc")
+                  for n in ("parameters", "ambiguities", "residuals"))
+    table = xr.load_dataset(res / "ambiguity" / SAT / f"{date}.nc")
+    sel = table.constrained.values == 1
+    pi, pj = table.pass_i.values[sel].astype(int), table.pass_j.values[sel].astype(int)
+    value = table.fixed_if_m.values[sel].copy()
+    rng = np.random.default_rng(7)
+    wrong = rng.choice(value.size, k, replace=False)
+    value[wrong] += rng.choice([-1.0, 1.0], k) * start[1].attrs["nl_wavelength_m"]
+    is_wrong = np.zeros(value.size, bool)
+    is_wrong[wrong] = True
+    constraints = (pi, pj, value, np.full(value.size, 1e-3), is_wrong)
+    rounds = cfg["ambiguity"].get("max_rejection_rounds", 2)
+    for r in range(rounds + 1):
+        fixed = run_arc(date, obs, quality, leo, orbit, clock, None, cfg["signals"],
+                        cfg["pod"], cfg["satellites"][SAT]["antenna_pco_body_m"],
+                        code_maps=maps, code_bias_cfg=cfg["code_bias"],
+                        ambiguity_constraints=constraints[:4], continue_from=start)
+        bad = degraded_passes(start[2], fixed.residuals)
+        print(f"{date} round {r}: {constraints[0].size} constraints, {int(constraints[4].sum())} "
+              f"wrong by one NL cycle; {bad.size} passes flagged")
+        if bad.size == 0 or r == rounds:
+            break
+        keep = ~(np.isin(constraints[0], bad) | np.isin(constraints[1], bad))
+        constraints = tuple(c[keep] for c in constraints)
+    truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
+    print(f"  fixed orbit vs truth: {_rms_cm(fixed.orbit, truth, date)}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--codes", action="store_true")
     parser.add_argument("--day", default="2019-002")
+    parser.add_argument("--wrong", type=int, default=0)
     parser.add_argument("--configfile", type=Path, default=REPO / "config" / "config.yaml")
     parser.add_argument("--directory", type=Path, default=REPO)
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
     cfg = yaml.safe_load(args.configfile.read_text())
-    if args.codes:
+    if args.wrong:
+        wrong_fix_screening(cfg, args.day, args.wrong)
+    elif args.codes:
         print(f"{args.day}, arc of {' '.join(arc_days(cfg, args.day))}:")
         code_variants(cfg, args.day)
     else:

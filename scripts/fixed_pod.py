@@ -3,6 +3,7 @@
 import numpy as np
 import xarray as xr
 
+from leopod.ambiguity.screening import degraded_passes, drop_constraints
 from leopod.estimation.arc import run_arc
 from leopod.estimation.write import ArcInputs, log_arc, write_arc
 from leopod.workflow import configure_logging
@@ -28,12 +29,29 @@ def main(inp, out, params, date, log):
     float_solution = tuple(xr.load_dataset(p) for p in (inp.float_parameters,
                                                          inp.float_ambiguities,
                                                          inp.float_residuals))
-    arc = run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex, params.signals,
-                  params.pod, params.pco_body_m, code_maps=a.code_maps,
-                  code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips,
-                  ambiguity_constraints=constraints if constraints[0].size else None,
-                  apriori_orbit=xr.load_dataset(inp.float_orbit).pos_itrf_m,
-                  continue_from=float_solution)
+
+    def solve(fixes):
+        return run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex,
+                       params.signals, params.pod, params.pco_body_m, code_maps=a.code_maps,
+                       code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips,
+                       ambiguity_constraints=fixes if fixes[0].size else None,
+                       apriori_orbit=xr.load_dataset(inp.float_orbit).pos_itrf_m,
+                       continue_from=float_solution)
+
+    arc = solve(constraints)
+    # fixes that raise the phase residuals of their passes are dropped and the arc re-solved
+    for _ in range(params.settings["max_rejection_rounds"]):
+        bad = degraded_passes(float_solution[2], arc.residuals,
+                              ratio=params.settings["max_residual_ratio"])
+        if bad.size == 0:
+            break
+        before = constraints[0].size
+        constraints = drop_constraints(constraints, bad)
+        log.warning("phase residuals of %d passes grew by more than x%.1f with the fixes: "
+                    "%d of %d constraints dropped, solving again", bad.size,
+                    params.settings["max_residual_ratio"], before - constraints[0].size, before)
+        arc = solve(constraints)
+    log.info("%d constraints in the fixed solution", constraints[0].size)
     log_arc(arc, f"fixed POD {date}")
     write_arc(arc, out, step="fixed_pod", kind="ambiguity-fixed", title=params.title,
               sp3_id=params.sp3_id,
