@@ -5,14 +5,14 @@ from leopod.simulate.settings import SimulationSettings
 from leopod.workflow import configure_logging
 
 
-def main(settings, sats, world_start, world_end, biases_path, stations_path):
+def main(settings, sats, world_start, world_end, out):
     simulate_world_truth(SimulationSettings.from_config(settings), sats, world_start, world_end,
-                         biases_path=biases_path, stations_path=stations_path)
+                         biases_path=out.biases, stations_path=out.stations,
+                         eccentricities_path=out.eccentricities)
 
 
 if __name__ == "__main__":
     configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
     sm = snakemake  # noqa: F821
     main(settings=sm.params.settings, sats=list(sm.params.sats),
-         world_start=sm.params.world_start, world_end=sm.params.world_end,
-         biases_path=sm.output.biases, stations_path=sm.output.stations)
+         world_start=sm.params.world_start, world_end=sm.params.world_end, out=sm.output)

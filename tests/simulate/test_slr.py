@@ -9,7 +9,12 @@ import xarray as xr
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
 from leopod.frames.attitude import body_to_ef, nominal_body_axes
 from leopod.io.crd import read_crd
-from leopod.io.sinex import read_sinex_stations, station_position
+from leopod.io.sinex import (
+    read_sinex_eccentricities,
+    read_sinex_stations,
+    station_eccentricity,
+    station_position,
+)
 from leopod.simulate.slr import (
     DEFAULT_STATIONS,
     SlrSettings,
@@ -17,8 +22,8 @@ from leopod.simulate.slr import (
     write_slr_files,
 )
 from leopod.simulate.world import CircularOrbit, earth_fixed
-from leopod.timescales import utc_to_gps
-from leopod.validation.slr_model import OrbitReflector, elevation_rad, slr_range
+from leopod.validation.slr import slr_residuals
+from leopod.validation.slr_model import elevation_rad
 
 T0 = np.datetime64("2021-03-01T00:00:00", "ns")
 THETA0_RAD = 1.1
@@ -153,8 +158,9 @@ def test_tof_is_sum_of_truth_parts(nps):
 
 def test_geometric_range_against_analytic_brute_force(nps):
     # Independent: analytic orbit (no interpolation), inertial-frame light time by plain
-    # fixed-point iteration. Interpolation of the 30-s truth table costs < 1 µm.
-    sta = np.array([STATIONS[s].pos_itrf_m for s in nps["station"].values])
+    # fixed-point iteration from the simulated reference point of the station (marker +
+    # eccentricity + tides). Interpolation of the 30-s truth table costs < 1 µm.
+    sta = nps["pos_station_itrf_m"].values
     ref = _brute_force_range_m(_seconds(nps["time_gps"].values), sta)
     np.testing.assert_allclose(nps["geometric_range_m"], ref, rtol=0, atol=1e-5)
 
@@ -176,9 +182,24 @@ def test_noise_and_bias_recovered(truth):
 
 
 # ----------------------------------------------------------------------------------- files
+def test_station_reference_points(nps):
+    # Definition: reference point = SINEX marker + ILRS eccentricity + tide displacement;
+    # the solid Earth tide (IERS 2010 sec. 7.1.1) stays below 0.45 m (h2 (k_Moon + k_Sun)
+    # = 0.32 m radial plus the permanent part), the pole tide below 2.5 cm.
+    marker = np.array([STATIONS[s].pos_itrf_m for s in nps["station"].values])
+    ecc = np.array([STATIONS[s].ecc_xyz_m for s in nps["station"].values])
+    disp = nps["station_displacement_itrf_m"].values
+    np.testing.assert_allclose(nps["pos_station_itrf_m"].values, marker + ecc + disp,
+                               rtol=0, atol=1e-9)
+    size = np.linalg.norm(disp, axis=1)
+    assert np.all(size < 0.45) and size.max() > 0.05
+    # Yarragadee's eccentricity in the ILRS file ecc_xyz.snx (2023-03-14), valid since 2014
+    np.testing.assert_allclose(STATIONS["7090"].ecc_xyz_m, (-1.2073, 2.5034, -1.5509))
+
+
 def test_crd_and_sinex_round_trip(tmp_path, truth, nps):
-    crd, snx = tmp_path / "hy2b.npt", tmp_path / "stations.snx"
-    write_slr_files(nps, DEFAULT_STATIONS, crd, snx, "2021-03-01")
+    crd, snx, ecc = tmp_path / "hy2b.npt", tmp_path / "stations.snx", tmp_path / "ecc.snx"
+    write_slr_files(nps, DEFAULT_STATIONS, crd, snx, "2021-03-01", ecc_path=ecc)
     back = read_crd(crd)
     # CRD 2 writes tof to 1 ps and epochs to 1 ns (leopod.io.crd.write_crd)
     assert back.sizes["point"] == nps.sizes["point"]
@@ -193,19 +214,17 @@ def test_crd_and_sinex_round_trip(tmp_path, truth, nps):
     assert set(back["station_name"].values) <= {s.code for s in DEFAULT_STATIONS}
 
     sites = read_sinex_stations(snx)
+    eccs = read_sinex_eccentricities(ecc)
     for s in DEFAULT_STATIONS:
         np.testing.assert_allclose(station_position(sites, s.pad_id, "2021-03-01T12:00"),
                                    s.pos_itrf_m, rtol=0, atol=1e-6)
+        # eccentricities written to 0.1 mm
+        value, system = station_eccentricity(eccs, s.pad_id, "2021-03-01T12:00")
+        assert system == "XYZ"
+        np.testing.assert_allclose(value, s.ecc_xyz_m, rtol=0, atol=0.5e-4)
 
     # closed loop: the files alone (+ the true orbit) reproduce the observations up to the
     # simulated noise, to the 1-ps resolution of the file (0.15 mm one way)
-    refl = OrbitReflector(truth, OFFSET_BODY_M)
-    sta = np.stack([station_position(sites, s, "2021-03-01") for s in back["station"].values])
-    model = slr_range(refl.seconds(utc_to_gps(back["time"].values)), sta, refl,
-                      pressure_hpa=back["pressure_hpa"].values,
-                      temperature_k=back["temperature_k"].values,
-                      humidity_pct=back["humidity_pct"].values,
-                      wavelength_um=back["wavelength_nm"].values * 1e-3)
-    residual = 0.5 * C_LIGHT_M_S * back["tof_s"].values - model.range_m
-    np.testing.assert_allclose(residual, nps["noise_m"], rtol=0, atol=1e-4)
-
+    res = slr_residuals(truth, back, sites, eccs, retro_offset_body_m=OFFSET_BODY_M)
+    assert np.all(res["flag"].values == 0)
+    np.testing.assert_allclose(res["residual_m"], nps["noise_m"], rtol=0, atol=1e-4)

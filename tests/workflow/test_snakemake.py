@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 import yaml
@@ -143,6 +144,22 @@ def test_one_simulated_day_end_to_end(tmp_path):
     assert wrong["nl_wrong"] <= 0.005 * wrong["nl_fixed"]
     fixed = xr.load_dataset(tmp_path / "results/fixed_pod/hy2b-sim/2019-001_orbit.nc")
     assert rms_rtn(difference_rtn(fixed, truth))["3D"] < 0.7 * rms["3D"]
+    # validation (issue 8): the reference-orbit rule on the truth reproduces the direct
+    # comparison; SLR residuals: simulated noise 5 mm (config simulate.slr.noise_m) plus the
+    # orbit error on the line of sight; the summary table carries both; the report builds.
+    table = pd.read_csv(tmp_path / "results/summary/hy2b-sim.csv", index_col=[0, 1])
+    for solution, orb in (("float_pod", orbit), ("fixed_pod", fixed)):
+        direct = rms_rtn(difference_rtn(orb.sel(time=slice("2019-01-01", "2019-01-01T23:59:59")),
+                                        truth))["3D"]
+        row = table.loc[("2019-001", solution)]
+        assert abs(row.reference_3d_rms_cm - 100 * direct) < 0.01
+        assert row.slr_n > 100 and abs(row.slr_mean_cm) < 0.2
+        assert 0.45 < row.slr_std_cm < 0.5 + 100 * direct
+    assert table.loc[("2019-001", "fixed_pod")].slr_std_cm < \
+        table.loc[("2019-001", "float_pod")].slr_std_cm
+    _run(["--directory", str(tmp_path), "--configfile", str(cfg), "--report",
+          str(tmp_path / "results/report.html")], check=True)
+    assert (tmp_path / "results/report.html").stat().st_size > 1e6
 
 
 @pytest.mark.slow

@@ -23,6 +23,7 @@ wildcard_constraints:
     sat="|".join(SATS),
     date=r"\d{4}-\d{3}",
     period=r"\d{4}-\d{2}|campaign",
+    solution="float_pod|fixed_pod",
 
 
 def sat_config(wildcards):
@@ -68,6 +69,126 @@ def simulation_product_files(wildcards):
     return [*files, products["osb"], *([products["dcb_p1c1"]] if products.get("dcb_p1c1") else [])]
 
 
+def solutions():
+    """POD solutions of the campaign: float, and fixed when ambiguities are resolved."""
+    if not config["products"].get("gnss_clock"):
+        return []
+    return ["float_pod"] + (["fixed_pod"] if config["ambiguity"]["enabled"] else [])
+
+
+def overlap_inputs(wildcards):
+    """The arcs of a day and of the next campaign day."""
+    later = DAYS[DAYS.index(wildcards.date) + 1]
+    base = f"results/{wildcards.solution}/{wildcards.sat}"
+    return {"a": f"{base}/{wildcards.date}_orbit.nc", "b": f"{base}/{later}_orbit.nc"}
+
+
+def reference_template(sat):
+    """Path template of the satellite's reference orbit (simulated: the truth), or None."""
+    block = config["satellites"][sat]
+    if block.get("reference_orbit"):
+        return block["reference_orbit"]
+    if block.get("source") == "simulate":
+        return "resources/simulate/{sat}/{date}_truth.sp3"
+    return None
+
+
+def reference_files(wildcards):
+    """Reference-orbit file(s) of a satellite-day."""
+    return [expand_template(reference_template(wildcards.sat), wildcards.date, wildcards.sat)]
+
+
+def slr_template(sat):
+    """Path template of the satellite's CRD normal points (simulated: written beside the
+    observations), or None."""
+    block = config["satellites"][sat]
+    if block.get("slr_normal_points"):
+        return block["slr_normal_points"]
+    if block.get("source") == "simulate":
+        return "resources/simulate/{sat}/{date}.crd"
+    return None
+
+
+def slr_inputs(wildcards):
+    """Orbit, normal points, station coordinates and eccentricities of an SLR validation."""
+    sat = wildcards.sat
+    simulated = config["satellites"][sat].get("source") == "simulate"
+    files = {
+        "orbit": f"results/{wildcards.solution}/{sat}/{wildcards.date}_orbit.nc",
+        "normal_points": expand_template(slr_template(sat), wildcards.date, sat),
+    }
+    products = config["products"]
+    stations = products.get("slr_stations") or (
+        "resources/simulate/slr_stations.snx" if simulated else None
+    )
+    if stations is None:
+        raise ValueError("SLR validation needs products.slr_stations (SINEX)")
+    files["stations"] = expand_template(stations, wildcards.date, sat)
+    ecc = products.get("slr_eccentricities") or (
+        "resources/simulate/slr_eccentricities.snx" if simulated else None
+    )
+    if ecc:
+        files["eccentricities"] = expand_template(ecc, wildcards.date, sat)
+    if config["validation"]["slr"].get("ocean_loading_blq"):
+        files["ocean_loading"] = config["validation"]["slr"]["ocean_loading_blq"]
+    return files
+
+
+def retro_offset(wildcards):
+    """Retro-reflector offset from the centre of mass in the body frame [m]."""
+    block = sat_config(wildcards)
+    if block.get("retro_offset_body_m") is not None:
+        return block["retro_offset_body_m"]
+    from leopod.simulate.settings import SimulationSettings
+
+    return list(SimulationSettings.from_config(config.get("simulate")).slr.retro_offset_body_m)
+
+
+def per_day_validation(pattern):
+    """``{solution: [files of every day]}`` of a per-day validation product of a satellite."""
+
+    def inputs(wildcards):
+        days = DAYS[:-1] if "overlap" in pattern else DAYS
+        return {
+            s: expand(pattern, sat=wildcards.sat, solution=s, date=days) for s in solutions()
+        }
+
+    return inputs
+
+
+def summary_files(sat):
+    """``{solution: {product: {date: file}}}`` of the campaign summary of a satellite."""
+    files = {}
+    for solution in solutions():
+        f = {"residuals": {d: f"results/{solution}/{sat}/{d}_residuals.nc" for d in DAYS}}
+        if config["ambiguity"]["enabled"]:
+            f["ambiguity"] = {d: f"results/ambiguity/{sat}/{d}.nc" for d in DAYS}
+        f["overlap"] = {d: f"results/overlap/{sat}/{solution}/{d}.nc" for d in DAYS[:-1]}
+        if reference_template(sat):
+            f["reference"] = {d: f"results/reference_orbit/{sat}/{solution}/{d}.nc" for d in DAYS}
+        if slr_template(sat):
+            f["slr"] = {d: f"results/slr/{sat}/{solution}/{d}.nc" for d in DAYS}
+        files[solution] = f
+    return files
+
+
+def summary_inputs(wildcards):
+    """Every file the campaign summary of a satellite reads."""
+    return sorted(
+        {
+            path
+            for per_solution in summary_files(wildcards.sat).values()
+            for per_day in per_solution.values()
+            for path in per_day.values()
+        }
+    )
+
+
+def sat_name(wildcards):
+    """Full name of the satellite, for titles."""
+    return sat_config(wildcards).get("name", wildcards.sat)
+
+
 def all_targets():
     """Final products of every satellite-day and code-bias period of the campaign."""
     per_day = ["results/quality/{sat}/{date}.nc", "results/quality/{sat}/{date}_summary.html"]
@@ -79,6 +200,17 @@ def all_targets():
     targets += expand("results/code_bias/{sat}/{period}.nc", sat=SATS, period=PERIODS)
     if len(PERIODS) > 1:
         targets += expand("results/code_bias/{sat}/stack.nc", sat=SATS)
+    if solutions():
+        if len(DAYS) > 1:
+            targets += expand("results/overlap/{sat}/summary.nc", sat=SATS)
+        targets += expand(
+            "results/reference_orbit/{sat}/summary.nc",
+            sat=[s for s in SATS if reference_template(s)],
+        )
+        targets += expand(
+            "results/slr/{sat}/summary.nc", sat=[s for s in SATS if slr_template(s)]
+        )
+        targets += expand("results/summary/{sat}.nc", sat=SATS)
     return targets
 
 

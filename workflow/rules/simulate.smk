@@ -66,6 +66,7 @@ rule simulate_world:
     output:
         biases="resources/simulate/biases_truth.nc",
         stations="resources/simulate/slr_stations.snx",
+        eccentricities="resources/simulate/slr_eccentricities.snx",
     log:
         "logs/simulate_world/simulate_world.log",
     threads: 1

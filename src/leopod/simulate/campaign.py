@@ -59,7 +59,12 @@ from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.observations import GnssWorld, simulate_observations
 from leopod.simulate.product_world import osb_biases, product_world
 from leopod.simulate.settings import DEFAULT_PCO_BODY_M, SimulationSettings
-from leopod.simulate.slr import simulate_normal_points, write_normal_points, write_station_sinex
+from leopod.simulate.slr import (
+    simulate_normal_points,
+    write_normal_points,
+    write_station_eccentricities,
+    write_station_sinex,
+)
 from leopod.simulate.truth_orbit import simulate_truth_orbit, write_truth_files
 from leopod.simulate.world import (
     CircularOrbit,
@@ -227,8 +232,10 @@ def _campaign_biases(settings: SimulationSettings, svs: Sequence[str], sat: str 
 
 
 def simulate_world_truth(settings: SimulationSettings, sats: Sequence[str], world_start: str,
-                         world_end: str, *, biases_path, stations_path) -> xr.Dataset:
-    """Write the campaign's true biases (netCDF) and the SLR station coordinates (SINEX).
+                         world_end: str, *, biases_path, stations_path,
+                         eccentricities_path=None) -> xr.Dataset:
+    """Write the campaign's true biases (netCDF), the SLR station coordinates and their
+    eccentricities (SINEX; eccentricities skipped if ``eccentricities_path`` is None).
 
     Returns
     -------
@@ -248,6 +255,8 @@ def simulate_world_truth(settings: SimulationSettings, sats: Sequence[str], worl
     write_netcdf(ds, biases_path, step="simulate_world", time_system="GPS",
                  title="simulated code and phase biases (truth)")
     write_station_sinex(settings.slr.station_list, stations_path, _epoch(world_start))
+    if eccentricities_path is not None:
+        write_station_eccentricities(settings.slr.station_list, eccentricities_path)
     log.info("biases of %d GNSS satellites and %d receivers; %d SLR stations", len(svs),
              len(sats), len(settings.slr.station_list))
     return ds

@@ -15,9 +15,12 @@ the CRD file reproduces the modelled delay exactly.
 The written two-way time of flight is that of :func:`leopod.validation.slr_model.slr_range`
 (light time with Earth rotation, Mendes–Pavlis troposphere with FCULa at the written
 meteorological values, Shapiro delay) plus ``2 (bias + noise) / c``, with the station range
-bias and white noise defined on the one-way range. The truth of each point is kept beside
-it. Not simulated: station displacements (tides, loading), eccentricities, retro-reflector
-signature, timing biases, outliers.
+bias and white noise defined on the one-way range. The ranges start at the station's
+reference point: the SINEX marker position plus the ILRS eccentricity
+(:attr:`SlrStation.ecc_xyz_m`) plus the solid Earth tide and pole tide displacements at the
+transmit epoch (:func:`leopod.validation.station_displacement.station_displacements`,
+IERS Conventions 2010, sec. 7.1.1 and 7.1.4). The truth of each point is kept beside it.
+Not simulated: ocean loading, retro-reflector signature, timing biases, outliers.
 
 Epochs. The truth orbit is labelled in GPS time; normal points are transmit epochs in UTC
 (CRD), converted with :func:`leopod.timescales.utc_to_gps`.
@@ -38,11 +41,14 @@ import xarray as xr
 from leopod.constants import C_LIGHT_M_S, WGS84_A_M, WGS84_INV_F
 from leopod.io.crd import write_crd
 from leopod.io.sinex import write_sinex_stations
-from leopod.timescales import gps_to_utc, utc_to_gps
+from leopod.io.sinex_ecc import write_sinex_eccentricities
+from leopod.timescales import EarthOrientation, gps_to_utc, utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, elevation_rad, slr_range
+from leopod.validation.station_displacement import station_displacements
 
 __all__ = ["DEFAULT_STATIONS", "SlrSettings", "SlrStation", "simulate_normal_points",
-           "write_normal_points", "write_slr_files", "write_station_sinex"]
+           "write_normal_points", "write_slr_files", "write_station_eccentricities",
+           "write_station_sinex"]
 
 logger = logging.getLogger(__name__)
 
@@ -75,9 +81,12 @@ class SlrStation:
     domes : str
         DOMES number.
     pos_itrf_m : tuple of float
-        Earth-fixed position [m] (SLRF2020 at 2020.0, rounded to 1 m; fixed in this world).
+        Earth-fixed marker position [m] (SLRF2020 at 2020.0, rounded to 1 m; fixed in this
+        world).
     clear_sky_probability : float
         Probability that a visible pass is tracked (weather and schedule), rough values.
+    ecc_xyz_m : tuple of float
+        Eccentricity from the marker to the system reference point, Earth-fixed XYZ [m].
     """
 
     pad_id: str
@@ -86,34 +95,46 @@ class SlrStation:
     domes: str
     pos_itrf_m: tuple[float, float, float]
     clear_sky_probability: float
+    ecc_xyz_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    @property
+    def reference_point_m(self) -> np.ndarray:
+        """Marker plus eccentricity [m], shape (3,)."""
+        return np.add(self.pos_itrf_m, self.ecc_xyz_m)
 
 
 #: 16 ILRS stations: coordinates from SLRF2020_POS+VEL_2023.10.02.snx (ILRS) propagated to
-#: 2020-01-01 and rounded to 1 m (7080 McDonald from its last SLRF2020 solution, ended 2015).
+#: 2020-01-01 and rounded to 1 m (7080 McDonald from its last SLRF2020 solution, ended 2015);
+#: eccentricities (XYZ) valid on 2020-01-01 in the ILRS file ecc_xyz.snx of 2023-03-14 (zero
+#: for the stations whose marker is the reference point).
 #: The clear-sky (tracking) probabilities are rough guesses, higher for the productive LEO
 #: trackers of seed 000 Table IV (Yarragadee, Changchun, Greenbelt, Graz). They give ~600
 #: normal points a day (~1400 if every visible bin were tracked); the real HY-2B tracking is
 #: sparser (seed 000 Table IV: ~10 600 NPs from 10 stations over several months, i.e. tens
 #: per day): ``SlrSettings(clear_sky_probability=0.05)`` comes closer to it.
 DEFAULT_STATIONS: tuple[SlrStation, ...] = (
-    SlrStation("7090", "YARL", "Yarragadee", "50107M001", (-2389008.0, 5043330.0, -3078524.0), 0.7),
+    SlrStation("7090", "YARL", "Yarragadee", "50107M001",
+               (-2389008.0, 5043330.0, -3078524.0), 0.7, (-1.2073, 2.5034, -1.5509)),
     SlrStation("7839", "GRZL", "Graz", "11001S002", (4194426.0, 1162694.0, 4647247.0), 0.5),
     SlrStation("7840", "HERL", "Herstmonceux", "13212S001", (4033463.0, 23663.0, 4924305.0), 0.4),
     SlrStation("7941", "MATM", "Matera", "12734S008", (4641978.0, 1393068.0, 4133250.0), 0.5),
     SlrStation("7110", "MONL", "Monument Peak", "40497M001",
-               (-2386279.0, -4802354.0, 3444882.0), 0.5),
-    SlrStation("7105", "GODL", "Greenbelt", "40451M105", (1130719.0, -4831351.0, 3994107.0), 0.5),
+               (-2386279.0, -4802354.0, 3444882.0), 0.5, (-1.2109, -2.4036, 1.7117)),
+    SlrStation("7105", "GODL", "Greenbelt", "40451M105",
+               (1130719.0, -4831351.0, 3994107.0), 0.5, (0.525, -2.3865, 1.9689)),
     SlrStation("7501", "HARL", "Hartebeesthoek", "30302M003",
-               (5085401.0, 2668331.0, -2768688.0), 0.5),
+               (5085401.0, 2668331.0, -2768688.0), 0.5, (2.5702, 1.3406, -1.4102)),
     SlrStation("7825", "STL3", "Mount Stromlo", "50119S003",
                (-4467065.0, 2683035.0, -3667007.0), 0.4),
     SlrStation("7237", "CHAL", "Changchun", "21611S001", (-2674387.0, 3757189.0, 4391508.0), 0.6),
     SlrStation("7810", "ZIML", "Zimmerwald", "14001S007", (4331283.0, 567550.0, 4633141.0), 0.4),
     SlrStation("8834", "WETL", "Wettzell", "14201S018", (4075576.0, 931786.0, 4801584.0), 0.4),
     SlrStation("7821", "SHA2", "Shanghai", "21605S010", (-2830745.0, 4676580.0, 3275073.0), 0.3),
-    SlrStation("7080", "MDOL", "McDonald", "40442M006", (-1330021.0, -5328402.0, 3236481.0), 0.4),
+    SlrStation("7080", "MDOL", "McDonald", "40442M006",
+               (-1330021.0, -5328402.0, 3236481.0), 0.4, (-0.373, -1.471, 0.897)),
     SlrStation("7249", "BEIL", "Beijing", "21601S004", (-2148761.0, 4426759.0, 4044510.0), 0.3),
-    SlrStation("7119", "HA4T", "Haleakala", "40445M004", (-5466066.0, -2404337.0, 2242109.0), 0.4),
+    SlrStation("7119", "HA4T", "Haleakala", "40445M004",
+               (-5466066.0, -2404337.0, 2242109.0), 0.4, (-2.25, -0.9932, 0.9328)),
     SlrStation("7841", "POT3", "Potsdam", "14106S011", (3800432.0, 881692.0, 5029030.0), 0.3),
 )
 
@@ -152,6 +173,8 @@ class SlrSettings:
         ILRS satellite id YYXXXPP (HY-2B: COSPAR 2018-081A -> 1808101).
     norad_id : int
         NORAD catalogue number (-1: written as "na").
+    station_displacements : bool
+        Displace the stations by the solid Earth tide and the pole tide.
     """
 
     elevation_cut_off_deg: float = 10.0
@@ -169,6 +192,7 @@ class SlrSettings:
     satellite: str = "haiyang2b"
     ilrs_id: str = "1808101"
     norad_id: int = -1
+    station_displacements: bool = True
 
 
 # --------------------------------------------------------------------------- candidates
@@ -219,7 +243,8 @@ def _pass_meteo(height_m: np.ndarray, settings: SlrSettings, rng: np.random.Gene
 def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
                            stations: Sequence[SlrStation] = DEFAULT_STATIONS,
                            settings: SlrSettings | None = None,
-                           rng: np.random.Generator) -> xr.Dataset:
+                           rng: np.random.Generator,
+                           eop: EarthOrientation | None = None) -> xr.Dataset:
     """Simulate the SLR normal points of a LEO over the span of its truth orbit.
 
     Parameters
@@ -236,6 +261,8 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         Default ``SlrSettings()``.
     rng : numpy.random.Generator
         Source of all random draws (the result is a deterministic function of its state).
+    eop : EarthOrientation, optional
+        EOP of the station displacements (default: installed IERS data).
 
     Returns
     -------
@@ -246,8 +273,10 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         ``wavelength_nm``, ``np_window_s``, ``epoch_event``, ``pressure_hpa``,
         ``temperature_k``, ``humidity_pct``) plus the truth: ``time_gps``, ``elevation_deg``,
         ``geometric_range_m``, ``tropo_delay_m``, ``relativity_delay_m``, ``range_bias_m``,
-        ``noise_m`` (one-way [m]; ``c·tof/2`` is their sum), ``light_time_up_s`` and
-        ``pos_reflector_itrf_m`` (point, xyz) at the bounce epoch.
+        ``noise_m`` (one-way [m]; ``c·tof/2`` is their sum), ``light_time_up_s``,
+        ``pos_reflector_itrf_m`` (point, xyz) at the bounce epoch, ``pos_station_itrf_m``
+        (point, xyz), the ranging reference point (marker + eccentricity + displacement) and
+        ``station_displacement_itrf_m`` (point, xyz), its tide displacement.
     """
     settings = SlrSettings() if settings is None else settings
     reflector = OrbitReflector(truth, retro_offset_body_m)
@@ -268,13 +297,23 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
     flat, pid, noise = flat[keep], pid[keep], noise[keep]
     sta = pass_sta[pid]
 
-    model = slr_range(cand_s.ravel()[flat], sta_pos[sta], reflector,
+    t_utc = cand_utc.ravel()[flat]
+    ref_pos = np.array([s.reference_point_m for s in stations])[sta]
+    disp = station_displacements(utc_to_gps(t_utc), ref_pos, eop=eop,
+                                 solid_tide=settings.station_displacements,
+                                 pole_tide=settings.station_displacements).total_m
+    model = slr_range(cand_s.ravel()[flat], ref_pos + disp, reflector,
                       pressure_hpa=met[0][pid], temperature_k=met[1][pid],
                       humidity_pct=met[2][pid], wavelength_um=settings.wavelength_nm * 1e-3)
     bias = np.array([settings.range_bias_m.get(s.pad_id, 0.0) for s in stations])[sta]
     tof = 2.0 * (model.range_m + bias + noise) / C_LIGHT_M_S
-    ds = _dataset(cand_utc.ravel()[flat], model, tof, bias, noise, pid, sta, met, stations,
-                  settings)
+    ds = _dataset(t_utc, model, tof, bias, noise, pid, sta, met, stations, settings)
+    ds["pos_station_itrf_m"] = (("point", "xyz"), ref_pos + disp,
+                                {"units": "m", "long_name": "ranging reference point incl. "
+                                 "tide displacement (truth)"})
+    ds["station_displacement_itrf_m"] = (("point", "xyz"), disp,
+                                         {"units": "m", "long_name": "solid Earth and pole "
+                                          "tide displacement of the station (truth)"})
     ds = _final_selection(ds, settings.elevation_cut_off_deg)
     _log_counts(ds, stations, len(passes), int(tracked.sum()))
     return ds
@@ -382,22 +421,26 @@ def _log_counts(ds: xr.Dataset, stations: Sequence[SlrStation], n_pass: int, n_t
 
 # --------------------------------------------------------------------------------- files
 def write_slr_files(nps: xr.Dataset, stations: Sequence[SlrStation], crd_path: str | Path,
-                    sinex_path: str | Path, ref_epoch) -> None:
-    """Write normal points as CRD 2 and the station coordinates as SINEX.
+                    sinex_path: str | Path, ref_epoch, ecc_path: str | Path | None = None) -> None:
+    """Write normal points as CRD 2, the station coordinates and eccentricities as SINEX.
 
     Parameters
     ----------
     nps : xarray.Dataset
         From :func:`simulate_normal_points` (only the CRD fields are written).
     stations : sequence of SlrStation
-        Stations to list in the SINEX file (positions fixed, no velocity).
+        Stations to list in the SINEX files (marker positions fixed, no velocity).
     crd_path, sinex_path : str or Path
         Output files.
     ref_epoch : datetime64 or str
         Reference epoch of the SINEX positions (UTC).
+    ecc_path : str or Path, optional
+        Eccentricity SINEX (:func:`write_station_eccentricities`); not written if None.
     """
     write_normal_points(nps, crd_path, ref_epoch)
     write_station_sinex(stations, sinex_path, ref_epoch)
+    if ecc_path is not None:
+        write_station_eccentricities(stations, ecc_path)
 
 
 def write_normal_points(nps: xr.Dataset, crd_path: str | Path, ref_epoch) -> None:
@@ -415,6 +458,21 @@ def write_station_sinex(stations: Sequence[SlrStation], sinex_path: str | Path,
                         ref_epoch) -> None:
     """Write the station coordinates (fixed, no velocity) at ``ref_epoch`` (UTC) as SINEX."""
     write_sinex_stations(_stations_dataset(stations, ref_epoch), sinex_path, technique="L")
+
+
+def write_station_eccentricities(stations: Sequence[SlrStation],
+                                 ecc_path: str | Path) -> None:
+    """Write the stations' eccentricities (XYZ, valid for all epochs) as a SINEX file.
+
+    Read back with :func:`leopod.io.sinex.read_sinex_eccentricities`; together with the
+    marker positions of :func:`write_station_sinex` they give the ranging reference points.
+    """
+    ds = xr.Dataset(
+        {"site": ("record", np.array([s.pad_id for s in stations], dtype=str)),
+         "ref_system": ("record", np.full(len(stations), "XYZ")),
+         "ecc_m": (("record", "component"), np.array([s.ecc_xyz_m for s in stations],
+                                                     dtype=float).reshape(-1, 3))})
+    write_sinex_eccentricities(ds, ecc_path)
 
 
 def _stations_dataset(stations: Sequence[SlrStation], ref_epoch) -> xr.Dataset:

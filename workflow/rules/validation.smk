@@ -1,0 +1,229 @@
+# Validation (issue 8): overlaps of consecutive arcs, orbits against a reference orbit (the
+# simulated truth or an external orbit), laser ranging residuals, and the campaign summary.
+# {solution} is float_pod or fixed_pod.
+
+
+# Two consecutive arcs over their common span (30-h arcs: 6 h), RTN and 3D.
+rule overlap:
+    params:
+        trim_s=config["validation"]["overlap_trim_s"],
+        title=lambda w: f"{sat_name(w)} {w.solution} {w.date}",
+    input:
+        unpack(overlap_inputs),
+        code=library_files("validation", "netcdf.py"),
+    output:
+        nc="results/overlap/{sat}/{solution}/{date}.nc",
+    log:
+        "logs/overlap/{sat}/{solution}/{date}.log",
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/overlap.py"
+
+
+# Campaign overlap statistics per arc pair and mean +- STD, float and fixed (seed 002 Fig. 13).
+rule overlap_summary:
+    params:
+        solutions=solutions(),
+        title=sat_name,
+    input:
+        unpack(per_day_validation("results/overlap/{sat}/{solution}/{date}.nc")),
+        code=library_files("validation", "plots/validation.py", "netcdf.py"),
+    output:
+        nc="results/overlap/{sat}/summary.nc",
+        csv=report(
+            "results/overlap/{sat}/summary.csv",
+            caption="../report/overlap_table.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "overlap table"},
+        ),
+        figure=report(
+            "results/overlap/{sat}/overlaps.png",
+            caption="../report/overlap_figure.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "overlaps"},
+        ),
+    log:
+        "logs/overlap_summary/{sat}.log",
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/overlap_summary.py"
+
+
+# A POD arc minus the reference orbit over its day (simulated campaigns: the truth).
+rule reference_orbit:
+    params:
+        reference_id=lambda w: sat_config(w).get("reference_id"),
+        time_system=lambda w: sat_config(w).get("reference_time_system"),
+        solution=lambda w: w.solution,
+        title=lambda w: f"{sat_name(w)} {w.date}",
+    input:
+        orbit="results/{solution}/{sat}/{date}_orbit.nc",
+        reference=reference_files,
+        code=library_files("validation", "io", "netcdf.py"),
+    output:
+        nc="results/reference_orbit/{sat}/{solution}/{date}.nc",
+    log:
+        "logs/reference_orbit/{sat}/{solution}/{date}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/reference_orbit.py"
+
+
+# Daily and campaign statistics of the reference-orbit differences (seed 001 Table 4).
+rule reference_summary:
+    params:
+        solutions=solutions(),
+        title=sat_name,
+    input:
+        unpack(per_day_validation("results/reference_orbit/{sat}/{solution}/{date}.nc")),
+        code=library_files("validation", "plots/validation.py", "netcdf.py"),
+    output:
+        nc="results/reference_orbit/{sat}/summary.nc",
+        csv=report(
+            "results/reference_orbit/{sat}/summary.csv",
+            caption="../report/reference_table.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "reference-orbit table"},
+        ),
+        differences=report(
+            "results/reference_orbit/{sat}/differences.png",
+            caption="../report/reference_differences.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "orbit minus reference"},
+        ),
+        daily=report(
+            "results/reference_orbit/{sat}/daily.png",
+            caption="../report/reference_daily.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "daily RMS vs reference"},
+        ),
+    log:
+        "logs/reference_summary/{sat}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/reference_summary.py"
+
+
+# Laser ranging residuals of one arc's day (station motion, eccentricities, light time,
+# troposphere, relativity; screening).
+rule slr:
+    params:
+        settings=config["validation"]["slr"],
+        retro_offset_body_m=retro_offset,
+        solution=lambda w: w.solution,
+        title=lambda w: f"{sat_name(w)} {w.date}",
+    input:
+        unpack(slr_inputs),
+        code=library_files("validation", "io", "frames", "orbit", "dynamics", "netcdf.py"),
+    output:
+        nc="results/slr/{sat}/{solution}/{date}.nc",
+    log:
+        "logs/slr/{sat}/{solution}/{date}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/slr.py"
+
+
+# SLR statistics per station, per elevation bin and projected on R/T/N, float and fixed.
+rule slr_summary:
+    params:
+        settings=config["validation"]["slr"],
+        solutions=solutions(),
+        title=sat_name,
+    input:
+        unpack(per_day_validation("results/slr/{sat}/{solution}/{date}.nc")),
+        code=library_files("validation", "plots/slr.py", "netcdf.py"),
+    output:
+        nc="results/slr/{sat}/summary.nc",
+        stations_csv=report(
+            "results/slr/{sat}/stations.csv",
+            caption="../report/slr_stations_table.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "SLR per station (table)"},
+        ),
+        elevation_csv="results/slr/{sat}/elevation.csv",
+        stations_png=report(
+            "results/slr/{sat}/stations.png",
+            caption="../report/slr_stations.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "SLR per station"},
+        ),
+        elevation_png=report(
+            "results/slr/{sat}/elevation.png",
+            caption="../report/slr_elevation.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "SLR vs elevation"},
+        ),
+        time_png=report(
+            "results/slr/{sat}/residuals.png",
+            caption="../report/slr_time.rst",
+            category="Validation",
+            labels={"satellite": "{sat}", "figure": "SLR residuals"},
+        ),
+    log:
+        "logs/slr_summary/{sat}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/slr_summary.py"
+
+
+# Campaign summary: per day and solution the residual RMS, fixing rates, overlap, reference
+# orbit and SLR statistics (the tables of the seeds), as netCDF, CSV and an HTML table.
+rule campaign_summary:
+    params:
+        solutions=solutions(),
+        days=DAYS,
+        files=lambda w: summary_files(w.sat),
+        title=sat_name,
+    input:
+        summary_inputs,
+        code=library_files("validation/summary.py", "netcdf.py"),
+    output:
+        nc="results/summary/{sat}.nc",
+        csv="results/summary/{sat}.csv",
+        html=report(
+            "results/summary/{sat}.html",
+            caption="../report/campaign_summary.rst",
+            category="Summary",
+            labels={"satellite": "{sat}", "figure": "campaign summary"},
+        ),
+    log:
+        "logs/campaign_summary/{sat}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    conda:
+        "../../envs/leopod.yaml"
+    script:
+        "../../scripts/campaign_summary.py"
