@@ -94,9 +94,8 @@ def campaign(cfg: dict, workdir: Path) -> None:
         print("  wall time: " + ", ".join(f"{k} {v:.1f} s" for k, v in times.items()))
 
 
-def code_variants(cfg: dict, date: str) -> None:
-    truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
-    days = arc_days(cfg, date)
+def _arc_inputs(days: list[str]):
+    """Ingest/quality files, GNSS products and the code-bias map of an arc's days."""
     res = REPO / "results"
     obs = [xr.load_dataset(res / "ingest" / SAT / f"{d}_obs.nc") for d in days]
     quality = [xr.load_dataset(res / "quality" / SAT / f"{d}.nc") for d in days]
@@ -104,6 +103,13 @@ def code_variants(cfg: dict, date: str) -> None:
     orbit = merge_days([read_sp3(SIM / "gnss" / f"{d}.sp3") for d in days])
     clock = merge_days([read_rinex_clock(SIM / "gnss" / f"{d}_int.clk") for d in days])
     maps = xr.load_dataset(res / "code_bias" / SAT / "2019-01.nc")
+    return obs, quality, leo, orbit, clock, maps
+
+
+def code_variants(cfg: dict, date: str) -> None:
+    truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
+    days = arc_days(cfg, date)
+    obs, quality, leo, orbit, clock, maps = _arc_inputs(days)
     truth_days = [xr.load_dataset(SIM / SAT / f"{d}_truth.nc") for d in days]
     pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
     for label, codes, apply in (("P1 + map", ["C1W", "C2W"], ["C1W"]),
@@ -134,12 +140,7 @@ def wrong_fix_screening(cfg: dict, date: str, k: int) -> None:
 
     days = arc_days(cfg, date)
     res = REPO / "results"
-    obs = [xr.load_dataset(res / "ingest" / SAT / f"{d}_obs.nc") for d in days]
-    quality = [xr.load_dataset(res / "quality" / SAT / f"{d}.nc") for d in days]
-    leo = [xr.load_dataset(res / "ingest" / SAT / f"{d}_leo.nc") for d in days]
-    orbit = merge_days([read_sp3(SIM / "gnss" / f"{d}.sp3") for d in days])
-    clock = merge_days([read_rinex_clock(SIM / "gnss" / f"{d}_int.clk") for d in days])
-    maps = xr.load_dataset(res / "code_bias" / SAT / "2019-01.nc")
+    obs, quality, leo, orbit, clock, maps = _arc_inputs(days)
     base = res / "float_pod" / SAT / date
     start = tuple(xr.load_dataset(f"{base}_{n}.nc")
                   for n in ("parameters", "ambiguities", "residuals"))
