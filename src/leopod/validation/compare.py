@@ -35,7 +35,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from leopod.constants import GPST_MINUS_TAI_S, TT_MINUS_TAI_S
+from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
 from leopod.dynamics.empirical import rtn_matrix
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.orbit.interpolate import interpolate_table
@@ -87,8 +87,11 @@ def difference_rtn(orbit: xr.Dataset, reference: xr.Dataset, *, pos: str = "pos_
                    vel: str = "vel_itrf_m_s", start=None, end=None) -> xr.Dataset:
     """Position differences ``orbit − reference`` in the reference's RTN axes.
 
-    The axes are built from ``pos``/``vel`` as given (for ITRF variables: Earth-fixed
-    velocity); :func:`compare_orbits` uses inertial axes and interpolates.
+    The axes are built from ``pos``/``vel``; for ITRF variables (names containing ``itrf``)
+    the velocity is made inertial in direction by adding ``ω × r`` (Earth rotation about
+    the ITRF Z axis; the neglected polar motion and precession tilt the axes by < 1e-5 rad),
+    so T and N are the along-track and cross-track of the orbit plane as in
+    :func:`compare_orbits`, which also interpolates.
 
     Parameters
     ----------
@@ -113,8 +116,11 @@ def difference_rtn(orbit: xr.Dataset, reference: xr.Dataset, *, pos: str = "pos_
         raise ValueError("the orbits have no common epochs in the window")
     a = orbit[pos].sel(time=common).values
     ref = reference.sel(time=common)
-    rtn = rtn_matrix(ref[pos].values, ref[vel].values)
-    diff = np.einsum("nij,nj->ni", rtn, a - ref[pos].values)
+    ref_pos, ref_vel = ref[pos].values, ref[vel].values
+    if "itrf" in pos:
+        ref_vel = ref_vel + np.cross([0.0, 0.0, OMEGA_EARTH_RAD_S], ref_pos)
+    rtn = rtn_matrix(ref_pos, ref_vel)
+    diff = np.einsum("nij,nj->ni", rtn, a - ref_pos)
     return xr.Dataset({"diff_rtn_m": (("time", "rtn"), diff, dict(_RTN_ATTRS))},
                       coords={"time": common, "rtn": ["R", "T", "N"]})
 
