@@ -29,13 +29,14 @@ def main(inp, out, params, date, log):
     float_solution = tuple(xr.load_dataset(p) for p in (inp.float_parameters,
                                                          inp.float_ambiguities,
                                                          inp.float_residuals))
+    float_orbit = xr.load_dataset(inp.float_orbit).pos_itrf_m
 
     def solve(fixes):
         return run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex,
                        params.signals, params.pod, params.pco_body_m, code_maps=a.code_maps,
                        code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips,
                        ambiguity_constraints=fixes if fixes[0].size else None,
-                       apriori_orbit=xr.load_dataset(inp.float_orbit).pos_itrf_m,
+                       apriori_orbit=float_orbit,
                        continue_from=float_solution)
 
     arc = solve(constraints)

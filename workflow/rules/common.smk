@@ -1,6 +1,8 @@
 # Configuration check and small input helpers; the logic lives in leopod.campaign (tested).
 from snakemake.utils import validate
 
+from leopod.simulate.product_world import ProductSet
+
 from leopod.campaign import (
     applied_code_bias_period,
     arc_days,
@@ -59,14 +61,8 @@ PERIODS = code_bias_periods(config)
 
 def simulation_product_files(wildcards):
     """The real GNSS product set the simulator uses (simulate.gnss_products), if any."""
-    products = config.get("simulate", {}).get("gnss_products")
-    if not products:
-        return []
-    files = []
-    for key in ("orbit", "clock"):
-        value = products[key]
-        files += [value] if isinstance(value, str) else list(value)
-    return [*files, products["osb"], *([products["dcb_p1c1"]] if products.get("dcb_p1c1") else [])]
+    products = ProductSet.from_config(config.get("simulate", {}).get("gnss_products"))
+    return [] if products is None else products.files
 
 
 def solutions():

@@ -25,6 +25,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from leopod.plots import by_solution
 from leopod.plots.pod import _heading, _save
 from leopod.validation.slr import elevation_statistics, station_statistics
 
@@ -36,14 +37,6 @@ _LIMIT_PERCENTILE = 99.0
 """Percentile of |residual| of the used points that sets the symmetric y-limit."""
 _MIN_LIMIT_CM = 2.0
 """Smallest y-limit [cm]."""
-
-
-def _solutions(results: xr.Dataset | Mapping[str, xr.Dataset]) -> dict[str, xr.Dataset]:
-    if isinstance(results, xr.Dataset):
-        return {"": results}
-    if not results:
-        raise ValueError("no residual Dataset to plot")
-    return dict(results)
 
 
 def _used(res: xr.Dataset) -> np.ndarray:
@@ -125,7 +118,7 @@ def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
     title : str
         Prefix of the figure title.
     """
-    sols = _solutions(results)
+    sols = by_solution(results)
     stats = {label: station_statistics(res) for label, res in sols.items()}
     sites = sorted({s for st in stats.values() for s in st["station"].values.tolist()
                     if s != "total"}) + ["total"]
@@ -172,7 +165,7 @@ def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, tit
     bin_deg : float
         Width of the elevation bins [deg].
     """
-    sols = _solutions(results)
+    sols = by_solution(results)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
                                       gridspec_kw={"height_ratios": [3, 2]})
     colours = plt.get_cmap("tab10")

@@ -28,6 +28,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from leopod.plots import by_solution
 from leopod.plots.pod import _heading, _save
 
 __all__ = ["plot_daily_statistics", "plot_overlaps", "plot_reference_differences"]
@@ -40,15 +41,6 @@ _BAR_GROUP_WIDTH = 0.8
 """Width of a group of bars (one bar per solution) in units of the category spacing."""
 _PANEL_HEIGHT_IN = 1.9
 """Height of one component panel [inch]."""
-
-
-def _solutions(data: xr.Dataset | Mapping[str, xr.Dataset]) -> dict[str, xr.Dataset]:
-    """``{label: Dataset}``; a single Dataset gets the empty label."""
-    if isinstance(data, xr.Dataset):
-        return {"": data}
-    if not data:
-        raise ValueError("no solutions to plot")
-    return dict(data)
 
 
 def _label(name: str, text: str) -> str:
@@ -88,7 +80,7 @@ def plot_overlaps(summaries: xr.Dataset | Mapping[str, xr.Dataset], path,
     title : str
         Prefix of the figure title.
     """
-    sols = _solutions(summaries)
+    sols = by_solution(summaries)
     pairs = sorted({str(p) for ds in sols.values() for p in ds.pair.values})
     offsets = _bar_offsets(len(sols))
     width = _BAR_GROUP_WIDTH / len(sols)
@@ -137,7 +129,7 @@ def plot_reference_differences(diffs: xr.Dataset | Mapping[str, xr.Dataset], pat
     title : str
         Prefix of the figure title.
     """
-    sols = _solutions(diffs)
+    sols = by_solution(diffs)
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(10, 7))
     all_times = np.concatenate([ds.time.values for ds in sols.values()])
     for ax, comp in zip(axes, _COMPONENTS[:3], strict=True):
@@ -174,7 +166,7 @@ def plot_daily_statistics(stats: xr.Dataset | Mapping[str, xr.Dataset], path,
     title : str
         Prefix of the figure title.
     """
-    sols = _solutions(stats)
+    sols = by_solution(stats)
     days = sorted({str(p) for ds in sols.values() for p in ds.period.values if p != "total"})
     offsets = _bar_offsets(len(sols))
     width = _BAR_GROUP_WIDTH / len(sols)

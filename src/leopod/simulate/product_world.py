@@ -32,9 +32,10 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
+from leopod.estimation.arc import merge_days
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.gnss.signals import frequency_hz
-from leopod.io.bias_sinex import read_bias_sinex
+from leopod.io.bias_sinex import osb, read_bias_sinex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.dcb import read_code_dcb
 from leopod.io.sp3 import read_sp3
@@ -117,13 +118,6 @@ class _ProductClock:
         return np.interp(np.asarray(t_s, dtype=float), self._t, self._c)
 
 
-def _merge(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
-    merged = xr.concat(list(datasets), dim="time", data_vars="minimal", coords="minimal",
-                       compat="override", join="outer")
-    _, first = np.unique(merged.time.values, return_index=True)
-    return merged.isel(time=np.sort(first))
-
-
 def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",)) -> GnssWorld:
     """The GNSS world of a real product set.
 
@@ -141,11 +135,11 @@ def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",)) -> 
         Satellites present in the orbit, clock and OSB files.
     """
     epoch = np.datetime64(epoch, "ns")
-    orbit = _merge([read_sp3(p) for p in files.orbit])
-    clock = _merge([read_rinex_clock(p) for p in files.clock])
-    osb = read_bias_sinex(files.osb)
+    orbit = merge_days([read_sp3(p) for p in files.orbit])
+    clock = merge_days([read_rinex_clock(p) for p in files.clock])
+    biases = read_bias_sinex(files.osb)
     svs = sorted(set(map(str, orbit.sv.values)) & set(map(str, clock.sv.values))
-                 & set(map(str, osb.prn.values)))
+                 & set(map(str, biases.prn.values)))
     svs = [s for s in svs if s[0] in systems
            and np.isfinite(clock.clk_s.sel(sv=s).values).any()]
     products = GnssProducts.from_datasets(orbit.sel(sv=svs), clock, epoch)
@@ -161,10 +155,13 @@ def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",)) -> 
     return world
 
 
-def _osb_value_m(osb: xr.Dataset, sv: str, signal: str, epoch) -> float:
-    sel = ((osb.prn.values == sv) & (osb.obs1.values == signal)
-           & (osb.start.values <= epoch) & (epoch < osb.end.values))
-    return float(osb.value_s.values[sel][0] * C_LIGHT_M_S) if sel.any() else np.nan
+def _osb_m(biases: xr.Dataset, sv: str, signal: str, epoch) -> float:
+    """OSB [m] of ``sv``/``signal`` at ``epoch`` (:func:`leopod.io.bias_sinex.osb`); NaN if
+    the file has none."""
+    try:
+        return osb(biases, sv, signal, epoch)
+    except KeyError:
+        return np.nan
 
 
 def osb_biases(files: ProductSet, template: SimulatedBiases, epoch) -> SimulatedBiases:
@@ -189,7 +186,7 @@ def osb_biases(files: ProductSet, template: SimulatedBiases, epoch) -> Simulated
         If a simulated signal of a satellite has neither an OSB nor (C1C) a P1−C1 DCB.
     """
     epoch = np.datetime64(epoch, "ns")
-    osb = read_bias_sinex(files.osb)
+    biases = read_bias_sinex(files.osb)
     dcb = read_code_dcb(files.dcb_p1c1) if files.dcb_p1c1 else None
     code = template.code_sat_m.copy()
     phase = template.phase_sat_cyc.copy()
@@ -197,9 +194,9 @@ def osb_biases(files: ProductSet, template: SimulatedBiases, epoch) -> Simulated
         for sig in code.code_signal.values:
             if np.isnan(code.sel(sv=sv, code_signal=sig)):
                 continue
-            value = _osb_value_m(osb, sv, sig, epoch)
+            value = _osb_m(biases, sv, sig, epoch)
             if np.isnan(value) and sig == "C1C" and dcb is not None:
-                value = _osb_value_m(osb, sv, "C1W", epoch) - _p1c1_m(dcb, sv, files)
+                value = _osb_m(biases, sv, "C1W", epoch) - _p1c1_m(dcb, sv, files)
             if np.isnan(value):
                 raise ValueError(f"{files.osb}: no OSB for {sv} {sig} at {epoch} (and no "
                                  "P1-C1 DCB for C1C)")
@@ -207,7 +204,7 @@ def osb_biases(files: ProductSet, template: SimulatedBiases, epoch) -> Simulated
         for sig in phase.phase_signal.values:
             if np.isnan(phase.sel(sv=sv, phase_signal=sig)):
                 continue
-            value = _osb_value_m(osb, sv, sig, epoch)
+            value = _osb_m(biases, sv, sig, epoch)
             if np.isnan(value):
                 raise ValueError(f"{files.osb}: no phase OSB for {sv} {sig} at {epoch}")
             phase.loc[{"sv": sv, "phase_signal": sig}] = value * frequency_hz(

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.estimation.arc import merge_days
 from leopod.io.grace_orbit_csv import read_grace_orbit_csv
 from leopod.io.sp3 import read_sp3
 from leopod.time import parse_date_id
@@ -71,11 +72,7 @@ def read_reference_orbit(paths: Sequence[str | Path], *, sv: str | None = None
         ``pos_itrf_m`` (and ``vel_itrf_m_s`` if given) (time, xyz) [m, m/s]; attrs
         ``time_system`` (of the first file, default GPS).
     """
-    parts = [_one(Path(p), sv) for p in paths]
-    merged = xr.concat(parts, dim="time", data_vars="minimal", coords="minimal",
-                       compat="override", join="outer", combine_attrs="override")
-    _, first = np.unique(merged.time.values, return_index=True)
-    return merged.isel(time=np.sort(first))
+    return merge_days([_one(Path(p), sv) for p in paths])
 
 
 def compare_day(orbit: xr.Dataset, reference: xr.Dataset, date: str, *,
