@@ -5,6 +5,7 @@ import xarray as xr
 
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
+from leopod.io._text import write_text
 from leopod.netcdf import write_netcdf
 from leopod.plots.quality import (
     plot_code_noise,
@@ -38,8 +39,7 @@ def main(obs_path, gnss_path, leo_path, signal_cfg, settings, title, out, log):
     plot_skyplot(parts[0], out.skyplot, title)
     plot_code_noise(parts[0], out.noise, title)
     plot_visibility(parts[0], out.visibility, title)
-    with open(out.summary, "w") as f:
-        f.write(summary_html(parts, title))
+    write_text(out.summary, summary_html(parts, title))
     log.info("summary: %s", out.summary)
 
 

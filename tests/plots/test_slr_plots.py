@@ -85,7 +85,7 @@ def test_comparison_of_solutions(plot, tmp_path):
 
 def _capture(monkeypatch) -> list:
     figures = []
-    monkeypatch.setattr(slr_plots, "_save", lambda fig, path: figures.append(fig))
+    monkeypatch.setattr(slr_plots, "save_figure", lambda fig, path: figures.append(fig))
     return figures
 
 

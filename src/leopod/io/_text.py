@@ -14,6 +14,7 @@ from __future__ import annotations
 import datetime as _dt
 import gzip
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,7 @@ import numpy as np
 __all__ = [
     "FormatError",
     "calendar_epoch_ns",
+    "creation_time",
     "fixed_float",
     "parse_float",
     "parse_floats",
@@ -33,6 +35,23 @@ _GZIP_MAGIC = b"\x1f\x8b"
 _COMPRESS_MAGIC = b"\x1f\x9d"
 _CRX_MARK = b"COMPACT RINEX FORMAT"
 _UNIX0 = _dt.datetime(1970, 1, 1)
+
+
+def creation_time(created: _dt.datetime | None = None) -> _dt.datetime:
+    """The creation time written into a file header (UTC, naive).
+
+    ``created`` if given; else ``SOURCE_DATE_EPOCH`` (seconds since 1970, the reproducible-
+    builds convention) if that environment variable is set; else the wall clock. Writers of
+    products whose content is fully determined by their inputs pass a time derived from the
+    data, so that identical inputs give bit-identical files.
+    """
+    if created is not None:
+        return created if created.tzinfo is None else \
+            created.astimezone(_dt.UTC).replace(tzinfo=None)
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch:
+        return _UNIX0 + _dt.timedelta(seconds=int(epoch))
+    return _dt.datetime.now(_dt.UTC).replace(tzinfo=None)
 
 
 class FormatError(ValueError):

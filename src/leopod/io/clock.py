@@ -42,7 +42,7 @@ records of one clock at one epoch.
 from __future__ import annotations
 
 import re
-from datetime import UTC, datetime
+from datetime import datetime
 from pathlib import Path
 
 import numpy as np
@@ -51,6 +51,7 @@ import xarray as xr
 from leopod.io._text import (
     FormatError,
     calendar_epoch_ns,
+    creation_time,
     parse_float,
     parse_floats,
     parse_int,
@@ -308,7 +309,8 @@ def _label(content: str, label: str) -> str:
 
 def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00",
                       analysis_center: str = "LEO", analysis_center_name: str = "leopod",
-                      program: str = "leopod", comments: tuple[str, ...] = ()) -> None:
+                      program: str = "leopod", comments: tuple[str, ...] = (),
+                      created: datetime | None = None) -> None:
     """Write the satellite clocks of ``ds`` as AS records of a RINEX clock 3.00 or 2.00 file.
 
     Values are written as E19.12 (12 significant digits, far below 1e-12 s for clocks under
@@ -333,6 +335,9 @@ def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00"
         Program name for "PGM / RUN BY / DATE" (at most 20 characters).
     comments : tuple of str
         COMMENT lines (at most 60 characters each).
+    created : datetime, optional
+        Creation time of "PGM / RUN BY / DATE" (UTC); default
+        :func:`leopod.io._text.creation_time` (``SOURCE_DATE_EPOCH`` or the wall clock).
 
     Raises
     ------
@@ -359,7 +364,7 @@ def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00"
     systems = {s[0] for s in sats}
     system = systems.pop() if len(systems) == 1 else "M"
     kind_text = "C" if version == "3.00" else "CLOCK DATA"
-    now = datetime.now(UTC).strftime("%Y%m%d %H%M%S UTC")
+    now = creation_time(created).strftime("%Y%m%d %H%M%S UTC")
     system_text = system if version == "3.00" else ""
     out = [_label(f"{version:>9s}{'':11s}{kind_text:<20s}{system_text:<20s}",
                   "RINEX VERSION / TYPE"),

@@ -58,7 +58,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, fixed_float, parse_int, read_lines
+from leopod.io._text import FormatError, creation_time, fixed_float, parse_int, read_lines
 
 __all__ = ["read_rinex_obs", "write_rinex_obs"]
 
@@ -635,7 +635,7 @@ def read_rinex_obs(path: str | Path, systems: Iterable[str] | None = None) -> xr
 _HEADER_KEYS = ("marker_name", "marker_number", "marker_type", "observer", "agency",
                 "receiver_number", "receiver_type", "receiver_version", "antenna_number",
                 "antenna_type", "approx_position_xyz_m", "antenna_delta_hen_m", "program",
-                "run_by", "comments")
+                "run_by", "comments", "created")
 _CODE_NAME = re.compile(r"^[A-Z][0-9A-Z][0-9A-Z]?$")
 _INDICATOR_TEXT = (" ",) + tuple(str(d) for d in range(1, 10))
 
@@ -654,6 +654,7 @@ def _header_values(ds: xr.Dataset, header: Mapping | None) -> dict:
     values = {k: str(ds.attrs.get(k, "")) for k in _HEADER_KEYS}
     values["program"] = "leopod"
     values["comments"] = []
+    values["created"] = None
     values.update(header)
     if isinstance(values["comments"], str):
         values["comments"] = [values["comments"]]
@@ -757,7 +758,7 @@ def _header_lines(ds, meta: dict, plan: dict, v2: bool, first: tuple) -> list[st
     """The header section of the output file."""
     systems = list(plan)
     file_sys = "G (GPS)" if v2 else (systems[0] if len(systems) == 1 else "M")
-    now = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d %H%M%S UTC")
+    now = creation_time(meta["created"]).strftime("%Y%m%d %H%M%S UTC")
     out = [_hl(f"{2.11 if v2 else 3.04:9.2f}{'':11}{'OBSERVATION DATA':<20}{file_sys:<20}",
                "RINEX VERSION / TYPE"),
            _hl(f"{meta['program']:<20.20}{meta['run_by']:<20.20}{now:<20}",
@@ -847,7 +848,8 @@ def write_rinex_obs(ds: xr.Dataset, path: str | Path, version: float = 3.04,
         Header values overriding ``ds.attrs``: marker_name, marker_number, marker_type,
         observer, agency, receiver_number, receiver_type, receiver_version, antenna_number,
         antenna_type, approx_position_xyz_m, antenna_delta_hen_m (``"x y z"`` [m] or three
-        numbers), program, run_by, comments (str or list of str).
+        numbers), program, run_by, comments (str or list of str), created (datetime of
+        "PGM / RUN BY / DATE", UTC; default :func:`leopod.io._text.creation_time`).
 
     Returns
     -------

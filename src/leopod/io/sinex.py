@@ -63,7 +63,14 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, parse_float, parse_int, read_lines
+from leopod.io._text import (
+    FormatError,
+    creation_time,
+    parse_float,
+    parse_int,
+    read_lines,
+    write_text,
+)
 
 __all__ = [
     "read_sinex_eccentricities",
@@ -510,7 +517,7 @@ def _sinex_epoch(t) -> str:
 
 
 def write_sinex_stations(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
-                         technique: str = "L") -> None:
+                         technique: str = "L", created: _dt.datetime | None = None) -> None:
     """Write station coordinates as a minimal SINEX 2.02 file.
 
     Blocks SITE/ID, SOLUTION/EPOCHS and SOLUTION/ESTIMATE (STAX/Y/Z, and VELX/Y/Z where
@@ -530,6 +537,9 @@ def write_sinex_stations(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO
         3-character agency code of the header line.
     technique : str
         Observation technique code of SITE/ID ("L" SLR, "P" GNSS, "R" VLBI, "D" DORIS).
+    created : datetime, optional
+        Creation time of the header line (UTC); default
+        :func:`leopod.io._text.creation_time` (``SOURCE_DATE_EPOCH`` or the wall clock).
 
     Raises
     ------
@@ -585,7 +595,7 @@ def write_sinex_stations(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO
                              f"{value:21.14E} {sigma:11.5E}")
     first = np.concatenate([start[~np.isnat(start)], ref]).min()
     last = np.concatenate([end[~np.isnat(end)], ref]).max()
-    now = _sinex_epoch(np.datetime64(_dt.datetime.now(_dt.UTC).replace(tzinfo=None)))
+    now = _sinex_epoch(np.datetime64(creation_time(created)))
     head = (f"%=SNX 2.02 {agency:<3.3s} {now} {agency:<3.3s} {_sinex_epoch(first)} "
             f"{_sinex_epoch(last)} C {len(est_lines):05d} 2 S")
     out = [head]
@@ -596,7 +606,7 @@ def write_sinex_stations(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO
     out += _block("SOLUTION/ESTIMATE", "*INDEX TYPE__ CODE PT SOLN _REF_EPOCH__ UNIT S "
                   "__ESTIMATED VALUE____ _STD_DEV___", est_lines)
     out.append("%ENDSNX")
-    Path(path).write_text("\n".join(out) + "\n", encoding="ascii")
+    write_text(path, "\n".join(out) + "\n")
 
 
 def _block(title: str, columns: str, lines: list[str]) -> list[str]:

@@ -10,7 +10,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
-from leopod.plots.pod import _heading, _save
+from leopod.plots import save_figure
+from leopod.plots.pod import _heading
 
 __all__ = ["plot_fractional_parts"]
 
@@ -46,4 +47,4 @@ def plot_fractional_parts(table: xr.Dataset, path, *, title: str = "") -> None:
         ax.grid(alpha=0.3)
     fig.suptitle(_heading(title, "fractional parts of the single-difference ambiguities"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)

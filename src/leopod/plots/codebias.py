@@ -35,7 +35,8 @@ from matplotlib.axes import Axes
 from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
 
-from leopod.plots.pod import _heading, _rms, _save
+from leopod.plots import save_figure
+from leopod.plots.pod import _heading, _rms
 
 __all__ = [
     "plot_code_bias_counts",
@@ -226,7 +227,7 @@ def plot_code_bias_maps(maps: xr.Dataset, path, *, title: str = "", field: str =
     units : {"cm", "m", "mm"}
         Display unit of the colour scale.
     """
-    _save(_maps_figure(maps, title=title, field=field, units=units), path)
+    save_figure(_maps_figure(maps, title=title, field=field, units=units), path)
 
 
 def _counts_figure(maps: xr.Dataset, *, title: str) -> Figure:
@@ -258,7 +259,7 @@ def plot_code_bias_counts(maps: xr.Dataset, path, *, title: str = "") -> None:
     title : str
         Prefix of the figure title.
     """
-    _save(_counts_figure(maps, title=title), path)
+    save_figure(_counts_figure(maps, title=title), path)
 
 
 def _subsample_step(n: int, max_points: int) -> int:
@@ -381,7 +382,7 @@ def plot_mp_elevation(samples: Mapping[str, tuple], maps: xr.Dataset | None, pat
     max_points : int
         Largest number of scatter points per series and signal.
     """
-    _save(_mp_figure(samples, maps, title=title, max_points=max_points), path)
+    save_figure(_mp_figure(samples, maps, title=title, max_points=max_points), path)
 
 
 def _difference_stats(diff: xr.DataArray, keep: xr.DataArray) -> tuple[float, float, int]:
@@ -462,4 +463,4 @@ def plot_map_difference(map_a: xr.Dataset, map_b: xr.Dataset, path, *, title: st
     ValueError
         If the node grids differ or the maps share no signal and mode.
     """
-    _save(_difference_figure(map_a, map_b, title=title, units=units), path)
+    save_figure(_difference_figure(map_a, map_b, title=title, units=units), path)

@@ -26,6 +26,8 @@ import matplotlib.transforms as mtransforms
 import numpy as np
 import xarray as xr
 
+from leopod.plots import save_figure
+
 __all__ = [
     "plot_apriori_difference",
     "plot_residual_skymap",
@@ -34,7 +36,6 @@ __all__ = [
     "rms_by_bin",
 ]
 
-_DPI = 110
 _M_TO_MM = 1e3
 """Metres to millimetres (display unit of phase residuals and formal sigmas)."""
 _BIN_DEG = 5.0
@@ -45,9 +46,6 @@ _RTN = ("R", "T", "N")
 _RTN_NAMES = {"R": "radial", "T": "along-track", "N": "cross-track"}
 
 
-def _save(fig, path) -> None:
-    fig.savefig(path, dpi=_DPI, metadata={"Software": None})
-    plt.close(fig)
 
 
 def _heading(title: str, what: str) -> str:
@@ -162,7 +160,7 @@ def plot_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
     axes[-1].set_xlabel(xlabel)
     fig.suptitle(_heading(title, "float POD post-fit residuals"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_residuals_elevation(res: xr.Dataset, path, title: str = "") -> None:
@@ -200,7 +198,7 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "") -> None:
     axes[-1].set_xlim(edges[0], 90)
     fig.suptitle(_heading(title, "float POD residuals vs elevation"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _cell_means(values: np.ndarray, az_deg: np.ndarray, el_deg: np.ndarray,
@@ -253,7 +251,7 @@ def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
     ax.grid(alpha=0.3)
     ax.set_title(_heading(title, f"mean phase residual, {_BIN_DEG:g}° × {_BIN_DEG:g}° cells")
                  + "\n(antenna frame, azimuth 0° = +X = flight direction)", fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
@@ -298,4 +296,4 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
     ax_sig.set_xlabel(xlabel)
     fig.suptitle(_heading(title, "a-priori (code-only) orbit minus float POD orbit, R/T/N"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)

@@ -17,19 +17,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from leopod.plots import save_figure  # noqa: E402
+
 __all__ = ["plot_mp_elevation", "plot_skyplot", "plot_code_noise", "plot_visibility",
            "summary_html"]
 
-_DPI = 110
 
 
 def _codes(q: xr.Dataset) -> list[str]:
     return [k[3:-2] for k in q.data_vars if k.startswith("mp_") and k.endswith("_m")]
 
 
-def _save(fig, path):
-    fig.savefig(path, dpi=_DPI, metadata={"Software": None})
-    plt.close(fig)
 
 
 def plot_mp_elevation(q: xr.Dataset, path, title: str) -> None:
@@ -52,7 +50,7 @@ def plot_mp_elevation(q: xr.Dataset, path, title: str) -> None:
     axes[-1, 0].set_xlim(0, 90)
     fig.suptitle(f"{title}: code multipath vs elevation")
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_skyplot(q: xr.Dataset, path, title: str) -> None:
@@ -77,7 +75,7 @@ def plot_skyplot(q: xr.Dataset, path, title: str) -> None:
     ax.set_yticklabels(["90°", "60°", "30°", "0°"])
     ax.set_title(f"{title}: antenna-frame sky plot\n(azimuth 0° = +X = flight direction)",
                  fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_code_noise(q: xr.Dataset, path, title: str) -> None:
@@ -103,7 +101,7 @@ def plot_code_noise(q: xr.Dataset, path, title: str) -> None:
     ax_cum.set_ylabel("cumulative [%]")
     fig.suptitle(f"{title}: code noise, sliding-window STD")
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_visibility(q: xr.Dataset, path, title: str) -> None:
@@ -128,7 +126,7 @@ def plot_visibility(q: xr.Dataset, path, title: str) -> None:
     ax_iod.grid(alpha=0.3)
     fig.suptitle(f"{title}: visibility and ionospheric delay rate")
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def summary_html(parts: list[xr.Dataset], title: str) -> str:

@@ -25,8 +25,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
-from leopod.plots import by_solution
-from leopod.plots.pod import _heading, _save
+from leopod.plots import by_solution, save_figure
+from leopod.plots.pod import _heading
 from leopod.validation.slr import elevation_statistics, station_statistics
 
 __all__ = ["plot_slr_elevation", "plot_slr_residuals_time", "plot_slr_stations"]
@@ -99,7 +99,7 @@ def plot_slr_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
         ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(_heading(title, "SLR residuals"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
@@ -143,7 +143,7 @@ def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
         ax.legend(fontsize=8)
     fig.suptitle(_heading(title, "SLR residuals per station (numbers: normal points)"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, title: str = "",
@@ -196,4 +196,4 @@ def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, tit
     bottom.grid(alpha=0.3)
     fig.suptitle(_heading(title, "SLR residuals versus elevation"))
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)

@@ -28,8 +28,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
-from leopod.plots import by_solution
-from leopod.plots.pod import _heading, _save
+from leopod.plots import by_solution, save_figure
+from leopod.plots.pod import _heading
 
 __all__ = ["plot_daily_statistics", "plot_overlaps", "plot_reference_differences"]
 
@@ -102,7 +102,7 @@ def plot_overlaps(summaries: xr.Dataset | Mapping[str, xr.Dataset], path,
     fig.suptitle(_heading(title, "orbit overlaps of consecutive arcs: RMS per pair "
                           "(legend: campaign mean ± STD)"), fontsize=10)
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _day_starts(times: np.ndarray) -> np.ndarray:
@@ -149,7 +149,7 @@ def plot_reference_differences(diffs: xr.Dataset | Mapping[str, xr.Dataset], pat
     fig.suptitle(_heading(title, "orbit minus reference orbit (inertial R/T/N)"), fontsize=10)
     fig.autofmt_xdate()
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_daily_statistics(stats: xr.Dataset | Mapping[str, xr.Dataset], path,
@@ -193,4 +193,4 @@ def plot_daily_statistics(stats: xr.Dataset | Mapping[str, xr.Dataset], path,
     fig.suptitle(_heading(title, "daily statistics of orbit minus reference orbit "
                           "(3D: of the distance)"), fontsize=10)
     fig.tight_layout()
-    _save(fig, path)
+    save_figure(fig, path)

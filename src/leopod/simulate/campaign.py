@@ -31,6 +31,7 @@ whatever the order in which jobs run.
 
 from __future__ import annotations
 
+import datetime as _dt
 import logging
 import time as _time
 from collections.abc import Mapping, Sequence
@@ -341,7 +342,7 @@ def simulate_gnss_products(date: str, settings: SimulationSettings, world_start:
                        coords={"time": t_clock, "sv": svs})
     systems = "/".join(sorted(settings.systems))
     write_rinex_clock(xr.Dataset({"clk_s": clk}, attrs={"time_system": "GPS"}), clock,
-                      analysis_center=p.agency,
+                      analysis_center=p.agency, created=_file_time(day0),
                       comments=(f"leopod simulated {systems} satellite clocks",
                                 "ionosphere-free clock-reference codes, no relativity"))
     biases = _day_biases(biases_for(biases_truth), day0)
@@ -349,7 +350,7 @@ def simulate_gnss_products(date: str, settings: SimulationSettings, world_start:
     records = wl_bias_records(products.wl)
     write_rinex_clock(xr.Dataset({"clk_s": integer_clock_s(clk, biases)},
                                  attrs={"time_system": "GPS"}), integer_clock,
-                      analysis_center=p.agency,
+                      analysis_center=p.agency, created=_file_time(day0),
                       comments=("leopod simulated integer-recovery clocks (CNES/CLS style)",
                                 "WL: wide-lane satellite biases, HMW/lam_WL = N + w_r - WL",
                                 *records))
@@ -363,9 +364,16 @@ def simulate_gnss_products(date: str, settings: SimulationSettings, world_start:
 # ---------------------------------------------------------------------------- LEO day
 
 
+def _file_time(day0: np.datetime64) -> _dt.datetime:
+    """Creation time written into a simulated day's file headers: the end of the day, so
+    that the same settings give bit-identical files (not the wall clock)."""
+    return (day0 + _DAY).astype("datetime64[s]").astype(_dt.datetime)
+
+
 def _rinex_header(settings: SimulationSettings, sat: str, date: str) -> dict:
     return {"marker_name": settings.marker, "receiver_type": "LEOPOD SIMULATOR",
             "antenna_type": "SIMULATED", "observer": "leopod", "agency": "leopod",
+            "created": _file_time(_epoch(date)),
             "comments": [f"leopod simulated {sat} {date}, seed {settings.seed}",
                          "truth orbit: dynamics engine, see the _truth.nc file"]}
 

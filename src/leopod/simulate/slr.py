@@ -457,7 +457,9 @@ def write_normal_points(nps: xr.Dataset, crd_path: str | Path, ref_epoch) -> Non
 def write_station_sinex(stations: Sequence[SlrStation], sinex_path: str | Path,
                         ref_epoch) -> None:
     """Write the station coordinates (fixed, no velocity) at ``ref_epoch`` (UTC) as SINEX."""
-    write_sinex_stations(_stations_dataset(stations, ref_epoch), sinex_path, technique="L")
+    created = np.datetime64(ref_epoch, "s").astype(_dt.datetime)  # reproducible header
+    write_sinex_stations(_stations_dataset(stations, ref_epoch), sinex_path, technique="L",
+                         created=created)
 
 
 def write_station_eccentricities(stations: Sequence[SlrStation],
