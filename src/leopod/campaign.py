@@ -6,13 +6,15 @@ days and the code files a rule depends on are computed here.
 
 from __future__ import annotations
 
+import ast
 import datetime as _dt
+import functools
 from pathlib import Path
 
 from leopod.time import date_id, days_between, parse_date_id, template_fields
 
-__all__ = ["arc_days", "campaign_days", "expand_template", "library_files", "resolve_model_paths",
-           "satellite_ids"]
+__all__ = ["arc_days", "campaign_days", "expand_template", "resolve_model_paths",
+           "satellite_ids", "script_library_files"]
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -55,29 +57,62 @@ def expand_template(template: str, date: str, sat: str | None = None) -> str:
                          f"(known: {', '.join('{' + k + '}' for k in fields)})") from None
 
 
-def library_files(*parts: str) -> list[str]:
-    """Source files of leopod sub-packages/modules a rule depends on (for rerun tracking).
+def _module_file(name: str) -> Path | None:
+    """Source file of the leopod module ``name`` (dotted), or None if it is not one."""
+    parts = name.split(".")
+    if parts[0] != "leopod":
+        return None
+    base = _PACKAGE.joinpath(*parts[1:])
+    for path in (base.with_suffix(".py"), base / "__init__.py"):
+        if path.is_file():
+            return path
+    return None
+
+
+@functools.cache
+def _imported_modules(path: Path) -> frozenset[str]:
+    """Dotted names of every module ``path`` imports (also inside functions), with the
+    packages whose ``__init__`` the import runs."""
+    names: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            found = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            # "from leopod.io import sp3" imports the module leopod.io.sp3
+            found = [node.module] + [f"{node.module}.{alias.name}" for alias in node.names]
+        else:
+            continue
+        for name in found:
+            parts = name.split(".")
+            names.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
+    return frozenset(names)
+
+
+def script_library_files(script: str | Path) -> list[str]:
+    """Every leopod source file a workflow script imports, directly or transitively.
+
+    Used as rule inputs, so that a change in any library code a step runs makes Snakemake
+    rerun that step (and only the steps that run it).
 
     Parameters
     ----------
-    *parts : str
-        Module or package paths relative to the package, e.g. ``"io"``, ``"gnss/quality.py"``.
+    script : str or Path
+        The rule's script (``scripts/<rule>.py``).
 
     Returns
     -------
     list of str
-        Sorted absolute paths of the ``.py`` files.
+        Sorted absolute paths of the ``.py`` files, ``leopod/__init__.py`` included.
     """
-    files: set[Path] = set()
-    for part in parts:
-        p = _PACKAGE / part
-        if p.is_dir():
-            files.update(p.rglob("*.py"))
-        elif p.with_suffix(".py").exists():
-            files.add(p.with_suffix(".py"))
-        else:
-            raise FileNotFoundError(f"no leopod module or package '{part}'")
-    return sorted(str(f) for f in files)
+    seen: set[Path] = set()
+    todo = [Path(script)]
+    while todo:
+        for name in _imported_modules(todo.pop()):
+            path = _module_file(name)
+            if path is not None and path not in seen:
+                seen.add(path)
+                todo.append(path)
+    return sorted(str(p) for p in seen)
 
 
 _PACKAGE_PREFIX = "satkit:"

@@ -4,9 +4,12 @@ Authority for GPS week/day: GPS week 1419 day 3 is 2007-03-21 (data/MANIFEST.md:
 cod14193 for GRACE-A DOY 080); GPS week 1500 day 0 is 2008-10-05 (products_2008-279_whu).
 """
 
+from pathlib import Path
+
 import pytest
 
-from leopod.campaign import expand_template, library_files
+import leopod
+from leopod.campaign import expand_template, script_library_files
 from leopod.time import days_between, gps_week_dow, parse_date_id
 
 
@@ -30,5 +33,19 @@ def test_bad_inputs_name_the_problem():
         parse_date_id("2007-400")
     with pytest.raises(ValueError, match="before start"):
         days_between("2007-03-02", "2007-03-01")
-    with pytest.raises(FileNotFoundError, match="nosuch"):
-        library_files("nosuch")
+
+
+def test_script_library_files_follow_imports_transitively(tmp_path):
+    # Authority: Python's import semantics. Importing leopod.ambiguity.screening runs
+    # leopod/__init__.py and leopod/ambiguity/__init__.py; "from leopod.io import sp3" imports
+    # the module leopod/io/sp3.py; imports inside functions count; other packages do not.
+    script = tmp_path / "step.py"
+    script.write_text("import numpy\nfrom leopod.ambiguity.screening import degraded_passes\n"
+                      "def main():\n    from leopod.io import sp3\n")
+    files = {Path(f).relative_to(Path(leopod.__file__).parent).as_posix()
+             for f in script_library_files(script)}
+    assert {"__init__.py", "ambiguity/__init__.py", "ambiguity/screening.py", "io/__init__.py",
+            "io/sp3.py"} <= files
+    # transitive: sp3 reads its text through io/_text.py
+    assert "io/_text.py" in files
+    assert not any(f.startswith("dynamics/") for f in files)

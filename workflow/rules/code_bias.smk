@@ -8,7 +8,7 @@ rule code_bias:
         title=lambda wildcards: f"{sat_config(wildcards).get('name', wildcards.sat)} {wildcards.period}",
     input:
         unpack(code_bias_inputs),
-        code=library_files("codebias", "plots"),
+        code=library_code("code_bias"),
     output:
         nc="results/code_bias/{sat}/{period}.nc",
         statistics="results/code_bias/{sat}/{period}_statistics.csv",
@@ -49,7 +49,7 @@ rule code_bias_stack:
         title=lambda wildcards: sat_config(wildcards).get("name", wildcards.sat),
     input:
         maps=expand("results/code_bias/{{sat}}/{period}.nc", period=PERIODS),
-        code=library_files("codebias", "plots"),
+        code=library_code("code_bias_stack"),
     output:
         nc="results/code_bias/{sat}/stack.nc",
         differences="results/code_bias/{sat}/stack_differences.csv",

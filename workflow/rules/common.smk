@@ -9,9 +9,9 @@ from leopod.campaign import (
     campaign_days,
     code_bias_periods,
     expand_template,
-    library_files,
     period_days,
     satellite_ids,
+    script_library_files,
 )
 
 
@@ -26,6 +26,19 @@ wildcard_constraints:
     date=r"\d{4}-\d{3}",
     period=r"\d{4}-\d{2}|campaign",
     solution="float_pod|fixed_pod",
+
+
+def library_code(script):
+    """leopod source files that scripts/<script>.py imports (rule input: a library change
+    reruns exactly the steps that run the changed code)."""
+    return script_library_files(f"{workflow.basedir}/scripts/{script}.py")
+
+
+def sat_simulation(wildcards):
+    """The simulate block with the satellite's own orbit keys (satellites.<sat>.simulate_orbit)."""
+    block = dict(config.get("simulate") or {})
+    block["orbit"] = {**block.get("orbit", {}), **sat_config(wildcards).get("simulate_orbit", {})}
+    return block
 
 
 def sat_config(wildcards):

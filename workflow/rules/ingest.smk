@@ -7,7 +7,7 @@ rule ingest:
         sp3_id=sat_sp3_id,
     input:
         unpack(ingest_inputs),
-        code=library_files("io", "ingest.py", "gnss", "orbit", "frames"),
+        code=library_code("ingest"),
     output:
         obs="results/ingest/{sat}/{date}_obs.nc",
         gnss="results/ingest/{sat}/{date}_gnss.nc",

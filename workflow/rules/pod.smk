@@ -11,9 +11,7 @@ rule float_pod:
         yaw_flips=sat_yaw_flips,
     input:
         unpack(float_pod_inputs),
-        code=library_files(
-            "estimation", "codebias", "dynamics", "gnss", "orbit", "frames", "io", "plots"
-        ),
+        code=library_code("float_pod"),
     output:
         orbit="results/float_pod/{sat}/{date}_orbit.nc",
         sp3="results/float_pod/{sat}/{date}.sp3",
@@ -73,7 +71,7 @@ rule ambiguity:
         unpack(ambiguity_inputs),
         ambiguities=rules.float_pod.output.ambiguities,
         residuals=rules.float_pod.output.residuals,
-        code=library_files("ambiguity", "codebias", "io", "plots"),
+        code=library_code("ambiguity"),
     output:
         table="results/ambiguity/{sat}/{date}.nc",
         histogram=report(
@@ -114,9 +112,7 @@ rule fixed_pod:
         float_parameters=rules.float_pod.output.parameters,
         float_ambiguities=rules.float_pod.output.ambiguities,
         float_residuals=rules.float_pod.output.residuals,
-        code=library_files(
-            "estimation", "codebias", "dynamics", "gnss", "orbit", "frames", "io", "plots"
-        ),
+        code=library_code("fixed_pod"),
     output:
         orbit="results/fixed_pod/{sat}/{date}_orbit.nc",
         sp3="results/fixed_pod/{sat}/{date}.sp3",

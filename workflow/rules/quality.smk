@@ -9,7 +9,7 @@ rule quality:
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,
         leo=rules.ingest.output.leo,
-        code=library_files("gnss", "frames", "plots"),
+        code=library_code("quality"),
     output:
         nc="results/quality/{sat}/{date}.nc",
         summary=report(

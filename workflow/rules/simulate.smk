@@ -6,26 +6,11 @@
 # The truth orbit of one satellite over the whole campaign, and its code-bias map(s).
 rule simulate_truth:
     params:
-        settings=config["simulate"],
+        settings=sat_simulation,
         world_start=config["start_date"],
         world_end=config["end_date"],
     input:
-        code=library_files(
-            "simulate/campaign.py",
-            "simulate/settings.py",
-            "simulate/truth_orbit.py",
-            "simulate/world.py",
-            "simulate/code_bias_map.py",
-            "dynamics",
-            "frames",
-            "io/icgem.py",
-            "io/space_weather.py",
-            "io/fes.py",
-            "netcdf.py",
-            "time.py",
-            "timescales.py",
-            "constants.py",
-        ),
+        code=library_code("simulate_truth"),
     output:
         truth="resources/simulate/{sat}/truth_orbit.nc",
         code_bias_map="resources/simulate/{sat}/code_bias_map.nc",
@@ -54,15 +39,7 @@ rule simulate_world:
         sats=[s for s in SATS if config["satellites"][s].get("source") == "simulate"],
     input:
         gnss_products=simulation_product_files,
-        code=library_files(
-            "simulate/campaign.py",
-            "simulate/settings.py",
-            "simulate/biases.py",
-            "simulate/world.py",
-            "simulate/product_world.py",
-            "io",
-            "netcdf.py",
-        ),
+        code=library_code("simulate_world"),
     output:
         biases="resources/simulate/biases_truth.nc",
         stations="resources/simulate/slr_stations.snx",
@@ -87,18 +64,7 @@ rule simulate_gnss:
         world_end=config["end_date"],
     input:
         biases=rules.simulate_world.output.biases,
-        code=library_files(
-            "simulate/campaign.py",
-            "simulate/settings.py",
-            "simulate/biases.py",
-            "simulate/world.py",
-            "io",
-            "frames",
-            "gnss/signals.py",
-            "netcdf.py",
-            "time.py",
-            "timescales.py",
-        ),
+        code=library_code("simulate_gnss"),
     output:
         orbit="resources/simulate/gnss/{date}.sp3",
         clock="resources/simulate/gnss/{date}.clk",
@@ -130,19 +96,7 @@ rule simulate:
         truth=rules.simulate_truth.output.truth,
         biases=rules.simulate_world.output.biases,
         gnss_products=simulation_product_files,
-        code=library_files(
-            "simulate",
-            "io",
-            "estimation/corrections.py",
-            "estimation/obsmodel.py",
-            "orbit",
-            "frames",
-            "gnss",
-            "validation/slr_model.py",
-            "netcdf.py",
-            "time.py",
-            "timescales.py",
-        ),
+        code=library_code("simulate"),
     output:
         rinex3="resources/simulate/{sat}/{date}.rnx",
         rinex2="resources/simulate/{sat}/{date}.obs",

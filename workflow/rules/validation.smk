@@ -10,7 +10,7 @@ rule overlap:
         title=lambda w: f"{sat_name(w)} {w.solution} {w.date}",
     input:
         unpack(overlap_inputs),
-        code=library_files("validation", "netcdf.py"),
+        code=library_code("overlap"),
     output:
         nc="results/overlap/{sat}/{solution}/{date}.nc",
     log:
@@ -32,7 +32,7 @@ rule overlap_summary:
         title=sat_name,
     input:
         unpack(per_day_validation("results/overlap/{sat}/{solution}/{date}.nc")),
-        code=library_files("validation", "plots/validation.py", "netcdf.py"),
+        code=library_code("overlap_summary"),
     output:
         nc="results/overlap/{sat}/summary.nc",
         csv=report(
@@ -69,7 +69,7 @@ rule reference_orbit:
     input:
         orbit="results/{solution}/{sat}/{date}_orbit.nc",
         reference=reference_files,
-        code=library_files("validation", "io", "netcdf.py"),
+        code=library_code("reference_orbit"),
     output:
         nc="results/reference_orbit/{sat}/{solution}/{date}.nc",
     log:
@@ -91,7 +91,7 @@ rule reference_summary:
         title=sat_name,
     input:
         unpack(per_day_validation("results/reference_orbit/{sat}/{solution}/{date}.nc")),
-        code=library_files("validation", "plots/validation.py", "netcdf.py"),
+        code=library_code("reference_summary"),
     output:
         nc="results/reference_orbit/{sat}/summary.nc",
         csv=report(
@@ -134,7 +134,7 @@ rule slr:
         title=lambda w: f"{sat_name(w)} {w.date}",
     input:
         unpack(slr_inputs),
-        code=library_files("validation", "io", "frames", "orbit", "dynamics", "netcdf.py"),
+        code=library_code("slr"),
     output:
         nc="results/slr/{sat}/{solution}/{date}.nc",
     log:
@@ -157,7 +157,7 @@ rule slr_summary:
         title=sat_name,
     input:
         unpack(per_day_validation("results/slr/{sat}/{solution}/{date}.nc")),
-        code=library_files("validation", "plots/slr.py", "netcdf.py"),
+        code=library_code("slr_summary"),
     output:
         nc="results/slr/{sat}/summary.nc",
         stations_csv=report(
@@ -207,7 +207,7 @@ rule campaign_summary:
         title=sat_name,
     input:
         summary_inputs,
-        code=library_files("validation/summary.py", "netcdf.py"),
+        code=library_code("campaign_summary"),
     output:
         nc="results/summary/{sat}.nc",
         csv="results/summary/{sat}.csv",
