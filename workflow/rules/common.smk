@@ -29,8 +29,8 @@ wildcard_constraints:
 
 
 def library_code(script):
-    """leopod source files that scripts/<script>.py imports (rule input: a library change
-    reruns exactly the steps that run the changed code)."""
+    """leopod source files that scripts/<script>.py imports; as inputs of a step they make a
+    library change rerun exactly the steps that run the changed code."""
     return script_library_files(f"{workflow.basedir}/scripts/{script}.py")
 
 
