@@ -520,6 +520,10 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
              "%d arc parameters (%d pulses)", obs.times.size, int(prob.code_ok.sum()),
              int(prob.phase_ok.sum()), prob.ambiguity.size, prob.k,
              0 if prob.pulses is None else prob.pulses.epochs_s.size)
+    if not prob.code_ok.any():
+        raise ValueError("float POD: no usable code observation in the arc (all missing, "
+                         "rejected, or dropped by a code-bias map without values: see "
+                         "code_bias.min_count and code_bias.empty_cells)")
     converged = False
     for iteration in range(1, settings.max_iterations + 1):
         traj, model, g = prob.linearise(state)
