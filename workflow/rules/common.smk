@@ -1,6 +1,14 @@
 # Configuration check and small input helpers; the logic lives in leopod.campaign (tested).
+from pathlib import Path
+
 from snakemake.utils import validate
 
+from leopod.download.campaign import (
+    destination_template,
+    load_catalogue,
+    resolve_downloads,
+    uses_downloads,
+)
 from leopod.simulate.product_world import ProductSet
 
 from leopod.campaign import (
@@ -17,6 +25,14 @@ from leopod.campaign import (
 
 validate(config, "../schemas/config.schema.yaml", set_default=True)
 
+DEFAULT_CATALOGUE = f"{workflow.basedir}/config/catalogue.yaml"
+if uses_downloads(config):
+    CATALOGUE = load_catalogue(config["download"], DEFAULT_CATALOGUE)
+    _resolved, DOWNLOADS = resolve_downloads(config, CATALOGUE)
+    config.update(_resolved)
+else:
+    CATALOGUE, DOWNLOADS = None, []
+
 DAYS = campaign_days(config)
 SATS = satellite_ids(config)
 
@@ -32,6 +48,12 @@ def library_code(script):
     """leopod source files that scripts/<script>.py imports; as inputs of a step they make a
     library change rerun exactly the steps that run the changed code."""
     return script_library_files(f"{workflow.basedir}/scripts/{script}.py")
+
+
+def download_log(family):
+    """Log file (template) of a download_<family> job, beside its destination's name."""
+    name = Path(destination_template(CATALOGUE.family(family))).name
+    return f"logs/download/{family}/{name}.log"
 
 
 def sat_simulation(wildcards):
