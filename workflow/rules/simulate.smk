@@ -46,6 +46,8 @@ rule simulate_world:
         eccentricities="resources/simulate/slr_eccentricities.snx",
     log:
         "logs/simulate_world/simulate_world.log",
+    benchmark:
+        "benchmarks/simulate_world/simulate_world.tsv"
     threads: 1
     resources:
         mem_mb=1000,

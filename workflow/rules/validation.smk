@@ -15,6 +15,8 @@ rule overlap:
         nc="results/overlap/{sat}/{solution}/{date}.nc",
     log:
         "logs/overlap/{sat}/{solution}/{date}.log",
+    benchmark:
+        "benchmarks/overlap/{sat}/{solution}/{date}.tsv"
     threads: 1
     resources:
         mem_mb=500,
@@ -49,6 +51,8 @@ rule overlap_summary:
         ),
     log:
         "logs/overlap_summary/{sat}.log",
+    benchmark:
+        "benchmarks/overlap_summary/{sat}.tsv"
     threads: 1
     resources:
         mem_mb=500,
@@ -74,6 +78,8 @@ rule reference_orbit:
         nc="results/reference_orbit/{sat}/{solution}/{date}.nc",
     log:
         "logs/reference_orbit/{sat}/{solution}/{date}.log",
+    benchmark:
+        "benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
     threads: 1
     resources:
         mem_mb=1000,
@@ -114,6 +120,8 @@ rule reference_summary:
         ),
     log:
         "logs/reference_summary/{sat}.log",
+    benchmark:
+        "benchmarks/reference_summary/{sat}.tsv"
     threads: 1
     resources:
         mem_mb=1000,
@@ -139,6 +147,8 @@ rule slr:
         nc="results/slr/{sat}/{solution}/{date}.nc",
     log:
         "logs/slr/{sat}/{solution}/{date}.log",
+    benchmark:
+        "benchmarks/slr/{sat}/{solution}/{date}.tsv"
     threads: 1
     resources:
         mem_mb=1000,
@@ -187,6 +197,8 @@ rule slr_summary:
         ),
     log:
         "logs/slr_summary/{sat}.log",
+    benchmark:
+        "benchmarks/slr_summary/{sat}.tsv"
     threads: 1
     resources:
         mem_mb=1000,
@@ -219,6 +231,8 @@ rule campaign_summary:
         ),
     log:
         "logs/campaign_summary/{sat}.log",
+    benchmark:
+        "benchmarks/campaign_summary/{sat}.tsv"
     threads: 1
     resources:
         mem_mb=1000,
