@@ -7,13 +7,15 @@ days and the code files a rule depends on are computed here.
 from __future__ import annotations
 
 import ast
+import copy
 import datetime as _dt
 import functools
 from pathlib import Path
 
 from leopod.time import date_id, days_between, parse_date_id, template_fields
 
-__all__ = ["arc_days", "campaign_days", "expand_template", "resolve_model_paths",
+__all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input_references",
+           "is_daily_template", "locate_inputs", "located_source", "resolve_model_paths",
            "satellite_ids", "script_library_files"]
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -55,6 +57,93 @@ def expand_template(template: str, date: str, sat: str | None = None) -> str:
     except KeyError as err:
         raise ValueError(f"unknown placeholder {{{err.args[0]}}} in path template '{template}' "
                          f"(known: {', '.join('{' + k + '}' for k in fields)})") from None
+
+
+#: Config entries that hold input path templates: products.<key> and satellites.<sat>.<key>.
+PRODUCT_INPUTS = ("gnss_orbit", "gnss_clock", "wl_bias", "osb", "antex", "slr_stations",
+                  "slr_eccentricities")
+SATELLITE_INPUTS = ("observations", "apriori_orbit", "slr_normal_points", "reference_orbit")
+#: Folder of the located inputs (links to the files named by path in the config).
+LOCATE_ROOT = "resources/locate"
+# inputs under these folders are written by rules (simulate, download), not located
+_PRODUCED = ("resources/simulate/", "resources/download/")
+_DATE_FIELDS = ("yyyy", "yy", "doy", "gpsweek", "dow", "date", "month", "day")
+
+
+def input_references(config: dict):
+    """Yield ``(entry, container, key)`` of every config value that names an input file.
+
+    ``entry`` is the dotted config path (``products.gnss_orbit``,
+    ``satellites.grace-a.observations``); ``container[key]`` is the value (path template,
+    ``download:<family>`` or None).
+    """
+    products = config.get("products") or {}
+    for key in PRODUCT_INPUTS:
+        yield f"products.{key}", products, key
+    for sat, block in (config.get("satellites") or {}).items():
+        for key in SATELLITE_INPUTS:
+            yield f"satellites.{sat}.{key}", block, key
+
+
+def is_daily_template(template: str) -> bool:
+    """True if a path template names one file per day (it has a date placeholder)."""
+    return any(f"{{{field}}}" in template for field in _DATE_FIELDS)
+
+
+def locate_inputs(config: dict) -> tuple[dict, dict[str, str]]:
+    """Route the inputs named by path through the ``locate`` rule.
+
+    A missing input file would otherwise stop the whole campaign before any job runs
+    (Snakemake's missing-input check); the ``locate`` job of that file fails instead, with a
+    message naming the file and the config entry, and the other days go on. Every path
+    template (not a file written by a rule) is replaced by
+    ``resources/locate/<entry>/{date}/<file name>`` (daily) or
+    ``resources/locate/<entry>/<file name>`` (one file), which the rule links to the file.
+
+    Parameters
+    ----------
+    config : dict
+        The validated campaign config (not modified), downloads already resolved.
+
+    Returns
+    -------
+    config : dict
+        A copy with the path templates replaced.
+    located : dict
+        ``{entry: original template}`` of every replaced value.
+    """
+    config = copy.deepcopy(config)
+    located = {}
+    for entry, container, key in input_references(config):
+        template = container.get(key)
+        if not template or template.startswith(_PRODUCED):
+            continue
+        name = Path(template).name
+        folder = f"{LOCATE_ROOT}/{entry}"
+        container[key] = f"{folder}/{{date}}/{name}" if is_daily_template(template) \
+            else f"{folder}/{name}"
+        located[entry] = template
+    return config, located
+
+
+def located_source(located: dict[str, str], entry: str, path: str) -> str:
+    """The file a located input stands for.
+
+    Parameters
+    ----------
+    located : dict
+        ``{entry: original template}`` from :func:`locate_inputs`.
+    entry : str
+        Config entry (``products.gnss_orbit``).
+    path : str
+        The located file's path below ``resources/locate/<entry>/`` (``YYYY-DDD/<name>`` for
+        daily inputs).
+    """
+    template = located[entry]
+    sat = entry.split(".")[1] if entry.startswith("satellites.") else None
+    if is_daily_template(template):
+        return expand_template(template, path.split("/", 1)[0], sat)
+    return template.replace("{sat}", sat) if sat else template
 
 
 def _module_file(name: str) -> Path | None:

@@ -9,7 +9,12 @@ from pathlib import Path
 import pytest
 
 import leopod
-from leopod.campaign import expand_template, script_library_files
+from leopod.campaign import (
+    expand_template,
+    locate_inputs,
+    located_source,
+    script_library_files,
+)
 from leopod.time import days_between, gps_week_dow, parse_date_id
 
 
@@ -49,3 +54,29 @@ def test_script_library_files_follow_imports_transitively(tmp_path):
     # transitive: sp3 reads its text through io/_text.py
     assert "io/_text.py" in files
     assert not any(f.startswith("dynamics/") for f in files)
+
+
+def test_locate_inputs_round_trip():
+    # Authority: the file-name conventions of the templates (GPS week 1419 day 3 = 2007-080,
+    # MANIFEST.md); inputs written by rules (resources/simulate, resources/download) stay.
+    config = {
+        "products": {"gnss_orbit": "../shared/data/grace-a_{yyyy}-{doy}/cod{gpsweek}{dow}.sp3.gz",
+                     "antex": "/data/igs05_1402.atx", "gnss_clock": None,
+                     "wl_bias": "resources/download/cnes_wl/{date}.wsb"},
+        "satellites": {"grace-a": {"observations": "/obs/{sat}/{date}.rnx"},
+                       "sim": {"observations": "resources/simulate/{sat}/{date}.rnx"}},
+    }
+    new, located = locate_inputs(config)
+    assert config["products"]["antex"] == "/data/igs05_1402.atx"      # input not modified
+    assert new["products"]["gnss_orbit"] == \
+        "resources/locate/products.gnss_orbit/{date}/cod{gpsweek}{dow}.sp3.gz"
+    assert new["products"]["antex"] == "resources/locate/products.antex/igs05_1402.atx"
+    assert new["products"]["wl_bias"] == config["products"]["wl_bias"]
+    assert new["satellites"]["sim"] == config["satellites"]["sim"]
+    assert set(located) == {"products.gnss_orbit", "products.antex",
+                            "satellites.grace-a.observations"}
+    assert located_source(located, "products.gnss_orbit", "2007-080/cod14193.sp3.gz") == \
+        "../shared/data/grace-a_2007-080/cod14193.sp3.gz"
+    assert located_source(located, "products.antex", "igs05_1402.atx") == "/data/igs05_1402.atx"
+    assert located_source(located, "satellites.grace-a.observations",
+                          "2007-080/2007-080.rnx") == "/obs/grace-a/2007-080.rnx"

@@ -70,6 +70,26 @@ def test_default_dry_run_has_three_days(tmp_path):
         assert f"results/quality/hy2b-sim/{day}.nc" in out
 
 
+@pytest.mark.shared
+def test_a_missing_product_fails_its_day_alone(shared, tmp_path):
+    # GRACE-A 2007-03-21 exists in ../shared/data, 2007-03-22 does not (MANIFEST.md): the
+    # locate jobs of the second day fail naming the file and config entry, the first day's
+    # jobs run (before the locate rule, Snakemake refused the whole campaign up front)
+    cfg = yaml.safe_load((REPO / "config" / "grace-a-2007.yaml").read_text())
+    cfg["end_date"] = "2007-03-22"
+    text = yaml.safe_dump(cfg).replace("../shared", str(shared))
+    (tmp_path / "two.yaml").write_text(text)
+    proc = _run(["results/ingest/grace-a/2007-080_obs.nc", "results/ingest/grace-a/2007-081_obs.nc",
+                 "--cores", "2", "--keep-going", "--directory", str(tmp_path), "--configfile",
+                 str(tmp_path / "two.yaml")])
+    assert proc.returncode != 0
+    assert (tmp_path / "results/ingest/grace-a/2007-080_obs.nc").exists()
+    assert not (tmp_path / "results/ingest/grace-a/2007-081_obs.nc").exists()
+    log = (tmp_path / "logs/locate/products.gnss_orbit/2007-081/cod14194.sp3.gz.log").read_text()
+    assert f"input file {shared}/data/grace-a_2007-081/cod14194.sp3.gz does not exist" in log
+    assert "config entry products.gnss_orbit" in log
+
+
 @pytest.mark.parametrize("key,value,named", [
     ("quality.max_gap_s", -5.0, "max_gap_s"),
     ("signals.G.phase", ["L1C"], "phase"),

@@ -1,4 +1,5 @@
 # Configuration check and small input helpers; the logic lives in leopod.campaign (tested).
+import re
 from pathlib import Path
 
 from snakemake.utils import validate
@@ -17,6 +18,8 @@ from leopod.campaign import (
     campaign_days,
     code_bias_periods,
     expand_template,
+    locate_inputs,
+    located_source,
     period_days,
     satellite_ids,
     script_library_files,
@@ -32,6 +35,8 @@ if uses_downloads(config):
     config.update(_resolved)
 else:
     CATALOGUE, DOWNLOADS = None, []
+_resolved, LOCATED = locate_inputs(config)
+config.update(_resolved)
 
 DAYS = campaign_days(config)
 SATS = satellite_ids(config)
@@ -39,6 +44,7 @@ SATS = satellite_ids(config)
 
 wildcard_constraints:
     sat="|".join(SATS),
+    entry="|".join(re.escape(e) for e in LOCATED) or "no-located-input",
     date=r"\d{4}-\d{3}",
     period=r"\d{4}-\d{2}|campaign",
     solution="float_pod|fixed_pod",
@@ -48,6 +54,18 @@ def library_code(script):
     """leopod source files that scripts/<script>.py imports; as inputs of a step they make a
     library change rerun exactly the steps that run the changed code."""
     return script_library_files(f"{workflow.basedir}/scripts/{script}.py")
+
+
+def locate_source(wildcards):
+    """The file a located input stands for (path from the config, relative to the workdir)."""
+    return located_source(LOCATED, wildcards.entry, wildcards.path)
+
+
+def existing_locate_source(wildcards):
+    """The located file as input if it exists; else none, so that the locate job itself
+    fails with a clear message instead of the whole campaign stopping on a missing input."""
+    source = locate_source(wildcards)
+    return [source] if Path(source).is_file() else []
 
 
 def download_log(family):

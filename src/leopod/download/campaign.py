@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
+from leopod.campaign import input_references
 from leopod.download.catalogue import Catalogue, Family
 
 __all__ = ["PREFIX", "ROOT", "destination_template", "load_catalogue", "resolve_downloads",
@@ -21,12 +22,6 @@ __all__ = ["PREFIX", "ROOT", "destination_template", "load_catalogue", "resolve_
 PREFIX = "download:"
 #: Folder of the downloaded files (relative to the working directory).
 ROOT = "resources/download"
-
-# Config entries that hold input path templates: (section, key), "*" = every satellite.
-_PRODUCT_KEYS = ("gnss_orbit", "gnss_clock", "wl_bias", "osb", "antex", "slr_stations",
-                 "slr_eccentricities")
-_SATELLITE_KEYS = ("observations", "apriori_orbit", "slr_normal_points", "reference_orbit")
-
 
 def destination_template(family: Family) -> str:
     """Path template of a family's downloaded (decompressed) file.
@@ -46,20 +41,10 @@ def load_catalogue(settings: dict, default: str | Path) -> Catalogue:
     return catalogue.with_archive_urls(urls) if urls else catalogue
 
 
-def _references(config: dict):
-    """(where, container, key) of every config value that may name a family."""
-    products = config.get("products") or {}
-    for key in _PRODUCT_KEYS:
-        yield f"products.{key}", products, key
-    for sat, block in (config.get("satellites") or {}).items():
-        for key in _SATELLITE_KEYS:
-            yield f"satellites.{sat}.{key}", block, key
-
-
 def uses_downloads(config: dict) -> bool:
     """True if any input of the campaign is given as ``download:<family>``."""
     return any(isinstance(c.get(k), str) and c[k].startswith(PREFIX)
-               for _, c, k in _references(config))
+               for _, c, k in input_references(config))
 
 
 def resolve_downloads(config: dict, catalogue: Catalogue) -> tuple[dict, list[str]]:
@@ -86,7 +71,7 @@ def resolve_downloads(config: dict, catalogue: Catalogue) -> tuple[dict, list[st
     """
     config = copy.deepcopy(config)
     used = set()
-    for where, container, key in _references(config):
+    for where, container, key in input_references(config):
         value = container.get(key)
         if not (isinstance(value, str) and value.startswith(PREFIX)):
             continue
