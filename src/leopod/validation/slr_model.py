@@ -348,9 +348,18 @@ def _converged(change_s: np.ndarray, tol_m: float) -> bool:
     return not np.any(change_s * C_LIGHT_M_S > tol_m)
 
 
+def _not_converged(leg: str, change_s: np.ndarray, tol_m: float, max_iter: int) -> str:
+    """Message of a light-time iteration that did not converge."""
+    change_m = change_s * C_LIGHT_M_S
+    bad = change_m > tol_m
+    return (f"{leg} light time did not converge in {max_iter} iterations: {int(bad.sum())} of "
+            f"{bad.size} points still change by up to {np.nanmax(change_m):.2e} m "
+            f"(tolerance {tol_m:.0e} m)")
+
+
 def two_way_light_time(t_transmit_s, pos_station_m,
                        reflector_pos_m: Callable[[np.ndarray], np.ndarray], *,
-                       tol_m: float = 1e-8, max_iter: int = 10) -> LightTime:
+                       tol_m: float = 1e-6, max_iter: int = 10) -> LightTime:
     """Solve the uplink and downlink light times of two-way ranges from fixed stations.
 
     Uplink (fixed-point iteration, Montenbruck & Gill 2000, ch. 6):
@@ -358,7 +367,9 @@ def two_way_light_time(t_transmit_s, pos_station_m,
     downlink: ``c τ_down = |r_refl(t_b) − R3(−ω τ_down) r_sta|`` in the ITRF axes of ``t_b``
     (``R3(−α)`` = eastward rotation by α; see the module docstring for the frame argument).
     Each iteration reduces the error by ~|ρ̇|/c ≈ 3e-5: three evaluations of the reflector
-    callable reach 1e-8 m.
+    callable reach 1e-8 m. Below ~1e-7 m the rounding of the interpolated orbit (nodes of
+    ~7e6 m) makes some points alternate between two values, so the default tolerance is
+    1 µm, three orders of magnitude below the precision of normal points.
 
     Parameters
     ----------
@@ -370,7 +381,7 @@ def two_way_light_time(t_transmit_s, pos_station_m,
         ``f(t_s) -> (m, 3)`` ITRF position of the retro-reflector [m] at epochs ``t_s`` (m,)
         [s]; NaN where unknown (the results are then NaN).
     tol_m : float
-        Stop when no light time changes by more than ``tol_m / c`` [m].
+        Stop when no light time changes by more than ``tol_m / c`` [m] (default 1 µm).
     max_iter : int
         Maximum number of iterations per leg.
 
@@ -394,7 +405,7 @@ def two_way_light_time(t_transmit_s, pos_station_m,
         if _converged(change, tol_m):
             break
     else:
-        raise RuntimeError(f"uplink light time did not converge in {max_iter} iterations")
+        raise RuntimeError(_not_converged("uplink", change, tol_m, max_iter))
     tau_down = tau_up.copy()
     for _ in range(max_iter):
         new = _norm(pos_b - _rotate_z(sta, OMEGA_EARTH_RAD_S * tau_down)) / C_LIGHT_M_S
@@ -402,7 +413,7 @@ def two_way_light_time(t_transmit_s, pos_station_m,
         if _converged(change, tol_m):
             break
     else:
-        raise RuntimeError(f"downlink light time did not converge in {max_iter} iterations")
+        raise RuntimeError(_not_converged("downlink", change, tol_m, max_iter))
     los_down = _rotate_z(pos_b, -OMEGA_EARTH_RAD_S * tau_down) - sta
     return LightTime(tau_up, tau_down, pos_b, los_up, los_down)
 
