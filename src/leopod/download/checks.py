@@ -357,7 +357,7 @@ def check_file(path: str | Path, kind: str, date: str | _dt.date | None = None, 
         return _CHECKS[kind](path, day)
     except (CheckError, FormatError) as err:
         message = str(err)
-    except Exception as err:  # noqa: BLE001 - a corrupt download must not crash the run
+    except Exception as err:  # a corrupt download must not crash the run
         logger.debug("check of %s failed", path, exc_info=True)
         message = f"{path}: unreadable as {kind} ({type(err).__name__}: {err})"
     if display:

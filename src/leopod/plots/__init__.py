@@ -6,10 +6,10 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
+import matplotlib.pyplot as plt
+import xarray as xr
 
-from leopod.netcdf import atomic_path  # noqa: E402
+from leopod.netcdf import atomic_path
 
 #: Resolution of every workflow figure [dots per inch].
 DPI = 110
