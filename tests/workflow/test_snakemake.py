@@ -6,9 +6,13 @@ These tests call the ``snakemake`` command of the environment that runs pytest.
 from __future__ import annotations
 
 import hashlib
+import os
+import re
 import shutil
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -197,6 +201,38 @@ def _digests(work: Path) -> dict[str, str]:
     return {str(p.relative_to(work)): hashlib.sha256(p.read_bytes()).hexdigest()
             for folder in ("results", "resources") for p in sorted((work / folder).rglob("*"))
             if p.is_file() and p.name != "report.html"}
+
+
+@pytest.mark.slow
+def test_a_killed_run_resumes_without_redoing_finished_jobs(tmp_path):
+    # The whole Snakemake process group is killed (SIGKILL, as by a node failure) while the
+    # float POD runs; the next run plans that job again (incomplete, or its outputs missing)
+    # and nothing that had finished. Authority: Snakemake's incomplete-job markers with
+    # rerun-incomplete (profiles/default) and leopod's atomic writes (no partial file).
+    cfg = _write_config(tmp_path / "one.yaml", end_date="2019-01-01",
+                        **{"code_bias.min_count": 40})
+    proc = subprocess.Popen([SNAKEMAKE, "--snakefile", str(REPO / "Snakefile"), "--cores", "1",
+                             "--directory", str(tmp_path), "--configfile", str(cfg)],
+                            cwd=REPO, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+    log = tmp_path / "logs/float_pod/hy2b-sim/2019-001.log"
+    try:
+        deadline = time.monotonic() + 600
+        while not (log.exists() and "float POD:" in log.read_text()):
+            assert proc.poll() is None and time.monotonic() < deadline, "float POD never started"
+            time.sleep(0.5)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    finished = sorted(p.name for p in (tmp_path / "results/quality/hy2b-sim").iterdir())
+    assert "2019-001.nc" in finished
+    assert not list((tmp_path / "results/float_pod/hy2b-sim").glob("*.nc"))
+    assert not list((tmp_path / "results").rglob("*.part"))
+    dry = _run(["-n", "--directory", str(tmp_path), "--configfile", str(cfg)], check=True)
+    planned = set(re.findall(r"^rule (\w+):", dry.stdout, flags=re.M))
+    assert "float_pod" in planned and "fixed_pod" in planned
+    assert not planned & {"simulate_truth", "simulate", "simulate_gnss", "ingest", "quality",
+                          "code_bias"}
 
 
 @pytest.mark.slow
