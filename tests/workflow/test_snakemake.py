@@ -94,6 +94,18 @@ def test_a_missing_product_fails_its_day_alone(shared, tmp_path):
     assert "config entry products.gnss_orbit" in log
 
 
+def test_two_satellite_month_overlay_plans_every_satellite_day(tmp_path):
+    # config/two-satellites.yaml is merged over the default campaign (Snakemake merges
+    # --configfile files in order): 2 satellites x 31 January days, one monthly map each
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile",
+                 str(REPO / "config/config.yaml"), str(REPO / "config/two-satellites.yaml")],
+                check=True)
+    stats = dict(re.findall(r"^(\w+)\s+(\d+)$", proc.stdout, flags=re.M))
+    assert stats["simulate_truth"] == "2" and stats["simulate_gnss"] == "31"
+    assert stats["float_pod"] == stats["fixed_pod"] == "62"
+    assert stats["code_bias"] == "2" and stats["overlap"] == str(2 * 2 * 30)
+
+
 @pytest.mark.parametrize("key,value,named", [
     ("quality.max_gap_s", -5.0, "max_gap_s"),
     ("signals.G.phase", ["L1C"], "phase"),
