@@ -48,7 +48,9 @@ rule float_pod:
         "benchmarks/float_pod/{sat}/{date}.tsv"
     threads: 1
     resources:
-        mem_mb=6000,
+        # peak RSS 1.0-1.6 GB for 30-h arcs at 30 s (benchmarks/campaign.py); a job killed
+        # for memory is retried (profiles/slurm: retries) with twice as much
+        mem_mb=lambda wildcards, attempt: 3000 * attempt,
         runtime=30,
     conda:
         "../../envs/leopod.yaml"
@@ -149,7 +151,9 @@ rule fixed_pod:
         "benchmarks/fixed_pod/{sat}/{date}.tsv"
     threads: 1
     resources:
-        mem_mb=6000,
+        # peak RSS 1.0-1.6 GB for 30-h arcs at 30 s (benchmarks/campaign.py); a job killed
+        # for memory is retried (profiles/slurm: retries) with twice as much
+        mem_mb=lambda wildcards, attempt: 3000 * attempt,
         runtime=30,
     conda:
         "../../envs/leopod.yaml"
