@@ -26,6 +26,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from _campaign_config import default_config
 
 REPO = Path(__file__).resolve().parents[2]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
@@ -34,17 +35,10 @@ DAYS = ("2019-030", "2019-031", "2019-032", "2019-033")  # 30 Jan to 2 Feb 2019
 
 
 def _config(**changes) -> dict:
-    cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
-    cfg["start_date"], cfg["end_date"] = "2019-01-30", "2019-02-02"
+    cfg = default_config(start_date="2019-01-30", end_date="2019-02-02", **changes)
     second = copy.deepcopy(cfg["satellites"]["hy2b-sim"])
     second.update(name="LEO-2 (simulated)", simulate_orbit={"altitude_km": 500.0, "ltan_h": 14.0})
     cfg["satellites"]["leo2-sim"] = second
-    for dotted, value in changes.items():
-        node = cfg
-        keys = dotted.split(".")
-        for key in keys[:-1]:
-            node = node[key]
-        node[keys[-1]] = value
     return cfg
 
 

@@ -20,6 +20,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 import yaml
+from _campaign_config import default_config
 
 from leopod.codebias.products import grid_of, node_vector
 from leopod.io.sp3 import read_sp3
@@ -40,14 +41,7 @@ def _run(args, cwd=REPO, check=False):
 
 
 def _write_config(path: Path, **changes) -> Path:
-    cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
-    for dotted, value in changes.items():
-        node = cfg
-        keys = dotted.split(".")
-        for key in keys[:-1]:
-            node = node[key]
-        node[keys[-1]] = value
-    path.write_text(yaml.safe_dump(cfg))
+    path.write_text(yaml.safe_dump(default_config(**changes)))
     return path
 
 
