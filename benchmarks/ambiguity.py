@@ -34,13 +34,14 @@ import yaml
 
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
-from leopod.campaign import arc_days, campaign_days
 from leopod.codebias.apply import correct_codes
-from leopod.estimation.arc import merge_days, run_arc
+from leopod.estimation.arc import run_arc
 from leopod.io.clock import read_rinex_clock
+from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
 from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 from leopod.validation.compare import difference_rtn, rms_rtn
+from leopod.workflow.campaign import arc_days, campaign_days
 
 REPO = Path(__file__).resolve().parents[1]
 SAT = "hy2b-sim"

@@ -18,14 +18,14 @@ import time
 from pathlib import Path
 
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
+from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
-from leopod.netcdf import write_netcdf
-from leopod.orbit.products import GnssProducts
 
 SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}
 GRACE = Path(__file__).resolve().parents[2] / "shared/data/grace-a_2007-080"

@@ -27,11 +27,11 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from leopod.campaign import campaign_days
 from leopod.io.crd import read_crd
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
 from leopod.simulate.settings import SimulationSettings
 from leopod.validation.slr import line_of_sight_orbit_difference, slr_residuals
+from leopod.workflow.campaign import campaign_days
 
 REPO = Path(__file__).resolve().parents[1]
 SAT = "hy2b-sim"

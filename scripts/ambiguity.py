@@ -5,10 +5,9 @@ import xarray as xr
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.codebias.apply import correct_codes
-from leopod.estimation.arc import merge_days
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import merge_days, write_netcdf
 from leopod.plots.ambiguity import plot_fractional_parts
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def _directions(path):

@@ -3,9 +3,9 @@
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.validation.summary import COLUMNS, campaign_table, day_row
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def _load(files: dict, key: str, date: str):

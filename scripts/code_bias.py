@@ -4,9 +4,9 @@ from leopod.codebias.period import estimate_period, map_settings
 from leopod.codebias.products import statistics_csv
 from leopod.codebias.samples import load_quality
 from leopod.io import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.plots.codebias import plot_code_bias_counts, plot_code_bias_maps, plot_mp_elevation
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, sat, period, log):

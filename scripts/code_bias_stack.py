@@ -6,9 +6,9 @@ import xarray as xr
 
 from leopod.codebias.products import map_difference, stack_maps
 from leopod.io import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.plots.codebias import plot_code_bias_maps, plot_map_difference
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, log):

@@ -1,8 +1,8 @@
 """Snakemake script of the download_<family> rules: see leopod.download.fetch_product."""
 
 from leopod.download import fetch_product
-from leopod.download.campaign import load_catalogue
-from leopod.workflow import configure_logging
+from leopod.workflow.downloads import load_catalogue
+from leopod.workflow.log import configure_logging
 
 
 def main(family, date, dest, settings, default_catalogue, log):

@@ -6,7 +6,7 @@ import xarray as xr
 from leopod.ambiguity.screening import degraded_passes, drop_constraints
 from leopod.estimation.arc import run_arc
 from leopod.estimation.write import ArcInputs, log_arc, write_arc
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def constraints_of(table: xr.Dataset, sigma_m: float):

@@ -2,7 +2,7 @@
 
 from leopod.estimation.arc import run_arc
 from leopod.estimation.write import ArcInputs, log_arc, write_arc
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, date, log):

@@ -2,14 +2,14 @@
 
 import numpy as np
 
+from leopod.gnss.products import GnssProducts
 from leopod.ingest import apriori_from_sp3, apriori_from_spp, canonical_observations, gnss_at_epochs
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
+from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
-from leopod.netcdf import write_netcdf
-from leopod.orbit.products import GnssProducts
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, out_gnss, out_leo,

@@ -3,7 +3,7 @@
 import os
 from pathlib import Path
 
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(source, entry, dest, log):

@@ -2,9 +2,9 @@
 
 import xarray as xr
 
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.validation.overlap import overlap
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, log):

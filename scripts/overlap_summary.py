@@ -4,11 +4,11 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_overlaps
 from leopod.validation.compare import statistics_table
 from leopod.validation.overlap import overlap_summary
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, log):

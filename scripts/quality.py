@@ -6,7 +6,7 @@ import xarray as xr
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.io._text import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.plots.quality import (
     plot_code_noise,
     plot_mp_elevation,
@@ -14,7 +14,7 @@ from leopod.plots.quality import (
     plot_visibility,
     summary_html,
 )
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(obs_path, gnss_path, leo_path, signal_cfg, settings, title, out, log):

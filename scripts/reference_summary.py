@@ -5,10 +5,10 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_daily_statistics, plot_reference_differences
 from leopod.validation.compare import orbit_statistics, statistics_table
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, log):

@@ -4,7 +4,7 @@ import xarray as xr
 
 from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(date, sat, settings, world_start, world_end, pco_body_m, truth_path, biases_path, out):

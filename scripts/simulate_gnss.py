@@ -4,7 +4,7 @@ import xarray as xr
 
 from leopod.simulate.campaign import simulate_gnss_products
 from leopod.simulate.settings import SimulationSettings
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(date, settings, world_start, world_end, biases_path, out):

@@ -2,7 +2,7 @@
 
 from leopod.simulate.campaign import simulate_truth, write_code_bias_maps, write_truth_orbit
 from leopod.simulate.settings import SimulationSettings
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(sat, settings, world_start, world_end, truth_path, map_path):

@@ -2,7 +2,7 @@
 
 from leopod.simulate.campaign import simulate_world_truth
 from leopod.simulate.settings import SimulationSettings
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(settings, sats, world_start, world_end, out):

@@ -4,10 +4,10 @@ import xarray as xr
 
 from leopod.io.blq import read_blq
 from leopod.io.crd import read_crd
+from leopod.io.netcdf import write_netcdf
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
-from leopod.netcdf import write_netcdf
 from leopod.validation.slr import SlrResidualSettings, slr_residuals
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def main(inp, out, params, log):

@@ -5,10 +5,10 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.netcdf import write_netcdf
+from leopod.io.netcdf import write_netcdf
 from leopod.plots.slr import plot_slr_elevation, plot_slr_residuals_time, plot_slr_stations
 from leopod.validation.slr import elevation_statistics, rtn_projection, station_statistics
-from leopod.workflow import configure_logging
+from leopod.workflow.log import configure_logging
 
 
 def _table(stats: dict[str, xr.Dataset], dim: str, names) -> str:

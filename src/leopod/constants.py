@@ -1,6 +1,6 @@
 """Physical and conventional constants, each with its unit (in the name) and its source.
 
-Signal frequencies live in :mod:`leopod.gnss.signals`, not here.
+Signal frequencies live in :mod:`leopod.signals`, not here.
 """
 
 #: Speed of light in vacuum [m/s]. IERS Conventions 2010, Table 1.1 (defining constant).

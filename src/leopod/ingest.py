@@ -1,7 +1,7 @@
 """Ingest: raw files -> canonical observation, GNSS-product and a-priori LEO orbit Datasets.
 
 * :func:`canonical_observations` keeps the configured GNSS and signals of a RINEX file, maps
-  RINEX 2 names to RINEX 3 codes (:mod:`leopod.gnss.signals`) and converts phase to metres,
+  RINEX 2 names to RINEX 3 codes (:mod:`leopod.signals`) and converts phase to metres,
   so every later step sees one schema whatever the input version.
 * :func:`gnss_at_epochs` evaluates the precise GNSS orbits (Lagrange) at the observation
   epochs and keeps the clock product's values at its own epochs only.
@@ -18,15 +18,16 @@ import numpy as np
 import xarray as xr
 from scipy.signal import savgol_filter
 
+from leopod import signals
+from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
 from leopod.frames.attitude import body_to_ef, nominal_body_axes
-from leopod.gnss import signals
+from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free
+from leopod.gnss.products import GnssProducts
 from leopod.gnss.spp import solve_spp
-from leopod.orbit.gnss_attitude import satellite_pco_if, sun_position_ef
-from leopod.orbit.interpolate import interpolate_table
-from leopod.orbit.products import GnssProducts
-from leopod.time import seconds_since
+from leopod.numerics.interpolate import interpolate_table
+from leopod.time.calendar import seconds_since
 
 __all__ = ["canonical_observations", "gnss_at_epochs", "apriori_from_spp", "apriori_from_sp3",
            "smooth_positions"]

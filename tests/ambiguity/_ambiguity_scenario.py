@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
-from leopod.gnss.signals import frequency_hz
+from leopod.signals import frequency_hz
 from leopod.simulate.biases import ar_products, simulate_biases
 
 EPOCH = np.datetime64("2020-06-01T00:00", "ns")

@@ -6,12 +6,8 @@ import numpy as np
 import pytest
 
 from leopod.constants import GM_EARTH_M3_S2
-from leopod.dynamics.empirical import (
-    EmpiricalModel,
-    argument_of_latitude,
-    empirical_acceleration,
-    rtn_matrix,
-)
+from leopod.dynamics.empirical import EmpiricalModel, argument_of_latitude, empirical_acceleration
+from leopod.frames.rtn import rtn_matrix
 
 
 def _rot(axis: int, angle_rad: float) -> np.ndarray:

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import GM_MOON_M3_S2, GM_SUN_M3_S2
 from leopod.dynamics import force_model as fm
 from leopod.dynamics.drag import HarrisPriesterDensity, drag_cannonball
@@ -24,7 +25,7 @@ from leopod.dynamics.gravity_field import GravityField
 from leopod.dynamics.relativity import relativistic_acceleration
 from leopod.dynamics.solid_tides import permanent_tide_c20
 from leopod.dynamics.srp import srp_cannonball
-from leopod.dynamics.third_body import Ephemeris, third_body_acceleration
+from leopod.dynamics.third_body import third_body_acceleration
 
 T_REF = np.datetime64("2023-01-01T00:00:00", "ns")
 ARC_S = 6 * 3600.0

@@ -19,8 +19,6 @@ from leopod.dynamics.forces import (
     ForceModel,
     PointMassGravity,
     PseudoStochasticPulses,
-    rtn_basis,
-    rtn_vector_partials,
 )
 from leopod.dynamics.integrator import (
     DEFAULT_STEP_S,
@@ -28,6 +26,7 @@ from leopod.dynamics.integrator import (
     integrate,
     pulse_partials,
 )
+from leopod.frames.rtn import rtn_basis, rtn_vector_partials
 
 HOUR_S = 3600.0
 #: J2 of the test force (≈ Earth's, EGM2008 −√5 C̄20); any value serves an integrator test.

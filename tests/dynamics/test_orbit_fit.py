@@ -19,7 +19,7 @@ from leopod.dynamics import force_model as fm
 from leopod.dynamics.integrator import integrate
 from leopod.dynamics.orbit_fit import STATE_NAMES, _solve, fit_orbit, initial_state
 from leopod.frames.earth_rotation import gcrf_to_itrf
-from leopod.time import from_seconds
+from leopod.time.calendar import from_seconds
 
 T_REF = np.datetime64("2023-01-01T00:00:00", "ns")
 ARC_S = 3 * 3600.0

@@ -3,18 +3,17 @@
 Authorities: astronomical events and constants (total lunar eclipse of 2007-03-03, greatest
 eclipse 23:21 UT, NASA eclipse catalogue: Sun and Moon in opposition; Earth's perihelion /
 aphelion distances 0.983 / 1.017 AU), an independent low-precision Sun series
-(Montenbruck & Gill 2000 sec. 3.3.2, in leopod.orbit.gnss_attitude), analytic special cases
+(Montenbruck & Gill 2000 sec. 3.3.2, in leopod.gnss.attitude), analytic special cases
 and finite differences.
 """
 
 import numpy as np
 import pytest
 
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import C_LIGHT_M_S, GM_EARTH_M3_S2
 from leopod.dynamics.relativity import EARTH_ANGULAR_MOMENTUM_M2_S, relativistic_acceleration
-from leopod.dynamics.third_body import (
-    GM_MOON_M3_S2, GM_SUN_M3_S2, Ephemeris, third_body_acceleration,
-)
+from leopod.dynamics.third_body import GM_MOON_M3_S2, GM_SUN_M3_S2, third_body_acceleration
 
 AU = 1.495978707e11
 J2000 = np.datetime64("2000-01-01T12:00:00", "ns")
@@ -34,7 +33,7 @@ def test_lunar_eclipse_2007_sun_and_moon_opposite():
 
 
 def test_sun_distance_and_direction_against_low_precision_series():
-    from leopod.orbit.gnss_attitude import sun_position_ef
+    from leopod.astro.sun import sun_position_ef
 
     eph = Ephemeris()
     assert np.linalg.norm(eph.sun_m(_t("2007-01-04T00:00:00"))[0]) / AU == pytest.approx(0.9833, abs=2e-4)

@@ -31,16 +31,24 @@ import numpy as np
 import pytest
 from scipy.special import eval_legendre, lpmv, roots_legendre
 
+from leopod.astro.arguments import doodson_arguments, fundamental_arguments
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import GM_EARTH_M3_S2, R_EARTH_EQUATOR_M
 from leopod.dynamics.ocean_tides import OceanTides
 from leopod.dynamics.pole_tides import (
-    ocean_pole_tide, secular_pole_rad, solid_pole_tide, wobble_rad,
+    ocean_pole_tide,
+    secular_pole_rad,
+    solid_pole_tide,
+    wobble_rad,
 )
 from leopod.dynamics.solid_tides import (
-    STEP2_TABLES, doodson_arguments, fundamental_arguments, permanent_tide_c20,
-    solid_earth_tides, solid_tide_step1, solid_tide_step2,
+    STEP2_TABLES,
+    permanent_tide_c20,
+    solid_earth_tides,
+    solid_tide_step1,
+    solid_tide_step2,
 )
-from leopod.dynamics.third_body import GM_MOON_M3_S2, GM_SUN_M3_S2, Ephemeris
+from leopod.dynamics.third_body import GM_MOON_M3_S2, GM_SUN_M3_S2
 from leopod.dynamics.tides import TideModel
 from leopod.io.fes import doodson_multipliers, read_fes_cnm
 

@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import quad
 
 from leopod.constants import C_LIGHT_M_S, GM_EARTH_M3_S2
-from leopod.estimation.corrections import (
+from leopod.gnss.corrections import (
     relativistic_clock_s,
     shapiro_delay_m,
     unwrap_windup,

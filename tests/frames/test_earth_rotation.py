@@ -10,7 +10,8 @@ from leopod.frames.earth_rotation import (
     gcrf_to_itrf,
     itrf_to_gcrf,
 )
-from leopod.timescales import EarthOrientation, jd_tt, jd_ut1
+from leopod.time.eop import EarthOrientation, jd_ut1
+from leopod.time.scales import jd_tt
 
 MAS_RAD = erfa.DAS2R * 1e-3
 # A LEO state in the ITRF (GRACE-like: |r| = 6850 km, |v| = 7.6 km/s).

@@ -8,8 +8,8 @@ the wide lane by 2 cycles but GF by only 3.3 mm (GF blind, MW sees it).
 import numpy as np
 import pytest
 
+from leopod import signals
 from leopod.constants import C_LIGHT_M_S
-from leopod.gnss import signals
 from leopod.gnss.passes import (
     FLAG_GAP,
     FLAG_GF,

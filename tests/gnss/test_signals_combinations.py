@@ -8,8 +8,8 @@ synthetic observations built from geometry, ionosphere, ambiguities and multipat
 import numpy as np
 import pytest
 
+from leopod import signals
 from leopod.constants import C_LIGHT_M_S
-from leopod.gnss import signals
 from leopod.gnss.combinations import (
     geometry_free,
     ionosphere_free,

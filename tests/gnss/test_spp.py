@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_WGS84_RAD_S
+from leopod.gnss.products import GnssProducts
 from leopod.gnss.spp import solve_spp
-from leopod.orbit.products import GnssProducts
 
 W = OMEGA_EARTH_WGS84_RAD_S
 

@@ -13,13 +13,13 @@ import yaml
 
 from leopod.estimation.arc import run_arc
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
-from leopod.orbit.products import GnssProducts
 
 pytestmark = pytest.mark.shared
 SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}

@@ -15,12 +15,12 @@ import pytest
 import xarray as xr
 
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
 from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
-from leopod.orbit.products import GnssProducts
 from leopod.simulate.campaign import (
     simulate_gnss_products,
     simulate_leo_day,

@@ -17,14 +17,14 @@ from _helpers import assert_format_error, write_lines
 
 from leopod.constants import GM_EARTH_M3_S2, OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
 from leopod.gnss.combinations import ionosphere_free
-from leopod.gnss.signals import frequency_hz
+from leopod.gnss.products import GnssProducts
 from leopod.gnss.spp import solve_spp
 from leopod.io import FormatError
 from leopod.io.grace_orbit_csv import read_grace_orbit_csv, read_kband_range_csv
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
-from leopod.orbit.products import GnssProducts
-from leopod.time import seconds_since
+from leopod.signals import frequency_hz
+from leopod.time.calendar import seconds_since
 from leopod.validation.compare import fit_time_offset, interpolate_orbit
 
 DIR = "grace-b_2010-208"

@@ -25,6 +25,7 @@ import xarray as xr
 import yaml
 from _simulated_day import DAY, PCO, SAT, SETTINGS, simulate_day, write_leo
 
+from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
 from leopod.estimation.inputs import satellite_antenna
 from leopod.estimation.obsmodel import Pairs, compute_model
@@ -36,7 +37,7 @@ from leopod.gnss.combinations import (
     narrow_lane_wavelength_m,
     wide_lane_wavelength_m,
 )
-from leopod.gnss.signals import frequency_hz
+from leopod.gnss.products import GnssProducts
 from leopod.io.antex import read_antex
 from leopod.io.bias_sinex import read_bias_sinex
 from leopod.io.clock import read_rinex_clock
@@ -45,15 +46,14 @@ from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sinex import read_sinex_stations
 from leopod.io.sp3 import read_sp3
 from leopod.io.wlbias import read_wl_bias
-from leopod.orbit.gnss_attitude import sun_position_ef
-from leopod.orbit.interpolate import interpolate_table
-from leopod.orbit.products import GnssProducts
+from leopod.numerics.interpolate import interpolate_table
+from leopod.signals import frequency_hz
 from leopod.simulate.campaign import gnss_world, simulate_leo_day
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.observations import DEFAULT_NOISE_M, ObservationSettings
 from leopod.simulate.settings import SimulationSettings
 from leopod.simulate.slr import DEFAULT_STATIONS
-from leopod.time import seconds_since
+from leopod.time.calendar import seconds_since
 
 REPO_CONFIG = Path(__file__).resolve().parents[2] / "config/config.yaml"
 F1, F2 = frequency_hz("G", "1"), frequency_hz("G", "2")
@@ -211,7 +211,7 @@ def test_rinex_files_read_by_leopod_and_georinex(day, raw, tmp_path):
     for code in ("C1C", "C1W", "C2W", "L1C", "L2W"):
         np.testing.assert_allclose(ref3[code].values, head[code].values, rtol=0, atol=1e-6)
         np.testing.assert_array_equal(head[code].values, raw[code].values[:240])
-    # RINEX 2 and 3 hold the same observations (RINEX 2 names of leopod.gnss.signals)
+    # RINEX 2 and 3 hold the same observations (RINEX 2 names of leopod.signals)
     for v3_code, v2_code in (("C1C", "C1"), ("C1W", "P1"), ("C2W", "P2"), ("L1C", "L1"),
                              ("L2W", "L2")):
         np.testing.assert_array_equal(raw[v3_code].values, v2[v2_code].values)

@@ -15,11 +15,11 @@ import pytest
 from leopod.ambiguity.wide_lane import hmw_cycles, sat_wl_bias_osb
 from leopod.constants import C_LIGHT_M_S
 from leopod.frames.earth_rotation import gcrf_to_itrf
-from leopod.gnss.signals import frequency_hz
 from leopod.io.bias_sinex import read_bias_sinex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.dcb import read_code_dcb
 from leopod.io.sp3 import read_sp3
+from leopod.signals import frequency_hz
 from leopod.simulate.biases import truth_dataset
 from leopod.simulate.campaign import _campaign_biases, gnss_world, receiver_clock, simulate_truth
 from leopod.simulate.observations import simulate_observations

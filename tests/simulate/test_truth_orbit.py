@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import (
     GM_EARTH_M3_S2,
     GPST_MINUS_TAI_S,
@@ -25,11 +26,10 @@ from leopod.constants import (
     R_EARTH_EQUATOR_M,
     TT_MINUS_TAI_S,
 )
-from leopod.dynamics.empirical import rtn_matrix
 from leopod.dynamics.force_model import Drag, Empirical, apriori_parameters, build_force_model
 from leopod.dynamics.integrator import integrate
-from leopod.dynamics.third_body import Ephemeris
 from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.frames.rtn import rtn_matrix
 from leopod.io.sp3 import read_sp3
 from leopod.simulate.truth_orbit import (
     HY2B_ALTITUDE_M,
@@ -42,8 +42,8 @@ from leopod.simulate.truth_orbit import (
     truth_force_config,
     write_truth_files,
 )
-from leopod.time import J2000_TT, seconds_since
-from leopod.timescales import jd_tt
+from leopod.time.calendar import J2000_TT, seconds_since
+from leopod.time.scales import jd_tt
 
 T0 = np.datetime64("2019-01-01T00:00:00", "ns")
 ARC_S = 3600.0

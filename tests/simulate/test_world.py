@@ -16,7 +16,7 @@ import pytest
 
 from leopod.constants import GM_EARTH_M3_S2, R_EARTH_EQUATOR_M
 from leopod.dynamics.empirical import argument_of_latitude
-from leopod.estimation.corrections import relativistic_clock_s
+from leopod.gnss.corrections import relativistic_clock_s
 from leopod.simulate.world import (
     CircularOrbit,
     KeplerOrbit,
@@ -151,7 +151,7 @@ def test_kepler_velocity_is_the_derivative_of_position():
 
 def test_kepler_relativistic_clock_term():
     # IS-GPS-200 20.3.3.3.3.1: Δt_r = F e sqrt(a) sin E with F = −2 sqrt(GM)/c², which
-    # equals −2 r·v/c² (leopod.estimation.corrections.relativistic_clock_s)
+    # equals −2 r·v/c² (leopod.gnss.corrections.relativistic_clock_s)
     orbit = KeplerOrbit(**KEPLER, j2=False)
     t = np.linspace(0.0, 43_200.0, 25)
     pos, vel = orbit.inertial(t)

@@ -17,11 +17,11 @@ import pytest
 import xarray as xr
 
 from leopod.constants import GM_EARTH_M3_S2
-from leopod.dynamics.empirical import rtn_matrix
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices, gcrf_to_itrf
+from leopod.frames.rtn import rtn_axes, rtn_matrix
 from leopod.io.grace_orbit_csv import read_grace_orbit_csv
 from leopod.io.sp3 import read_sp3
-from leopod.time import seconds_since
+from leopod.time.calendar import seconds_since
 from leopod.validation.compare import (
     COMPONENTS,
     HELMERT_PARAMETERS,
@@ -35,7 +35,6 @@ from leopod.validation.compare import (
     orbit_from_sp3,
     orbit_statistics,
     rms_rtn,
-    rtn_axes,
     statistics_table,
     to_gps_time,
 )

@@ -15,10 +15,10 @@ import pytest
 import xarray as xr
 
 from leopod.constants import GM_EARTH_M3_S2
-from leopod.dynamics.empirical import rtn_matrix
 from leopod.frames.earth_rotation import gcrf_to_itrf
+from leopod.frames.rtn import rtn_matrix
+from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3 import read_sp3
-from leopod.netcdf import write_netcdf
 from leopod.validation.compare import COMPONENTS, orbit_from_sp3, statistics_table
 from leopod.validation.overlap import overlap, overlap_summary
 

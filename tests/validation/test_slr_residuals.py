@@ -17,7 +17,7 @@ from leopod.constants import (
     WGS84_A_M,
     WGS84_INV_F,
 )
-from leopod.dynamics.empirical import rtn_matrix
+from leopod.frames.rtn import rtn_matrix
 from leopod.io.blq import BLQ_COMPONENTS, BLQ_CONSTITUENTS
 from leopod.io.crd import read_crd
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations

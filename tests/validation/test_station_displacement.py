@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 
 import leopod.validation.station_displacement as sd
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
-from leopod.dynamics.third_body import Ephemeris
 from leopod.frames.earth_rotation import gcrf_to_itrf
 from leopod.io._text import FormatError
 from leopod.io.blq import BLQ_CONSTITUENTS, read_blq
-from leopod.timescales import default_earth_orientation, jd_tt, jd_ut1, tai_minus_utc_s, utc_to_gps
+from leopod.time.eop import default_earth_orientation, jd_ut1
+from leopod.time.scales import jd_tt, tai_minus_utc_s, utc_to_gps
 from leopod.validation.station_displacement import (
     local_axes,
     ocean_loading_arguments,

@@ -9,13 +9,13 @@ from pathlib import Path
 import pytest
 
 import leopod
-from leopod.campaign import (
+from leopod.time.calendar import days_between, gps_week_dow, parse_date_id
+from leopod.workflow.campaign import (
     expand_template,
     locate_inputs,
     located_source,
     script_library_files,
 )
-from leopod.time import days_between, gps_week_dow, parse_date_id
 
 
 def test_gps_week_and_templates():

@@ -160,7 +160,7 @@ def test_new_observations_of_one_day_rerun_what_uses_that_day(work):
 
 
 def test_a_library_change_reruns_the_steps_that_import_it(work):
-    # screening.py is imported by scripts/fixed_pod.py alone (leopod.campaign.
+    # screening.py is imported by scripts/fixed_pod.py alone (leopod.workflow.campaign.
     # script_library_files). Snakemake compares the content of small inputs, not only their
     # time, so a comment line is appended for the dry run; bytes and time are put back.
     module = REPO / "src/leopod/ambiguity/screening.py"

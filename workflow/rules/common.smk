@@ -1,29 +1,16 @@
-# Configuration check and small input helpers; the logic lives in leopod.campaign (tested).
+# Configuration check and small input helpers; the logic lives in leopod.workflow.campaign (tested).
 import re
 from pathlib import Path
 
 from snakemake.utils import validate
 
-from leopod.download.campaign import (
-    destination_template,
-    load_catalogue,
-    resolve_downloads,
-    uses_downloads,
-)
+from leopod.workflow.downloads import (destination_template, load_catalogue, resolve_downloads,
+    uses_downloads)
 from leopod.simulate.product_world import ProductSet
 
-from leopod.campaign import (
-    applied_code_bias_period,
-    arc_days,
-    campaign_days,
-    code_bias_periods,
-    expand_template,
-    locate_inputs,
-    located_source,
-    period_days,
-    satellite_ids,
-    script_library_files,
-)
+from leopod.workflow.campaign import (applied_code_bias_period, arc_days, campaign_days,
+    code_bias_periods, expand_template, locate_inputs, located_source, period_days, satellite_ids,
+    script_library_files)
 
 
 validate(config, "../schemas/config.schema.yaml", set_default=True)

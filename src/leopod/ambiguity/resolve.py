@@ -32,7 +32,7 @@ from leopod.ambiguity.independent import constraint_rows, fixing_rate, independe
 from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_narrow_lane
 from leopod.ambiguity.pairs import sd_pairs
 from leopod.ambiguity.wide_lane import hmw_cycles, sd_wide_lane
-from leopod.gnss.signals import frequency_hz
+from leopod.signals import frequency_hz
 
 __all__ = ["ArSettings", "Resolution", "resolve_arc"]
 

@@ -47,8 +47,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.gnss.combinations import melbourne_wuebbena, wide_lane_wavelength_m
-from leopod.gnss.signals import code_band, frequency_hz
 from leopod.io.bias_sinex import osb
+from leopod.signals import code_band, frequency_hz
 
 __all__ = [
     "SdWideLane", "hmw_cycles", "pass_hmw", "sat_osb_m", "sat_wl_bias_cnes",

@@ -36,7 +36,7 @@ from urllib.parse import quote, urlsplit
 from urllib.request import url2pathname
 
 from leopod.download.checks import KINDS
-from leopod.time import parse_date_id, template_fields
+from leopod.time.calendar import parse_date_id, template_fields
 
 __all__ = ["PERIODS", "PLACEHOLDERS", "Archive", "Catalogue", "Family", "Location", "Source",
            "local_path"]

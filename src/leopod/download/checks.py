@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from leopod.io._text import FormatError, parse_float, read_lines
-from leopod.time import parse_date_id
+from leopod.time.calendar import parse_date_id
 
 __all__ = ["KINDS", "CheckError", "check_file"]
 

@@ -28,8 +28,8 @@ from leopod.download.checks import CheckError, check_file
 from leopod.download.checksums import ChecksumError, file_digest, listed_digest, verify_digest
 from leopod.download.decompress import DecompressError, decompress_file, decompressed_name, layers
 from leopod.download.fetch import FetchError, discard_part, download, read_url
-from leopod.netcdf import atomic_path
-from leopod.time import date_id, parse_date_id
+from leopod.io.netcdf import atomic_path
+from leopod.time.calendar import date_id, parse_date_id
 
 __all__ = ["DownloadError", "FetchReport", "fetch_product"]
 

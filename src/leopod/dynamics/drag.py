@@ -42,8 +42,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
-from leopod.time import J2000_TT
-from leopod.timescales import tai_minus_utc_s
+from leopod.time.calendar import J2000_TT
+from leopod.time.scales import tai_minus_utc_s
 
 __all__ = [
     "HarrisPriesterDensity",
@@ -308,7 +308,7 @@ class HarrisPriesterDensity:
 
 
 def _tt_to_utc(t_tt_s: float, cache: dict) -> np.datetime64:
-    """UTC epoch of TT seconds since J2000.0 (TAI−UTC from :mod:`leopod.timescales`, cached
+    """UTC epoch of TT seconds since J2000.0 (TAI−UTC from :mod:`leopod.time.scales`, cached
     per day because it sits on the integrator's hot path)."""
     tai = J2000_TT + np.timedelta64(round((t_tt_s - TT_MINUS_TAI_S) * 1e9), "ns")
     day = tai.astype("datetime64[D]")

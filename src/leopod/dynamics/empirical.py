@@ -2,7 +2,7 @@
 
 RTN (radial, along-track, cross-track) frame of a state (r, v): ``R = r/|r|``,
 ``N = (r × v)/|r × v|``, ``T = N × R`` (T is along the velocity for a circular orbit); the
-matrix of :func:`rtn_matrix` is the transpose of :func:`leopod.dynamics.forces.rtn_basis`. :func:`rtn_matrix` returns the rows R, T, N:
+matrix of :func:`rtn_matrix` is the transpose of :func:`leopod.frames.rtn.rtn_basis`. :func:`rtn_matrix` returns the rows R, T, N:
 ``x_rtn = M @ x_gcrf``.
 
 Empirical acceleration of seed 000 Table II ("piece-wise periodical terms in the along- and
@@ -35,33 +35,10 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-__all__ = ["EmpiricalModel", "argument_of_latitude", "empirical_acceleration", "rtn_matrix"]
+__all__ = ["EmpiricalModel", "argument_of_latitude", "empirical_acceleration"]
 
 _DIRECTIONS = ("R", "T", "N")
 _TERMS = ("const", "cos", "sin")
-
-
-def rtn_matrix(pos_m, vel_m_s) -> np.ndarray:
-    """Rotation from GCRF to the RTN frame of the state(s).
-
-    Parameters
-    ----------
-    pos_m, vel_m_s : array_like, shape (..., 3)
-        Position [m] and velocity [m/s] (any inertial or Earth-fixed frame; the RTN axes are
-        expressed in it).
-
-    Returns
-    -------
-    ndarray, shape (..., 3, 3)
-        Rows R, T, N (unit vectors): ``x_rtn = M @ x``.
-    """
-    r = np.asarray(pos_m, dtype=float)
-    v = np.asarray(vel_m_s, dtype=float)
-    e_r = r / np.linalg.norm(r, axis=-1, keepdims=True)
-    h = np.cross(r, v)
-    e_n = h / np.linalg.norm(h, axis=-1, keepdims=True)
-    e_t = np.cross(e_n, e_r)
-    return np.stack([e_r, e_t, e_n], axis=-2)
 
 
 def argument_of_latitude(pos_m, vel_m_s):

@@ -68,6 +68,7 @@ import numba
 import numpy as np
 import xarray as xr
 
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import (
     C_LIGHT_M_S,
     EARTH_ANGULAR_MOMENTUM_M2_S,
@@ -92,13 +93,14 @@ from leopod.dynamics.gravity_field import (
 )
 from leopod.dynamics.ocean_tides import OceanTides
 from leopod.dynamics.srp import srp_cannonball
-from leopod.dynamics.third_body import Ephemeris
 from leopod.dynamics.tides import TideModel
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.io.icgem import read_icgem
 from leopod.io.space_weather import read_space_weather
-from leopod.time import J2000_TT
-from leopod.timescales import EarthOrientation, default_earth_orientation, jd_tt, jd_ut1
+from leopod.numerics.interpolate import lagrange_equidistant, lagrange_equidistant_many
+from leopod.time.calendar import J2000_TT
+from leopod.time.eop import EarthOrientation, default_earth_orientation, jd_ut1
+from leopod.time.scales import jd_tt
 
 __all__ = ["ArcEnvironment", "Drag", "EarthGravity", "Empirical", "Relativity",
            "SolarRadiation", "ThirdBodies", "apriori_parameters", "build_force_model",
@@ -120,35 +122,6 @@ DEFAULT_REFLECTIVITY_COEFFICIENT = 1.3
 # ------------------------------------------------------------------------- interpolation
 
 
-@numba.njit(cache=True)
-def _lagrange(t, t_first, step, n_points, nodes, out):  # pragma: no cover - numba
-    """Lagrange interpolation at t on equidistant nodes ``t_first + k step``.
-
-    ``nodes`` (n, k) holds the tabulated values; ``out`` (k,) receives the interpolated row,
-    from the ``n_points`` nodes centred on t (window shifted inward at the ends).
-    """
-    x = (t - t_first) / step
-    first = int(np.floor(x)) - (n_points // 2 - 1)
-    first = min(max(first, 0), nodes.shape[0] - n_points)
-    for c in range(out.shape[0]):
-        out[c] = 0.0
-    for j in range(n_points):
-        w = 1.0
-        for m in range(n_points):
-            if m != j:
-                w *= (x - (first + m)) / (j - m)
-        for c in range(out.shape[0]):
-            out[c] += w * nodes[first + j, c]
-
-
-@numba.njit(cache=True)
-def _lagrange_many(t, t_first, step, n_points, nodes):  # pragma: no cover - numba
-    out = np.empty((t.shape[0], nodes.shape[1]))
-    for i in range(t.shape[0]):
-        _lagrange(t[i], t_first, step, n_points, nodes, out[i])
-    return out
-
-
 class _Grid:
     """Values tabulated on equidistant epochs covering [t_start, t_end] with margins."""
 
@@ -168,7 +141,7 @@ class _Grid:
     def __call__(self, t_s) -> np.ndarray:
         """Interpolated rows at the epochs ``t_s`` (n,) -> (n, k)."""
         t = np.atleast_1d(np.asarray(t_s, dtype=float))
-        return _lagrange_many(t, *self.args())
+        return lagrange_equidistant_many(t, *self.args())
 
 
 # ------------------------------------------------------------------------- environment
@@ -261,7 +234,7 @@ _GRAD_INDEX = np.array([[3, 4, 5], [4, 6, 7], [5, 7, 8]])
 def _rotation_at(t, grid, rot):  # pragma: no cover - numba
     """Interpolated ITRF -> GCRF matrix at t into rot (3, 3)."""
     flat = np.empty(9)
-    _lagrange(t, grid[0], grid[1], grid[2], grid[3], flat)
+    lagrange_equidistant(t, grid[0], grid[1], grid[2], grid[3], flat)
     for i in range(3):
         for j in range(3):
             rot[i, j] = flat[3 * i + j]
@@ -286,7 +259,7 @@ def _gravity_kernel(t, pos, rot_grid, full_gradient, sum_args, grad_args, with_t
         field_sums(pos_ef, *grad_args, sums)
     if with_tides:
         flat = np.empty(tide_grid[3].shape[1])
-        _lagrange(t, tide_grid[0], tide_grid[1], tide_grid[2], tide_grid[3], flat)
+        lagrange_equidistant(t, tide_grid[0], tide_grid[1], tide_grid[2], tide_grid[3], flat)
         tide_acc = np.empty(3)
         acceleration_sums(pos_ef, *tide_args, flat.reshape(flat.shape[0] // 6, 6), tide_acc)
         for i in range(3):
@@ -401,7 +374,7 @@ def _third_body_kernel(t, pos, body_grid, gm, acc, grad):  # pragma: no cover - 
     """Sun (gm[0]) and Moon (gm[1]; 0 = off) point masses with the indirect term,
     M&G (2000) eq. 3.37, and the gradient ``GM (3 d dᵀ/|d|⁵ − I/|d|³)``, d = s − r."""
     bodies = np.empty(9)
-    _lagrange(t, body_grid[0], body_grid[1], body_grid[2], body_grid[3], bodies)
+    lagrange_equidistant(t, body_grid[0], body_grid[1], body_grid[2], body_grid[3], bodies)
     acc[:] = 0.0
     grad[:, :] = 0.0
     for b in range(2):
@@ -463,7 +436,7 @@ def _relativity_kernel(t, pos, vel, body_grid, lense_thirring, de_sitter):  # pr
         acc += 2.0 * k * (3.0 / r**2 * pos[2] * j[2] * _cross(pos, vel) + _cross(vel, j))
     if de_sitter:
         bodies = np.empty(9)
-        _lagrange(t, body_grid[0], body_grid[1], body_grid[2], body_grid[3], bodies)
+        lagrange_equidistant(t, body_grid[0], body_grid[1], body_grid[2], body_grid[3], bodies)
         big_r = -bodies[0:3]                                   # Earth w.r.t. the Sun
         big_v = -bodies[3:6]
         nr = np.sqrt(big_r[0] ** 2 + big_r[1] ** 2 + big_r[2] ** 2)

@@ -67,7 +67,8 @@ import numba
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses, rtn_basis
+from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses
+from leopod.frames.rtn import rtn_basis
 
 __all__ = ["DEFAULT_ORDER", "DEFAULT_STEP_S", "Trajectory", "apply_pulses", "integrate",
            "pulse_partials"]
@@ -650,7 +651,7 @@ def apply_pulses(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
     """Integrate with actual velocity pulses (simulation): restart with ``v += M Δv``.
 
     At a pulse epoch ``t_i`` after t0 the velocity jumps by ``M(t_i) Δv_i`` (M: RTN axes,
-    :func:`leopod.dynamics.forces.rtn_basis`, of the state reaching ``t_i``); for ``t_i``
+    :func:`leopod.frames.rtn.rtn_basis`, of the state reaching ``t_i``); for ``t_i``
     before t0 the backward integration applies ``−M Δv_i``, so that in both cases
     ``v(t_i+) − v(t_i−) = M Δv_i``. Φ and S are carried through a pulse unchanged (the
     dependence of the RTN axes on the state is neglected: relative effect ~|Δv|/|v|).

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.dynamics.solid_tides import doodson_arguments
+from leopod.astro.arguments import doodson_arguments
 from leopod.io.fes import read_fes_cnm
 
 __all__ = ["DEFAULT_OCEAN_TIDE_MAX_DEGREE", "OceanTides"]

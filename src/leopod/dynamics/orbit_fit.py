@@ -14,7 +14,7 @@ below ``tolerance`` times its formal standard deviation; the residuals, covarian
 reported are those of the final parameters (one integration after the last correction).
 
 Residuals are given in the RTN frame of the fitted orbit (radial, along-track, cross-track;
-:func:`leopod.dynamics.empirical.rtn_matrix`).
+:func:`leopod.frames.rtn.rtn_matrix`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from leopod.dynamics.empirical import rtn_matrix
 from leopod.dynamics.force_model import (
     apriori_parameters,
     build_force_model,
@@ -35,8 +34,9 @@ from leopod.dynamics.force_model import (
 from leopod.dynamics.forces import ForceModel
 from leopod.dynamics.integrator import DEFAULT_STEP_S, Trajectory, integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
-from leopod.time import seconds_since
-from leopod.timescales import EarthOrientation
+from leopod.frames.rtn import rtn_matrix
+from leopod.time.calendar import seconds_since
+from leopod.time.eop import EarthOrientation
 
 __all__ = ["STATE_NAMES", "FitResult", "fit_orbit", "initial_state"]
 

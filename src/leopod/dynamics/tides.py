@@ -20,14 +20,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from leopod.astro.arguments import doodson_arguments, fundamental_arguments
 from leopod.constants import GM_EARTH_M3_S2, R_EARTH_EQUATOR_M
 from leopod.dynamics.ocean_tides import DEFAULT_OCEAN_TIDE_MAX_DEGREE, OceanTides
 from leopod.dynamics.pole_tides import (
-    ocean_pole_tide, secular_pole_rad, solid_pole_tide, wobble_rad,
+    ocean_pole_tide,
+    secular_pole_rad,
+    solid_pole_tide,
+    wobble_rad,
 )
 from leopod.dynamics.solid_tides import (
-    SOLID_TIDE_MAX_DEGREE, TIDE_SYSTEMS, doodson_arguments, fundamental_arguments,
-    permanent_tide_c20, solid_earth_tides, solid_tide_step1, solid_tide_step2,
+    SOLID_TIDE_MAX_DEGREE,
+    TIDE_SYSTEMS,
+    permanent_tide_c20,
+    solid_earth_tides,
+    solid_tide_step1,
+    solid_tide_step2,
 )
 
 __all__ = [

@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from leopod.campaign import resolve_model_paths
 from leopod.codebias.apply import correct_codes
 from leopod.dynamics.force_model import build_force_model
+from leopod.dynamics.model_files import resolve_model_paths
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
 from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna
@@ -31,10 +31,10 @@ from leopod.estimation.outputs import (
     pod_start,
     residual_dataset,
 )
-from leopod.orbit.products import GnssProducts
-from leopod.time import parse_date_id, seconds_since
+from leopod.gnss.products import GnssProducts
+from leopod.time.calendar import parse_date_id, seconds_since
 
-__all__ = ["ArcOutputs", "arc_limits", "merge_days", "pod_settings", "run_arc"]
+__all__ = ["ArcOutputs", "arc_limits", "pod_settings", "run_arc"]
 
 log = logging.getLogger(__name__)
 
@@ -63,16 +63,6 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
     one_day = np.timedelta64(86400, "s")
     return (day - np.timedelta64(round(arc_before_s * 1e9), "ns"),
             day + one_day + np.timedelta64(round(arc_after_s * 1e9), "ns"))
-
-
-def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:
-    """Concatenate daily product datasets along time, dropping repeated epochs."""
-    if len(datasets) == 1:
-        return datasets[0]
-    ds = xr.concat(datasets, dim="time", join="outer", data_vars="minimal", coords="minimal",
-                   compat="override", combine_attrs="override")
-    _, first = np.unique(ds.time.values, return_index=True)
-    return ds.isel(time=np.sort(first))
 
 
 def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,

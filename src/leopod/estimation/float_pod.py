@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
 from leopod.dynamics.force_model import (
     apriori_parameters,
@@ -40,10 +41,9 @@ from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
-from leopod.orbit.gnss_attitude import sun_position_ef
-from leopod.orbit.products import GnssProducts
-from leopod.time import seconds_since
-from leopod.timescales import EarthOrientation
+from leopod.gnss.products import GnssProducts
+from leopod.time.calendar import seconds_since
+from leopod.time.eop import EarthOrientation
 
 __all__ = ["PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
            "pulse_epochs"]

@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from leopod import signals
 from leopod.estimation.float_pod import PodObservations
-from leopod.gnss import signals
+from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free, narrow_lane_wavelength_m
-from leopod.orbit.gnss_attitude import satellite_pco_if
 
 __all__ = ["pod_observations", "receiver_pco_if", "satellite_antenna"]
 

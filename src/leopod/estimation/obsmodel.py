@@ -8,13 +8,13 @@ For each (epoch, GNSS satellite) pair the model computes, in the GCRF:
   rotated with the nominal attitude (:mod:`leopod.frames.attitude`; +Z to the geocentre,
   +X along the inertial velocity);
 * the transmission time by light-time iteration; the GNSS position of the product (ITRF,
-  centre of mass, :class:`leopod.orbit.products.GnssProducts`) at the transmission time is
+  centre of mass, :class:`leopod.gnss.products.GnssProducts`) at the transmission time is
   taken into the GCRF of the reception time with ``R(t) R3(ω τ)`` (the Earth rotation during
   the travel time τ: the Sagnac effect), plus the satellite's ionosphere-free PCO (yaw-steering
-  attitude, :mod:`leopod.orbit.gnss_attitude`) and nadir-dependent PCV from ANTEX;
+  attitude, :mod:`leopod.gnss.attitude`) and nadir-dependent PCV from ANTEX;
 * the satellite clock at the transmission time (linear between product samples) with the
   periodic relativistic correction, and the Shapiro delay
-  (:mod:`leopod.estimation.corrections`);
+  (:mod:`leopod.gnss.corrections`);
 * for phase, the wind-up (ionosphere-free: ``λ_NL φ`` with ``λ_NL = c/(f1+f2)``,
   Kouba 2009 sec. 5.3), with receiver dipole axes ``x = body X``, ``y = −body Y`` (so that
   ``x × y`` is the boresight −Z).
@@ -29,14 +29,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S
-from leopod.estimation.corrections import (
+from leopod.frames.attitude import nominal_axes_inertial
+from leopod.gnss.attitude import gnss_body_axes
+from leopod.gnss.corrections import (
     relativistic_clock_s,
     shapiro_delay_m,
     unwrap_windup,
     windup_cycles,
 )
-from leopod.orbit.gnss_attitude import gnss_body_axes
-from leopod.orbit.products import GnssProducts
+from leopod.gnss.products import GnssProducts
 
 __all__ = ["ModelResult", "Pairs", "compute_model", "nominal_axes_inertial"]
 
@@ -87,14 +88,6 @@ class ModelResult:
     az_deg: np.ndarray
     z_body_gcrf: np.ndarray
     valid: np.ndarray
-
-
-def nominal_axes_inertial(pos_m: np.ndarray, vel_m_s: np.ndarray) -> np.ndarray:
-    """Nominal body axes (rows X, Y, Z), shape (n, 3, 3), from inertial position/velocity."""
-    z = -pos_m / np.linalg.norm(pos_m, axis=-1, keepdims=True)
-    y = np.cross(z, vel_m_s)
-    y /= np.linalg.norm(y, axis=-1, keepdims=True)
-    return np.stack([np.cross(y, z), y, z], axis=-2)
 
 
 def _rot3(angle_rad: np.ndarray, vec: np.ndarray) -> np.ndarray:

@@ -1,6 +1,6 @@
 """Datasets of a float POD result: orbit, residuals, parameters, ambiguities.
 
-Schemas (all written with :func:`leopod.netcdf.write_netcdf`):
+Schemas (all written with :func:`leopod.io.netcdf.write_netcdf`):
 
 orbit (dims ``time``, ``xyz``, ``rtn``)
     ``pos_itrf_m``, ``vel_itrf_m_s``, ``pos_gcrf_m``, ``vel_gcrf_m_s`` (time, xyz) centre of
@@ -23,10 +23,10 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from leopod.dynamics.empirical import rtn_matrix
 from leopod.estimation.float_pod import PodObservations, PodResult, PodStart
 from leopod.frames.earth_rotation import gcrf_to_itrf, itrf_to_gcrf
-from leopod.time import from_seconds, seconds_since
+from leopod.frames.rtn import rtn_matrix
+from leopod.time.calendar import from_seconds, seconds_since
 
 __all__ = ["ambiguity_dataset", "orbit_dataset", "output_epochs", "parameter_dataset",
            "pod_start", "residual_dataset", "sp3_dataset"]

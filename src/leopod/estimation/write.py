@@ -8,12 +8,12 @@ import textwrap
 import numpy as np
 import xarray as xr
 
-from leopod.estimation.arc import ArcOutputs, merge_days
+from leopod.estimation.arc import ArcOutputs
 from leopod.estimation.outputs import sp3_dataset
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
+from leopod.io.netcdf import merge_days, write_netcdf
 from leopod.io.sp3 import read_sp3, write_sp3
-from leopod.netcdf import write_netcdf
 from leopod.plots.pod import (
     plot_apriori_difference,
     plot_residual_skymap,

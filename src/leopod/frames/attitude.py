@@ -73,3 +73,11 @@ def antenna_angles(rot_ef_to_body: np.ndarray, los_ef: np.ndarray):
     el = np.degrees(np.arcsin(np.clip(-body[..., 2], -1.0, 1.0)))
     az = np.degrees(np.arctan2(body[..., 1], body[..., 0])) % 360.0
     return el, az
+
+
+def nominal_axes_inertial(pos_m: np.ndarray, vel_m_s: np.ndarray) -> np.ndarray:
+    """Nominal body axes (rows X, Y, Z), shape (n, 3, 3), from inertial position/velocity."""
+    z = -pos_m / np.linalg.norm(pos_m, axis=-1, keepdims=True)
+    y = np.cross(z, vel_m_s)
+    y /= np.linalg.norm(y, axis=-1, keepdims=True)
+    return np.stack([np.cross(y, z), y, z], axis=-2)

@@ -30,8 +30,9 @@ import erfa
 import numpy as np
 
 from leopod.constants import ERA_RATE_RAD_S, GPST_MINUS_TAI_S, TT_MINUS_TAI_S
-from leopod.orbit.interpolate import interpolate_table
-from leopod.timescales import EarthOrientation, EopValues, default_earth_orientation, jd_tt, jd_ut1
+from leopod.numerics.interpolate import interpolate_table
+from leopod.time.eop import EarthOrientation, EopValues, default_earth_orientation, jd_ut1
+from leopod.time.scales import jd_tt
 
 __all__ = ["cip_xys", "gcrf_from_itrf_matrices", "gcrf_to_itrf", "itrf_to_gcrf"]
 
@@ -120,7 +121,7 @@ def gcrf_from_itrf_matrices(times, eop: EarthOrientation | None = None, *,
     times : array_like of datetime64, shape (n,)
         GPS-time labels.
     eop : EarthOrientation, optional
-        EOP source (default: :func:`leopod.timescales.default_earth_orientation`).
+        EOP source (default: :func:`leopod.time.eop.default_earth_orientation`).
     xys_step_s : float or None
         Grid spacing for X, Y, s (see :func:`cip_xys`) [s].
 

@@ -1,7 +1,7 @@
 """Linear combinations of dual-frequency code and phase, for any frequency pair.
 
 All inputs and outputs are in metres (phase already multiplied by its wavelength); the
-frequencies come from :mod:`leopod.gnss.signals`. Arrays broadcast in the numpy way.
+frequencies come from :mod:`leopod.signals`. Arrays broadcast in the numpy way.
 
 References
 ----------

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from leopod.gnss import signals
+from leopod import signals
 from leopod.gnss.combinations import ionosphere_l1_m, multipath
 from leopod.gnss.passes import FLAG_GAP, FLAG_NEW, PassResult, detect_passes
 

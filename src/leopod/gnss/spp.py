@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_WGS84_RAD_S
-from leopod.orbit.gnss_attitude import gnss_body_axes
-from leopod.orbit.products import GnssProducts
+from leopod.gnss.attitude import gnss_body_axes
+from leopod.gnss.products import GnssProducts
 
 __all__ = ["SppResult", "solve_spp"]
 

@@ -264,7 +264,7 @@ def write_text(path: str | Path, text: str) -> Path:
     -------
     Path
     """
-    from leopod.netcdf import atomic_path
+    from leopod.io.netcdf import atomic_path
 
     path = Path(path)
     data = text.encode("ascii")

@@ -18,7 +18,7 @@ bound (stored as NaT). A record with a blank ``BIAS_END`` is a time stamp (the s
 piecewise-linear interpolation between stamps); a file uses either windows or stamps, which
 :func:`read_bias_sinex` records in ``attrs["bias_timing"]``. Values in ``ns`` are converted to
 seconds; phase biases in ``cyc`` are converted with the carrier frequency of ``OBS1``
-(:mod:`leopod.gnss.signals`). The slope is read as bias unit per second (the unit the
+(:mod:`leopod.signals`). The slope is read as bias unit per second (the unit the
 specification gives it, to be confirmed on a file that has slopes: none of the test files does).
 
 Sign (spec; comment block of CODE's ``code.bia``): a bias is *subtracted* from the
@@ -54,8 +54,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
-from leopod.gnss.signals import frequency_hz
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines, write_text
+from leopod.signals import frequency_hz
 
 __all__ = ["osb", "read_bias_sinex", "write_bias_sinex"]
 

@@ -684,7 +684,7 @@ def _observation_codes(ds: xr.Dataset) -> list[str]:
 
 def _write_plan(ds: xr.Dataset, v2: bool, systems: list[str]) -> dict[str, list[tuple]]:
     """Per system, the (file code, Dataset variable) pairs to write, in header order."""
-    from leopod.gnss.signals import RINEX2_TO_RINEX3
+    from leopod.signals import RINEX2_TO_RINEX3
 
     to_v2 = {v: k for k, v in RINEX2_TO_RINEX3["G"].items()}
     codes = _observation_codes(ds)
@@ -839,7 +839,7 @@ def write_rinex_obs(ds: xr.Dataset, path: str | Path, version: float = 3.04,
         Observations (time, sv) as described in the module docstring; ``<code>_lli``,
         ``<code>_ssi``, ``epoch_flag`` and ``rx_clock_offset_s`` are optional. RINEX 2 names
         are mapped to RINEX 3 codes for version 3.04 (and back for 2.11) with
-        :data:`leopod.gnss.signals.RINEX2_TO_RINEX3`.
+        :data:`leopod.signals.RINEX2_TO_RINEX3`.
     path : str or Path
         Output file, written atomically; gzip-compressed if it ends in ``.gz``.
     version : float
@@ -865,7 +865,7 @@ def write_rinex_obs(ds: xr.Dataset, path: str | Path, version: float = 3.04,
         Unsupported version or system, a code without a name in the requested version, a
         value that does not fit its field, unknown ``header`` keys.
     """
-    from leopod.netcdf import atomic_path
+    from leopod.io.netcdf import atomic_path
 
     if round(float(version), 2) not in (2.11, 3.04):
         raise ValueError(f"can write RINEX 2.11 or 3.04, not {version}")

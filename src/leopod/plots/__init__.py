@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import xarray as xr
 
-from leopod.netcdf import atomic_path
+from leopod.io.netcdf import atomic_path
 
 #: Resolution of every workflow figure [dots per inch].
 DPI = 110

@@ -50,7 +50,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S, SECONDS_PER_DAY
-from leopod.gnss.signals import frequency_hz
+from leopod.signals import frequency_hz
 
 __all__ = [
     "CLOCK_REFERENCE_CODES",

@@ -40,15 +40,15 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
-from leopod.campaign import resolve_model_paths
+from leopod.dynamics.model_files import resolve_model_paths
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.io.antex import read_antex
 from leopod.io.bias_sinex import write_bias_sinex
 from leopod.io.clock import write_rinex_clock
+from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs import write_rinex_obs
 from leopod.io.sp3 import write_sp3
 from leopod.io.wlbias import wl_bias_records, write_wl_bias
-from leopod.netcdf import write_netcdf
 from leopod.simulate.biases import (
     SimulatedBiases,
     ar_products,
@@ -74,7 +74,7 @@ from leopod.simulate.world import (
     beidou3_constellation,
     gps_constellation,
 )
-from leopod.time import parse_date_id, seconds_since
+from leopod.time.calendar import parse_date_id, seconds_since
 
 __all__ = ["biases_for", "code_bias_map_truth", "gnss_world", "receiver_clock",
            "simulate_gnss_products", "simulate_leo_day", "simulate_truth", "simulate_world_truth",

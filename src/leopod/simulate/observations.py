@@ -6,17 +6,17 @@ For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS sat
 
 * true reception time ``t = t_read − dt_rx`` (receiver clock, a random walk at the µs level);
 * LEO centre of mass at ``t`` from the truth orbit (GCRF, 10th-order Lagrange interpolation
-  of position and velocity, :func:`leopod.orbit.interpolate.interpolate_table`); antenna
+  of position and velocity, :func:`leopod.numerics.interpolate.interpolate_table`); antenna
   phase centre of band ``b`` = centre of mass + the body-frame PCO of the band rotated with the
   nominal attitude (:func:`leopod.estimation.obsmodel.nominal_axes_inertial`);
 * transmission time ``t − τ`` by light-time iteration on the exact analytic GNSS orbit in the
   GCRF (no Sagnac term is needed in an inertial frame); transmitter phase centre = centre of
   mass + ANTEX PCO of the band (yaw-steering attitude,
-  :func:`leopod.orbit.gnss_attitude.gnss_body_axes`, with the Sun of
-  :func:`~leopod.orbit.gnss_attitude.sun_position_ef` rotated to the GCRF) — zero, i.e. the
+  :func:`leopod.gnss.attitude.gnss_body_axes`, with the Sun of
+  :func:`~leopod.astro.sun.sun_position_ef` rotated to the GCRF) — zero, i.e. the
   SP3 centre of mass, unless an ANTEX file is given; then also the nadir-dependent PCV;
 * satellite clock ``dt^s = dt^s_product(t − τ) + Δt_rel`` with the periodic relativistic term
-  ``Δt_rel = −2 r·v/c²`` (IS-GPS-200 20.3.3.3.3.1, :func:`leopod.estimation.corrections.
+  ``Δt_rel = −2 r·v/c²`` (IS-GPS-200 20.3.3.3.3.1, :func:`leopod.gnss.corrections.
   relativistic_clock_s`): the clock *products* exclude it, as IGS products do;
 * Shapiro delay (IERS Conventions 2010 eq. 11.17) on code and phase;
 * phase wind-up (Wu et al. 1993; Kouba 2009 sec. 5.3) in cycles, equal on both frequencies,
@@ -57,23 +57,24 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from leopod import signals
+from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
-from leopod.estimation.corrections import (
+from leopod.frames.attitude import nominal_axes_inertial
+from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.gnss.attitude import gnss_body_axes
+from leopod.gnss.corrections import (
     relativistic_clock_s,
     shapiro_delay_m,
     unwrap_windup,
     windup_cycles,
 )
-from leopod.estimation.obsmodel import nominal_axes_inertial
-from leopod.frames.earth_rotation import itrf_to_gcrf
-from leopod.gnss import signals
-from leopod.orbit.gnss_attitude import gnss_body_axes, sun_position_ef
-from leopod.orbit.interpolate import interpolate_table
+from leopod.numerics.interpolate import interpolate_table
 from leopod.simulate.biases import SimulatedBiases
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.tracking import passes, track
 from leopod.simulate.world import CircularOrbit, KeplerOrbit, RandomWalkClock
-from leopod.time import seconds_since
+from leopod.time.calendar import seconds_since
 
 __all__ = ["DEFAULT_NOISE_M", "GnssWorld", "ObservationSettings", "simulate_observations"]
 

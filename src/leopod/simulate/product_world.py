@@ -8,7 +8,7 @@ the **real product files** unchanged (reading, sign conventions, wide-lane/narro
 fixing), while the truth orbit, the receiver and its biases remain simulated.
 
 Orbits. The SP3 positions (ITRF, centre of mass) are Lagrange-interpolated in the ITRF
-(:class:`leopod.orbit.products.GnssProducts`, as the POD does) and rotated to the GCRF at
+(:class:`leopod.gnss.products.GnssProducts`, as the POD does) and rotated to the GCRF at
 the same epoch (:func:`leopod.frames.earth_rotation.itrf_to_gcrf`), the inertial frame of
 :class:`leopod.simulate.observations.GnssWorld`.
 
@@ -32,17 +32,17 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
-from leopod.estimation.arc import merge_days
 from leopod.frames.earth_rotation import itrf_to_gcrf
-from leopod.gnss.signals import frequency_hz
+from leopod.gnss.products import GnssProducts
 from leopod.io.bias_sinex import osb, read_bias_sinex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.dcb import read_code_dcb
+from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
-from leopod.orbit.products import GnssProducts
+from leopod.signals import frequency_hz
 from leopod.simulate.biases import SimulatedBiases
 from leopod.simulate.observations import GnssWorld
-from leopod.time import seconds_since
+from leopod.time.calendar import seconds_since
 
 __all__ = ["ProductSet", "osb_biases", "product_world"]
 

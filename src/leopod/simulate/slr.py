@@ -23,7 +23,7 @@ IERS Conventions 2010, sec. 7.1.1 and 7.1.4). The truth of each point is kept be
 Not simulated: ocean loading, retro-reflector signature, timing biases, outliers.
 
 Epochs. The truth orbit is labelled in GPS time; normal points are transmit epochs in UTC
-(CRD), converted with :func:`leopod.timescales.utc_to_gps`.
+(CRD), converted with :func:`leopod.time.scales.utc_to_gps`.
 """
 
 from __future__ import annotations
@@ -42,7 +42,8 @@ from leopod.constants import C_LIGHT_M_S, WGS84_A_M, WGS84_INV_F
 from leopod.io.crd import write_crd
 from leopod.io.sinex import write_sinex_stations
 from leopod.io.sinex_ecc import write_sinex_eccentricities
-from leopod.timescales import EarthOrientation, gps_to_utc, utc_to_gps
+from leopod.time.eop import EarthOrientation
+from leopod.time.scales import gps_to_utc, utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, elevation_rad, slr_range
 from leopod.validation.station_displacement import station_displacements
 

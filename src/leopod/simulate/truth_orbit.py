@@ -52,6 +52,7 @@ import erfa
 import numpy as np
 import xarray as xr
 
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import (
     GM_EARTH_M3_S2,
     GPST_MINUS_TAI_S,
@@ -62,13 +63,12 @@ from leopod.constants import (
 from leopod.dynamics.force_model import apriori_parameters, build_force_model, interval_edges
 from leopod.dynamics.forces import ForceModel
 from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
-from leopod.dynamics.third_body import Ephemeris
 from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
+from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3 import write_sp3
-from leopod.netcdf import write_netcdf
 from leopod.simulate.world import _J2, CircularOrbit
-from leopod.time import J2000_TT, from_seconds, seconds_since
-from leopod.timescales import EarthOrientation
+from leopod.time.calendar import J2000_TT, from_seconds, seconds_since
+from leopod.time.eop import EarthOrientation
 
 __all__ = [
     "HY2B_ALTITUDE_M", "HY2B_LTAN_H", "HY2B_MASS_KG", "SUN_SYNCHRONOUS_NODE_RATE_RAD_S",
@@ -437,7 +437,7 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
         ``stochastic_interval_start`` (GPS); variables ``pos_gcrf_m``, ``vel_gcrf_m_s``,
         ``pos_itrf_m``, ``vel_itrf_m_s`` (time, xyz), ``drag_scale`` (drag_interval_start),
         ``stochastic_acc_rtn_m_s2`` (stochastic_interval_start, rtn); attributes describing
-        the initial orbit and the forces. Ready for :func:`leopod.netcdf.write_netcdf`.
+        the initial orbit and the forces. Ready for :func:`leopod.io.netcdf.write_netcdf`.
     """
     t0 = np.datetime64(t_start, "ns")
     span_s = float(seconds_since(np.datetime64(t_end, "ns"), t0))

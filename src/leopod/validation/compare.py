@@ -36,11 +36,10 @@ import pandas as pd
 import xarray as xr
 
 from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
-from leopod.dynamics.empirical import rtn_matrix
-from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
-from leopod.orbit.interpolate import interpolate_table
-from leopod.time import seconds_since
-from leopod.timescales import utc_to_gps
+from leopod.frames.rtn import rtn_axes, rtn_matrix
+from leopod.numerics.interpolate import interpolate_table
+from leopod.time.calendar import seconds_since
+from leopod.time.scales import utc_to_gps
 
 __all__ = [
     "COMPONENTS",
@@ -55,7 +54,6 @@ __all__ = [
     "orbit_from_sp3",
     "orbit_statistics",
     "rms_rtn",
-    "rtn_axes",
     "statistics_table",
     "to_gps_time",
 ]
@@ -166,7 +164,7 @@ def to_gps_time(times, time_system: str = "GPS", *, offset_s: float = 0.0) -> np
     """GPS-time labels of epochs labelled in another time system, plus an extra offset.
 
     ``GPS = TAI − 19 s`` and ``GPS = TT − 51.184 s`` exactly (IERS Conventions 2010, ch. 10;
-    IS-GPS-200); UTC labels use the leap seconds of :func:`leopod.timescales.utc_to_gps`.
+    IS-GPS-200); UTC labels use the leap seconds of :func:`leopod.time.scales.utc_to_gps`.
 
     Parameters
     ----------
@@ -247,42 +245,6 @@ def interpolate_orbit(orbit: xr.Dataset, times, *, pos: str = "pos_itrf_m",
         coords={"time": times, "xyz": ["x", "y", "z"]},
         attrs={"interpolation_order": order, "max_gap_s": max_gap_s,
                "velocity_source": "tabulated" if has_vel else "position polynomial"})
-
-
-# --------------------------------------------------------------------------- axes and Helmert
-def rtn_axes(times, pos_m, vel_m_s, *, frame: str = "itrf", eop=None) -> np.ndarray:
-    """Inertial RTN axes of states, expressed in the frame of the states.
-
-    For ITRF states the state is first rotated to the GCRF (``r_g = Q R W r``, ``v_g = Q R W v
-    + d(QRW)/dt r``, IERS Conventions 2010 eq. 5.1, :func:`gcrf_from_itrf_matrices`); the
-    radial axis is ``r/|r|``, cross-track ``r × v_g`` normalised, along-track completes the
-    right-handed triad (:func:`leopod.dynamics.empirical.rtn_matrix`).
-
-    Parameters
-    ----------
-    times : array_like of datetime64, shape (n,)
-        GPS-time epochs (used for ``frame="itrf"``).
-    pos_m, vel_m_s : array_like, shape (n, 3)
-        Position [m] and velocity [m/s] in ``frame``.
-    frame : {"itrf", "gcrf"}
-    eop : EarthOrientation, optional
-        EOP source for the ITRF → GCRF rotation (default: installed IERS data).
-
-    Returns
-    -------
-    ndarray, shape (n, 3, 3)
-        Rows R, T, N: ``d_rtn = M @ d`` for a difference vector ``d`` in ``frame``.
-    """
-    pos = np.asarray(pos_m, dtype=float)
-    vel = np.asarray(vel_m_s, dtype=float)
-    if frame == "gcrf":
-        return rtn_matrix(pos, vel)
-    if frame != "itrf":
-        raise ValueError(f"frame must be 'itrf' or 'gcrf', not {frame!r}")
-    rot, d_rot = gcrf_from_itrf_matrices(times, eop)
-    pos_g = np.einsum("nij,nj->ni", rot, pos)
-    vel_g = np.einsum("nij,nj->ni", rot, vel) + np.einsum("nij,nj->ni", d_rot, pos)
-    return rtn_matrix(pos_g, vel_g) @ rot
 
 
 def helmert_displacement(params, pos_m) -> np.ndarray:

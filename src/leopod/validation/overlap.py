@@ -15,11 +15,11 @@ Conventions
       arcs differ by ``|Δr|/|r|`` ≈ 1e-8 rad for cm differences, i.e. < 1e-9 m in the result.
     - Inertial states (GCRF) are used when both orbits carry ``pos_gcrf_m``/``vel_gcrf_m_s``;
       otherwise the ITRF variables are differenced and the axes built from the inertial state
-      (:func:`leopod.validation.compare.rtn_axes`).
+      (:func:`leopod.frames.rtn.rtn_axes`).
     - ``trim_s`` removes that much from both ends of the common span (the arc ends are the
       least determined part of each arc).
 
-Schema of :func:`overlap` (one pair; netCDF with :func:`leopod.netcdf.write_netcdf`)
+Schema of :func:`overlap` (one pair; netCDF with :func:`leopod.io.netcdf.write_netcdf`)
     ``diff_rtn_m`` (time, rtn), ``diff_3d_m`` (time) [m]; ``mean_m``, ``std_m``, ``rms_m``
     (component: R, T, N, 3D) [m]; ``n_epochs`` (scalar); attrs ``arc_a_start``, ``arc_a_end``,
     ``arc_b_start``, ``arc_b_end``, ``span_start``, ``span_end`` (ISO strings), ``trim_s``,
@@ -38,12 +38,8 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
-from leopod.validation.compare import (
-    COMPONENTS,
-    component_statistics,
-    interpolate_orbit,
-    rtn_axes,
-)
+from leopod.frames.rtn import rtn_axes
+from leopod.validation.compare import COMPONENTS, component_statistics, interpolate_orbit
 
 __all__ = ["overlap", "overlap_summary"]
 

@@ -16,7 +16,7 @@ are calibrated for the station system delay) is compared with the computed range
 * two-way light time with Earth rotation, Mendes–Pavlis troposphere with FCULa mapping at the
   normal point's meteorological data, Shapiro delay (:func:`slr_range`).
 
-Epochs: CRD epochs are UTC (converted with :func:`leopod.timescales.utc_to_gps`), the
+Epochs: CRD epochs are UTC (converted with :func:`leopod.time.scales.utc_to_gps`), the
 ground transmit time for epoch event 2; for event 1 (spacecraft bounce time) the transmit
 epoch is ``t_b − τ_up`` solved by iteration, for event 0 (ground receive time) it is
 ``t_r − tof``. Points whose CRD flags say the tropospheric refraction is already applied get
@@ -54,11 +54,12 @@ import erfa
 import numpy as np
 import xarray as xr
 
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S, WGS84_A_M, WGS84_INV_F
-from leopod.dynamics.empirical import rtn_matrix
-from leopod.dynamics.third_body import Ephemeris
+from leopod.frames.rtn import rtn_matrix
 from leopod.io.sinex import station_eccentricity, station_position
-from leopod.timescales import EarthOrientation, utc_to_gps
+from leopod.time.eop import EarthOrientation
+from leopod.time.scales import utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, SlrRange, slr_range, two_way_light_time
 from leopod.validation.station_displacement import station_displacements
 

@@ -59,9 +59,9 @@ from leopod.constants import (
     WGS84_A_M,
     WGS84_INV_F,
 )
-from leopod.estimation.corrections import shapiro_delay_distances_m as shapiro_delay_m
 from leopod.frames.attitude import body_to_ef, nominal_body_axes
-from leopod.orbit.interpolate import interpolate_table
+from leopod.gnss.corrections import shapiro_delay_distances_m as shapiro_delay_m
+from leopod.numerics.interpolate import interpolate_table
 
 __all__ = [
     "LightTime",
@@ -518,7 +518,7 @@ class OrbitReflector:
     ``r_refl(t) = r_com(t) + R(t)ᵀ d`` with ``R`` the Earth-fixed → body rotation of the
     nominal attitude (:func:`leopod.frames.attitude.nominal_body_axes`) and ``d`` the
     reflector offset from the centre of mass in the body frame. Position and velocity are
-    Lagrange-interpolated (:func:`leopod.orbit.interpolate.interpolate_table`). Calling the
+    Lagrange-interpolated (:func:`leopod.numerics.interpolate.interpolate_table`). Calling the
     object with seconds since :attr:`t0` gives positions (m, 3) [m]; NaN outside the table.
 
     Parameters

@@ -52,19 +52,14 @@ from dataclasses import dataclass
 import erfa
 import numpy as np
 
+from leopod.astro.arguments import doodson_arguments, fundamental_arguments
+from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import GM_EARTH_M3_S2, GM_MOON_M3_S2, GM_SUN_M3_S2, R_EARTH_EQUATOR_M
 from leopod.dynamics.pole_tides import wobble_rad
-from leopod.dynamics.solid_tides import doodson_arguments, fundamental_arguments
-from leopod.dynamics.third_body import Ephemeris
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
-from leopod.time import J2000_TT
-from leopod.timescales import (
-    EarthOrientation,
-    default_earth_orientation,
-    gps_to_tt,
-    jd_tt,
-    jd_ut1,
-)
+from leopod.time.calendar import J2000_TT
+from leopod.time.eop import EarthOrientation, default_earth_orientation, jd_ut1
+from leopod.time.scales import gps_to_tt, jd_tt
 
 __all__ = [
     "StationDisplacements",

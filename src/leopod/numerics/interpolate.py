@@ -8,9 +8,11 @@ GPS Solutions 7:2; Montenbruck & Gill, Satellite Orbits, 2000, sec. 4.1).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
-__all__ = ["lagrange_weights", "interpolate_table"]
+__all__ = ["interpolate_table", "lagrange_equidistant", "lagrange_equidistant_many",
+           "lagrange_weights"]
 
 
 def _window_denominators(t_nodes: np.ndarray, starts: np.ndarray, k: int) -> np.ndarray:
@@ -128,3 +130,38 @@ def interpolate_table(t_nodes, values, t, order: int = 10, *, max_gap_s: float |
     val[bad] = np.nan
     rate[bad] = np.nan
     return val, rate
+
+
+# --------------------------------------------------------------- equidistant nodes, compiled
+# The force model evaluates Earth orientation, tide arguments and Sun/Moon positions inside its
+# compiled right-hand side from tables on equidistant epochs; these kernels are the numba form
+# of the same Lagrange interpolation for that case (no window search, no allocation).
+
+
+@numba.njit(cache=True)
+def lagrange_equidistant(t, t_first, step, n_points, nodes, out):  # pragma: no cover - numba
+    """Lagrange interpolation at t on equidistant nodes ``t_first + k step``.
+
+    ``nodes`` (n, k) holds the tabulated values; ``out`` (k,) receives the interpolated row,
+    from the ``n_points`` nodes centred on t (window shifted inward at the ends).
+    """
+    x = (t - t_first) / step
+    first = int(np.floor(x)) - (n_points // 2 - 1)
+    first = min(max(first, 0), nodes.shape[0] - n_points)
+    for c in range(out.shape[0]):
+        out[c] = 0.0
+    for j in range(n_points):
+        w = 1.0
+        for m in range(n_points):
+            if m != j:
+                w *= (x - (first + m)) / (j - m)
+        for c in range(out.shape[0]):
+            out[c] += w * nodes[first + j, c]
+
+
+@numba.njit(cache=True)
+def lagrange_equidistant_many(t, t_first, step, n_points, nodes):  # pragma: no cover - numba
+    out = np.empty((t.shape[0], nodes.shape[1]))
+    for i in range(t.shape[0]):
+        lagrange_equidistant(t[i], t_first, step, n_points, nodes, out[i])
+    return out

@@ -12,10 +12,10 @@ import datetime as _dt
 import functools
 from pathlib import Path
 
-from leopod.time import date_id, days_between, parse_date_id, template_fields
+from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
 __all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input_references",
-           "is_daily_template", "locate_inputs", "located_source", "resolve_model_paths",
+           "is_daily_template", "locate_inputs", "located_source",
            "satellite_ids", "script_library_files"]
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -202,45 +202,6 @@ def script_library_files(script: str | Path) -> list[str]:
                 seen.add(path)
                 todo.append(path)
     return sorted(str(p) for p in seen)
-
-
-_PACKAGE_PREFIX = "satkit:"
-_PATH_KEYS = {"field", "ocean", "space_weather", "ephemeris"}
-
-
-def _package_file(name: str) -> str:
-    import satkit_data
-
-    path = Path(satkit_data.__file__).resolve().parent / "data" / name
-    if not path.exists():
-        raise FileNotFoundError(f"satkit-data has no file '{name}'")
-    return str(path)
-
-
-def resolve_model_paths(forces: dict) -> dict:
-    """Force configuration with ``satkit:<file>`` entries replaced by installed file paths.
-
-    Parameters
-    ----------
-    forces : dict
-        Sections of :func:`leopod.dynamics.force_model.build_force_model`; the keys
-        ``field``, ``ocean``, ``space_weather`` and ``ephemeris`` may name a file of the
-        satkit-data package as ``satkit:EGM96.gfc``.
-
-    Returns
-    -------
-    dict
-        A copy with resolved paths (other values unchanged).
-    """
-    out = {}
-    for name, section in forces.items():
-        if isinstance(section, dict):
-            section = {k: (_package_file(v[len(_PACKAGE_PREFIX):])
-                           if k in _PATH_KEYS and isinstance(v, str)
-                           and v.startswith(_PACKAGE_PREFIX) else v)
-                       for k, v in section.items()}
-        out[name] = section
-    return out
 
 
 def arc_days(config: dict, date: str) -> list[str]:

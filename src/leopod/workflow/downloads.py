@@ -12,8 +12,8 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
-from leopod.campaign import input_references
 from leopod.download.catalogue import Catalogue, Family
+from leopod.workflow.campaign import input_references
 
 __all__ = ["PREFIX", "ROOT", "destination_template", "load_catalogue", "resolve_downloads",
            "uses_downloads"]

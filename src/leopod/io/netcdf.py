@@ -121,3 +121,13 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
     with atomic_path(path) as tmp:
         out.to_netcdf(tmp, encoding=encoding, format="NETCDF4", engine="netcdf4")
     return Path(path)
+
+
+def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:
+    """Concatenate daily product datasets along time, dropping repeated epochs."""
+    if len(datasets) == 1:
+        return datasets[0]
+    ds = xr.concat(datasets, dim="time", join="outer", data_vars="minimal", coords="minimal",
+                   compat="override", combine_attrs="override")
+    _, first = np.unique(ds.time.values, return_index=True)
+    return ds.isel(time=np.sort(first))

@@ -4,18 +4,20 @@ import erfa
 import numpy as np
 import pytest
 
-from leopod.timescales import (
+from leopod.time.eop import (
     EarthOrientation,
     default_earth_orientation,
+    jd_ut1,
+    libration_eop,
+    ocean_tide_eop,
+)
+from leopod.time.scales import (
     gps_to_tai,
     gps_to_tt,
     gps_to_utc,
     jd_tai,
     jd_tt,
-    jd_ut1,
     julian_centuries_tt,
-    libration_eop,
-    ocean_tide_eop,
     tai_minus_utc_s,
     utc_to_gps,
 )

@@ -3,7 +3,7 @@
 
 import numpy as np
 
-from leopod.orbit.gnss_attitude import gnss_body_axes
+from leopod.gnss.attitude import gnss_body_axes
 
 
 def test_axes_point_as_the_convention_says():

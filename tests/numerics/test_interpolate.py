@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from leopod.orbit.interpolate import interpolate_table
+from leopod.numerics.interpolate import interpolate_table
 
 
 def test_polynomial_reproduced_exactly_with_derivative():

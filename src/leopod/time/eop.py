@@ -1,24 +1,15 @@
-"""Time scales (GPST, TAI, TT, UTC, UT1), two-part Julian dates and Earth orientation parameters.
+"""Earth orientation parameters: IERS series, interpolation and sub-daily tidal terms.
 
-Epochs are ``numpy.datetime64[ns]`` labels holding **GPS-time** readings (see
-:mod:`leopod.time`). The offsets GPST -> TAI (+19 s) and TAI -> TT (+32.184 s) are exact and
-applied in integer nanoseconds; TAI - UTC (leap seconds) comes from the IERS ``Leap_Second.dat``
-shipped with astropy-iers-data, never from the network.
-
-Two-part Julian dates follow the erfa "date & time" split: ``jd1`` is the Julian date of the
-preceding midnight (a half-integer, exact in float64) and ``jd2`` the fraction of day in
-[0, 1) for TAI/TT (UT1 may fall slightly outside), so that a float64 ``jd2`` keeps ~1e-11 s.
-
-Earth orientation parameters (EOP) come from the IERS 20 C04 series (astropy-iers-data
-``IERS_B_FILE``) extended by the IERS rapid service/prediction file finals2000A
-(``IERS_A_FILE``) after the end of C04, or from any finals2000A file. They are interpolated as
-the IERS recommends (IERS Conventions 2010, sec. 5.5.1; IERS Gazette 13 / ``interp.f``):
-4-point Lagrange interpolation of the daily values with UT1 handled as UT1-TAI (continuous
-across leap seconds), plus the diurnal/semi-diurnal ocean-tide terms in polar motion and UT1
-(IERS Conventions 2010, Tables 8.2a/b and 8.3a/b, the 71-term ``PMUT1_OCEANS`` model) and the
-libration terms (Tables 5.1a diurnal part, 5.1b). Not modelled: the zonal tides in UT1 are not
-removed before interpolation (the cubic interpolation error they cause is < 1 µs), and LOD is
-returned as interpolated daily values (sub-daily tidal LOD, < 0.15 ms, is not added).
+EOP come from the IERS 20 C04 series (astropy-iers-data ``IERS_B_FILE``) extended by the IERS
+rapid service/prediction file finals2000A (``IERS_A_FILE``) after the end of C04, or from any
+finals2000A file. They are interpolated as the IERS recommends (IERS Conventions 2010, sec.
+5.5.1; IERS Gazette 13 / ``interp.f``): 4-point Lagrange interpolation of the daily values with
+UT1 handled as UT1-TAI (continuous across leap seconds), plus the diurnal/semi-diurnal
+ocean-tide terms in polar motion and UT1 (IERS Conventions 2010, Tables 8.2a/b and 8.3a/b, the
+71-term ``PMUT1_OCEANS`` model) and the libration terms (Tables 5.1a diurnal part, 5.1b). Not
+modelled: the zonal tides in UT1 are not removed before interpolation (the cubic interpolation
+error they cause is < 1 µs), and LOD is returned as interpolated daily values (sub-daily tidal
+LOD, < 0.15 ms, is not added). Time scales and Julian dates are in :mod:`leopod.time.scales`.
 """
 
 from __future__ import annotations
@@ -32,148 +23,34 @@ from pathlib import Path
 import erfa
 import numba
 import numpy as np
-from astropy_iers_data import IERS_A_FILE, IERS_B_FILE, IERS_LEAP_SECOND_FILE
+from astropy_iers_data import IERS_A_FILE, IERS_B_FILE
 
-from leopod.constants import GPST_MINUS_TAI_S, SECONDS_PER_DAY, TT_MINUS_TAI_S
-from leopod.orbit.interpolate import interpolate_table
+from leopod.constants import SECONDS_PER_DAY
+from leopod.numerics.interpolate import interpolate_table
+from leopod.time.scales import (
+    _GPST_TO_TAI_NS,
+    _MJD_DATETIME64_EPOCH,
+    _NS_PER_DAY,
+    _TAI_TO_TT_NS,
+    _as_ns,
+    _centuries,
+    _leap_second_table,
+    _tai_minus_utc_from_tai_ns,
+    _two_part_jd,
+)
 
 __all__ = [
     "EarthOrientation",
     "EopValues",
     "default_earth_orientation",
-    "gps_to_tai",
-    "gps_to_tt",
-    "gps_to_utc",
-    "jd_tai",
-    "jd_tt",
     "jd_ut1",
-    "julian_centuries_tt",
     "libration_eop",
     "ocean_tide_eop",
-    "tai_minus_utc_s",
-    "utc_to_gps",
 ]
 
 logger = logging.getLogger(__name__)
 
-_NS_PER_S = 1_000_000_000
-_NS_PER_DAY = 86_400 * _NS_PER_S
-#: Julian date and MJD of 1970-01-01T00:00, the origin of datetime64 (exact).
-_JD_DATETIME64_EPOCH = 2_440_587.5
-_MJD_DATETIME64_EPOCH = 40_587
-#: Julian date of J2000.0 (2000-01-01T12:00 TT) and days per Julian century (IAU).
-_JD_J2000 = 2_451_545.0
-_DAYS_PER_CENTURY = 36_525.0
-_GPST_TO_TAI_NS = round(-GPST_MINUS_TAI_S * _NS_PER_S)
-_TAI_TO_TT_NS = round(TT_MINUS_TAI_S * _NS_PER_S)
 _UAS_TO_RAD = erfa.DAS2R * 1e-6
-
-
-# --------------------------------------------------------------------------- leap seconds
-@functools.lru_cache(maxsize=4)
-def _leap_second_table(path: str = IERS_LEAP_SECOND_FILE) -> tuple[np.ndarray, np.ndarray]:
-    """MJD (UTC) from which each TAI-UTC value holds, and the values [s] (IERS Bulletin C)."""
-    table = np.loadtxt(path, comments="#", ndmin=2)
-    return table[:, 0].astype(np.int64), table[:, 4]
-
-
-def _as_ns(times) -> np.ndarray:
-    """Nanoseconds since 1970-01-01 of datetime64 labels, int64, at least 1-D."""
-    return np.atleast_1d(np.asarray(times, dtype="datetime64[ns]")).astype(np.int64)
-
-
-def _tai_minus_utc_from_tai_ns(tai_ns: np.ndarray) -> np.ndarray:
-    mjd, dat = _leap_second_table()
-    start_tai_ns = (mjd - _MJD_DATETIME64_EPOCH) * _NS_PER_DAY + np.round(dat * _NS_PER_S)
-    k = np.searchsorted(start_tai_ns, tai_ns, side="right") - 1
-    if np.any(k < 0):
-        raise ValueError("epoch before 1972-01-01: TAI-UTC is not tabulated in Leap_Second.dat")
-    return dat[k]
-
-
-def tai_minus_utc_s(times) -> np.ndarray:
-    """TAI - UTC [s] (leap seconds, IERS Bulletin C) at GPS-time epochs.
-
-    Parameters
-    ----------
-    times : array_like of datetime64, shape (n,)
-        GPS-time labels.
-
-    Returns
-    -------
-    ndarray, shape (n,)
-        TAI - UTC [s]; during an inserted leap second the previous value still holds.
-    """
-    return _tai_minus_utc_from_tai_ns(_as_ns(times) + _GPST_TO_TAI_NS)
-
-
-def gps_to_tai(times) -> np.ndarray:
-    """TAI labels (datetime64[ns]) of GPS-time epochs: TAI = GPST + 19 s (exact)."""
-    return (_as_ns(times) + _GPST_TO_TAI_NS).astype("datetime64[ns]")
-
-
-def gps_to_tt(times) -> np.ndarray:
-    """TT labels (datetime64[ns]) of GPS-time epochs: TT = GPST + 51.184 s (exact)."""
-    return (_as_ns(times) + _GPST_TO_TAI_NS + _TAI_TO_TT_NS).astype("datetime64[ns]")
-
-
-def gps_to_utc(times) -> np.ndarray:
-    """UTC labels (datetime64[ns]) of GPS-time epochs, UTC = TAI - (TAI - UTC).
-
-    datetime64 cannot show 23:59:60: an epoch inside an inserted leap second gets the label
-    of the first second of the next day (those labels occur twice).
-    """
-    tai_ns = _as_ns(times) + _GPST_TO_TAI_NS
-    dat_ns = np.round(_tai_minus_utc_from_tai_ns(tai_ns) * _NS_PER_S).astype(np.int64)
-    return (tai_ns - dat_ns).astype("datetime64[ns]")
-
-
-def utc_to_gps(times_utc) -> np.ndarray:
-    """GPS-time labels (datetime64[ns]) of UTC epochs (e.g. SLR normal points).
-
-    Parameters
-    ----------
-    times_utc : array_like of datetime64, shape (n,)
-        UTC labels (no 23:59:60).
-    """
-    utc_ns = _as_ns(times_utc)
-    mjd, dat = _leap_second_table()
-    k = np.searchsorted((mjd - _MJD_DATETIME64_EPOCH) * _NS_PER_DAY, utc_ns, side="right") - 1
-    if np.any(k < 0):
-        raise ValueError("epoch before 1972-01-01: TAI-UTC is not tabulated in Leap_Second.dat")
-    dat_ns = np.round(dat[k] * _NS_PER_S).astype(np.int64)
-    return (utc_ns + dat_ns - _GPST_TO_TAI_NS).astype("datetime64[ns]")
-
-
-# --------------------------------------------------------------------------- Julian dates
-def _two_part_jd(ns: np.ndarray, extra_s=0.0) -> tuple[np.ndarray, np.ndarray]:
-    """(jd1, jd2) of integer nanoseconds since 1970 plus ``extra_s`` seconds (float)."""
-    day, rem_ns = np.divmod(ns, _NS_PER_DAY)
-    jd1 = _JD_DATETIME64_EPOCH + day.astype(float)
-    jd2 = (rem_ns.astype(float) + np.asarray(extra_s, dtype=float) * _NS_PER_S) / _NS_PER_DAY
-    return jd1, jd2
-
-
-def jd_tai(times) -> tuple[np.ndarray, np.ndarray]:
-    """Two-part Julian date (jd1, jd2) of TAI at GPS-time epochs, shape (n,) each."""
-    return _two_part_jd(_as_ns(times) + _GPST_TO_TAI_NS)
-
-
-def jd_tt(times) -> tuple[np.ndarray, np.ndarray]:
-    """Two-part Julian date (jd1, jd2) of TT at GPS-time epochs, shape (n,) each.
-
-    ``jd1`` is a half-integer (preceding TT midnight), ``jd2`` in [0, 1); resolution ~1e-11 s.
-    """
-    return _two_part_jd(_as_ns(times) + _GPST_TO_TAI_NS + _TAI_TO_TT_NS)
-
-
-def julian_centuries_tt(times) -> np.ndarray:
-    """TT Julian centuries since J2000.0 at GPS-time epochs, shape (n,) (IERS 2010 eq. 5.2)."""
-    return _centuries(*jd_tt(times))
-
-
-def _centuries(jd1: np.ndarray, jd2: np.ndarray) -> np.ndarray:
-    return ((jd1 - _JD_J2000) + jd2) / _DAYS_PER_CENTURY
 
 
 def jd_ut1(times, eop: EarthOrientation | EopValues | None = None):

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from leopod.orbit.interpolate import lagrange_weights
-from leopod.time import seconds_since
+from leopod.numerics.interpolate import lagrange_weights
+from leopod.time.calendar import seconds_since
 
 __all__ = ["GnssProducts"]
 

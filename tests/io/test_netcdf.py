@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from leopod.netcdf import TIME_UNITS, write_netcdf
+from leopod.io.netcdf import TIME_UNITS, write_netcdf
 
 
 def _ds():

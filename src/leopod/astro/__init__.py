@@ -1,0 +1,1 @@
+"""Astronomical foundation: Sun and Moon positions, fundamental and Doodson arguments."""

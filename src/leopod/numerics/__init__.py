@@ -1,0 +1,1 @@
+"""Numerical foundation: interpolation of tabulated series."""

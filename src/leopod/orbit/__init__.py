@@ -1,1 +1,0 @@
-"""Orbit tables: interpolation of tabulated orbits and clocks."""

@@ -1,0 +1,1 @@
+"""The workflow layer: campaign configuration, settings, the script boundary and logging."""
