@@ -24,24 +24,25 @@ directory, e.g. the real WHU product set (config/whu-2008.yaml)::
 from __future__ import annotations
 
 import argparse
-import copy
+import dataclasses
 import logging
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
-from leopod.codebias.apply import correct_codes
-from leopod.estimation.arc import run_arc
+from leopod.codebias.apply import CodeCorrection, correct_codes
+from leopod.estimation.arc import ArcData, run_arc
 from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
 from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 from leopod.validation.compare import difference_rtn, rms_rtn
 from leopod.workflow.campaign import arc_days, campaign_days
+from leopod.workflow.config import load_campaign
+from leopod.workflow.settings import pod_settings
 
 REPO = Path(__file__).resolve().parents[1]
 SAT = "hy2b-sim"
@@ -104,33 +105,32 @@ def _arc_inputs(days: list[str]):
     orbit = merge_days([read_sp3(SIM / "gnss" / f"{d}.sp3") for d in days])
     clock = merge_days([read_rinex_clock(SIM / "gnss" / f"{d}_int.clk") for d in days])
     maps = xr.load_dataset(res / "code_bias" / SAT / "2019-01.nc")
-    return obs, quality, leo, orbit, clock, maps
+    return ArcData(obs=obs, quality=quality, leo=leo, orbit=orbit, clock=clock, code_maps=maps)
 
 
 def code_variants(cfg: dict, date: str) -> None:
     truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
     days = arc_days(cfg, date)
-    obs, quality, leo, orbit, clock, maps = _arc_inputs(days)
+    data = _arc_inputs(days)
     truth_days = [xr.load_dataset(SIM / SAT / f"{d}_truth.nc") for d in days]
     pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
-    for label, codes, apply in (("P1 + map", ["C1W", "C2W"], ["C1W"]),
-                                ("P1 without map", ["C1W", "C2W"], []),
-                                ("C1 (C1C, C2W)", ["C1C", "C2W"], [])):
-        signals = copy.deepcopy(cfg["signals"])
-        signals["G"]["pod_code"] = codes
-        cb = {"apply": apply, "empty_cells": "drop"}
-        arc = run_arc(date, obs, quality, leo, orbit, clock, None, signals, cfg["pod"], pco,
-                      code_maps=maps if apply else None, code_bias_cfg=cb)
-        o = [correct_codes(a, q, maps, apply)[0] if apply else a
-             for a, q in zip(obs, quality, strict=True)]
+    settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
+    for label, codes, apply in (("P1 + map", ("C1W", "C2W"), ("C1W",)),
+                                ("P1 without map", ("C1W", "C2W"), ()),
+                                ("C1 (C1C, C2W)", ("C1C", "C2W"), ())):
+        settings["signals"] = dataclasses.replace(settings["signals"], pod_code=codes)
+        settings["code_correction"] = CodeCorrection(apply=apply, empty_cells="drop")
+        arc = run_arc(date, data, **settings, pco_body_m=pco)
+        o = [correct_codes(a, q, data.code_maps, apply, empty_cells="drop")[0] if apply else a
+             for a, q in zip(data.obs, data.quality, strict=True)]
         epoch = arc.residuals.time.values[arc.residuals.sizes["time"] // 2]
         product = ar_product(epoch, arc.ambiguities.sv.values, ["L1C", "L2W"], codes,
                              wl_bias_path=SIM / "gnss" / f"{date}.wsb")
         r = resolve_arc(arc.ambiguities, arc.residuals, merge_days(o), "G",
-                        ["L1C", "L2W"], codes, product.wl_sat_cyc, ArSettings())
+                        ["L1C", "L2W"], codes, product.wl_sat_cyc,
+                        ArSettings.from_config(cfg["ambiguity"]))
         _summary(label, r.table, arc.residuals, truth_days)
-        fixed = run_arc(date, obs, quality, leo, orbit, clock, None, signals, cfg["pod"], pco,
-                        code_maps=maps if apply else None, code_bias_cfg=cb,
+        fixed = run_arc(date, data, **settings, pco_body_m=pco,
                         ambiguity_constraints=r.constraints)
         print(f"    float {_rms_cm(arc.orbit, truth, date)}; fixed "
               f"{_rms_cm(fixed.orbit, truth, date)}")
@@ -141,7 +141,8 @@ def wrong_fix_screening(cfg: dict, date: str, k: int) -> None:
 
     days = arc_days(cfg, date)
     res = REPO / "results"
-    obs, quality, leo, orbit, clock, maps = _arc_inputs(days)
+    data = _arc_inputs(days)
+    settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     base = res / "float_pod" / SAT / date
     start = tuple(xr.load_dataset(f"{base}_{n}.nc")
                   for n in ("parameters", "ambiguities", "residuals"))
@@ -155,11 +156,10 @@ def wrong_fix_screening(cfg: dict, date: str, k: int) -> None:
     is_wrong = np.zeros(value.size, bool)
     is_wrong[wrong] = True
     constraints = (pi, pj, value, np.full(value.size, 1e-3), is_wrong)
-    rounds = cfg["ambiguity"].get("max_rejection_rounds", 2)
+    rounds = cfg["ambiguity"]["max_rejection_rounds"]
     for r in range(rounds + 1):
-        fixed = run_arc(date, obs, quality, leo, orbit, clock, None, cfg["signals"],
-                        cfg["pod"], cfg["satellites"][SAT]["antenna_pco_body_m"],
-                        code_maps=maps, code_bias_cfg=cfg["code_bias"],
+        fixed = run_arc(date, data, **settings,
+                        pco_body_m=cfg["satellites"][SAT]["antenna_pco_body_m"],
                         ambiguity_constraints=constraints[:4], continue_from=start)
         bad = degraded_passes(start[2], fixed.residuals)
         print(f"{date} round {r}: {constraints[0].size} constraints, {int(constraints[4].sum())} "
@@ -181,7 +181,7 @@ def main() -> None:
     parser.add_argument("--directory", type=Path, default=REPO)
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
-    cfg = yaml.safe_load(args.configfile.read_text())
+    cfg = load_campaign(args.configfile)
     if args.wrong:
         wrong_fix_screening(cfg, args.day, args.wrong)
     elif args.codes:

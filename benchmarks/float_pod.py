@@ -28,11 +28,13 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from leopod.estimation.arc import run_arc
+from leopod.estimation.arc import ArcData, run_arc
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.sp3 import read_sp3
 from leopod.validation.compare import difference_rtn, rms_rtn
+from leopod.workflow.config import validated
+from leopod.workflow.settings import pod_settings
 
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO.parent / "shared" / "data" / "grace-a_2007-080"
@@ -52,9 +54,10 @@ def _prepare() -> None:
 def _inputs():
     def load(step, suffix):
         return [xr.load_dataset(RESULTS / step / "grace-a" / f"{DATE}{suffix}.nc")]
-    return (load("ingest", "_obs"), load("quality", ""), load("ingest", "_leo"),
-            read_sp3(DATA / "cod14193.sp3.gz"), read_rinex_clock(DATA / "cod14193.clk.gz"),
-            read_antex(DATA / "igs05_1402.atx.gz"))
+    return ArcData(obs=load("ingest", "_obs"), quality=load("quality", ""),
+                   leo=load("ingest", "_leo"), orbit=read_sp3(DATA / "cod14193.sp3.gz"),
+                   clock=read_rinex_clock(DATA / "cod14193.clk.gz"),
+                   antex=read_antex(DATA / "igs05_1402.atx.gz"))
 
 
 def _summary(label: str, arc, seconds: float | None = None) -> None:
@@ -80,14 +83,14 @@ def main() -> None:
     logging.basicConfig(level=logging.WARNING)
     _prepare()
     cfg = yaml.safe_load(CONFIG.read_text())
-    pod = dict(cfg["pod"])
     for item in args.set:
         key, value = item.split("=", 1)
-        pod[key] = yaml.safe_load(value)
+        cfg["pod"][key] = yaml.safe_load(value)
+    cfg = validated(cfg)
+    settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
+    del settings["code_correction"]   # no code-bias map in this benchmark
     sat = cfg["satellites"]["grace-a"]
-    obs, quality, leo, orbit, clock, antex = _inputs()
-    common = (obs, quality, leo, orbit, clock, antex, cfg["signals"], pod,
-              sat["antenna_pco_body_m"])
+    common = (_inputs(), *settings.values(), sat["antenna_pco_body_m"])
     tic = time.perf_counter()
     arc = run_arc(DATE, *common)
     _summary("GRACE-A 2007-080, 00-24 h, 30 s", arc, time.perf_counter() - tic)

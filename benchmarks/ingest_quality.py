@@ -26,8 +26,11 @@ from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
+from leopod.signals import signal_settings
+from leopod.workflow.config import section_defaults
 
-SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}
+SIGNALS = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],
+                                 "pod_code": ["C1W", "C2W"]}})
 GRACE = Path(__file__).resolve().parents[2] / "shared/data/grace-a_2007-080"
 
 
@@ -92,7 +95,7 @@ def run_once(tmp: Path) -> dict[str, float]:
     rot = nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values)
     el, az = antenna_angles(rot, gnss.pos_m.sel(sv=obs.sv).values - leo.pos_m.values[:, None, :])
     q = assess_quality(obs, el, az, "G", ["L1C", "L2W"], ["C1C", "C1W", "C2W"], ["C1W", "C2W"],
-                       QualitySettings())
+                       QualitySettings.from_config(section_defaults("quality")))
     lap("quality indicators")
     write_netcdf(q, tmp / "quality.nc", step="bench")
     lap("write quality netCDF")

@@ -30,8 +30,15 @@ import yaml
 from leopod.io.crd import read_crd
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
 from leopod.simulate.settings import SimulationSettings
-from leopod.validation.slr import line_of_sight_orbit_difference, slr_residuals
+from leopod.validation.slr import (
+    SlrResidualSettings,
+    line_of_sight_orbit_difference,
+    slr_residuals,
+)
 from leopod.workflow.campaign import campaign_days
+from leopod.workflow.config import section_defaults
+
+SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
 
 REPO = Path(__file__).resolve().parents[1]
 SAT = "hy2b-sim"
@@ -51,7 +58,8 @@ def slr_check(cfg: dict, workdir: Path) -> None:
     retro = SimulationSettings.from_config(cfg.get("simulate")).slr.retro_offset_body_m
     for date in campaign_days(cfg):
         nps = read_crd(sim / SAT / f"{date}.crd")
-        res = slr_residuals(truth, nps, stations, ecc, retro_offset_body_m=retro)
+        res = slr_residuals(truth, nps, stations, ecc, retro_offset_body_m=retro,
+                            settings=SLR)
         used = res.flag.values == 0
         # the simulated noise of the same points: the truth-orbit residual is noise + bias
         print(f"{date}: truth orbit SLR residuals {_mm(res.residual_m.values[used])}")

@@ -1,13 +1,20 @@
-"""Snakemake script of rule ambiguity: see leopod.ambiguity.resolve."""
+"""Rule ambiguity: single-difference WL/NL fixing of one float arc (leopod.ambiguity.resolve)."""
+
+import logging
+from collections.abc import Mapping
 
 import xarray as xr
 
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
-from leopod.codebias.apply import correct_codes
+from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.io.netcdf import merge_days, write_netcdf
 from leopod.plots.ambiguity import plot_fractional_parts
+from leopod.signals import SystemSignals, signal_settings
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
+
+log = logging.getLogger(__name__)
 
 
 def _directions(path):
@@ -16,32 +23,47 @@ def _directions(path):
         return ds[["el_deg", "az_deg"]].load()
 
 
-def main(inp, out, params, date, log):
-    amb = xr.load_dataset(inp.ambiguities)
-    residuals = xr.load_dataset(inp.residuals)
-    obs = [xr.load_dataset(p) for p in inp.obs]
-    cb = params.code_bias
-    if inp.get("code_bias") and cb.get("apply"):
-        maps = xr.load_dataset(inp.code_bias)
-        obs = [correct_codes(o, _directions(q), maps, cb["apply"],
-                             empty_cells=cb["empty_cells"], yaw_flips=params.yaw_flips)[0]
-               for o, q in zip(obs, inp.quality, strict=True)]
-    system = params.pod["system"]
-    sig = params.signals[system]
+def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: SystemSignals,
+         settings: ArSettings, code_correction: CodeCorrection, yaw_flips, title: str) -> None:
+    """Fix the ambiguities of a float arc. ``inputs``: ``ambiguities``, ``residuals`` (float
+    POD), lists ``obs`` and ``quality`` (its days), optional ``code_bias`` (maps), ``wl_bias``
+    or ``osb`` (AR product); writes the table (netCDF) and the histogram (PNG)."""
+    amb = xr.load_dataset(inputs["ambiguities"])
+    residuals = xr.load_dataset(inputs["residuals"])
+    obs = [xr.load_dataset(p) for p in inputs["obs"]]
+    if inputs.get("code_bias") and code_correction.apply:
+        maps = xr.load_dataset(inputs["code_bias"])
+        obs = [correct_codes(o, _directions(q), maps, code_correction.apply,
+                             empty_cells=code_correction.empty_cells, yaw_flips=yaw_flips)[0]
+               for o, q in zip(obs, inputs["quality"], strict=True)]
     epoch = residuals.time.values[residuals.sizes["time"] // 2]  # biases at the arc centre
-    product = ar_product(epoch, amb.sv.values, sig["phase"], sig["pod_code"],
-                         wl_bias_path=inp.get("wl_bias"), osb_path=inp.get("osb"))
+    product = ar_product(epoch, amb.sv.values, signals.phase, signals.pod_code,
+                         wl_bias_path=inputs.get("wl_bias"), osb_path=inputs.get("osb"))
     log.info("AR product: %s", product.label)
-    res = resolve_arc(amb, residuals, merge_days(obs), system, sig["phase"],
-                      sig["pod_code"], product.wl_sat_cyc, ArSettings.from_config(params.settings),
+    res = resolve_arc(amb, residuals, merge_days(obs), system, signals.phase, signals.pod_code,
+                      product.wl_sat_cyc, settings,
                       sat_if_bias_m=product.per_ambiguity(amb.sv.values))
     res.table.attrs["ar_product"] = product.label
-    write_netcdf(res.table, out.table, step="ambiguity", inputs=[inp.ambiguities, inp.residuals],
-                 time_system="GPS", title=f"single-difference ambiguities {params.title}")
-    plot_fractional_parts(res.table, out.histogram, title=params.title)
+    write_netcdf(res.table, table_path, step="ambiguity",
+                 inputs=[inputs["ambiguities"], inputs["residuals"]], time_system="GPS",
+                 title=f"single-difference ambiguities {title}")
+    plot_fractional_parts(res.table, histogram_path, title=title)
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    p = sm.params
+    system = p.pod["system"]
+    main(plain(sm.input), sm.output.table, sm.output.histogram, system=system,
+         signals=signal_settings(p.signals)[system], settings=ArSettings.from_config(p.settings),
+         code_correction=CodeCorrection.from_config(p.code_bias), yaw_flips=p.yaw_flips,
+         title=p.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
-    main(sm.input, sm.output, sm.params, sm.wildcards.date, log)
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("ambiguity", sat="hy2b-sim", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

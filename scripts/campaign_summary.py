@@ -1,11 +1,18 @@
-"""Snakemake script of rule campaign_summary: see leopod.validation.summary."""
+"""Rule campaign_summary: per day and solution residual RMS, fixing rates, overlap,
+reference-orbit and SLR statistics of a satellite (leopod.validation.summary)."""
+
+import logging
+from collections.abc import Mapping
 
 import xarray as xr
 
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.validation.summary import COLUMNS, campaign_table, day_row
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
+
+log = logging.getLogger(__name__)
 
 
 def _load(files: dict, key: str, date: str):
@@ -13,16 +20,18 @@ def _load(files: dict, key: str, date: str):
     return xr.load_dataset(path) if path else None
 
 
-def main(inp, out, params, log):
+def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> None:
+    """Campaign table from ``files`` (``{solution: {product: {date: path}}}``, products
+    ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``) into ``outputs``:
+    ``nc``, ``csv`` and ``html``; ``input_files`` are recorded as provenance."""
     rows = []
-    for solution in params.solutions:
-        files = params.files[solution]
-        for date in params.days:
-            rows.append(day_row(date, solution, residuals=_load(files, "residuals", date),
-                                ambiguity=_load(files, "ambiguity", date),
-                                overlap=_load(files, "overlap", date),
-                                reference=_load(files, "reference", date),
-                                slr=_load(files, "slr", date)))
+    for solution, products in files.items():
+        for date in days:
+            rows.append(day_row(date, solution, residuals=_load(products, "residuals", date),
+                                ambiguity=_load(products, "ambiguity", date),
+                                overlap=_load(products, "overlap", date),
+                                reference=_load(products, "reference", date),
+                                slr=_load(products, "slr", date)))
     table = campaign_table(rows)
     log.info("campaign summary:\n%s", table.to_string(float_format=lambda v: f"{v:.3g}"))
     ds = xr.Dataset.from_dataframe(table.reset_index().rename_axis("row"))
@@ -30,20 +39,31 @@ def main(inp, out, params, log):
         ds[name].attrs.update(units=unit, long_name=text)
     for name in ("date", "solution"):
         ds[name].attrs.update(units="1", long_name=name)
-    write_netcdf(ds, out.nc, step="campaign_summary", inputs=list(inp), time_system="GPS",
-                 title=f"campaign summary {params.title}")
-    write_text(out.csv, table.to_csv(float_format="%.4f"))
+    write_netcdf(ds, outputs["nc"], step="campaign_summary", inputs=list(input_files),
+                 time_system="GPS", title=f"campaign summary {title}")
+    write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
     header = "".join(f"<th title='{text}'>{name}<br>[{unit}]</th>"
                      for name, (unit, text) in COLUMNS.items())
     body = "\n".join(
         "<tr><td>{}</td><td>{}</td>{}</tr>".format(
             d, s, "".join(f"<td>{v:.3g}</td>" for v in row.to_numpy()))
         for (d, s), row in table.iterrows())
-    write_text(out.html, f"<html><body><h3>{params.title}: campaign summary</h3>"
-                         f"<table border='1' cellpadding='3'><tr><th>day</th><th>solution</th>"
-                         f"{header}</tr>\n{body}</table></body></html>\n")
+    write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>"
+                                f"<table border='1' cellpadding='3'><tr><th>day</th>"
+                                f"<th>solution</th>{header}</tr>\n{body}</table></body></html>\n")
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    p = sm.params
+    main({s: p.files[s] for s in p.solutions}, list(p.days), [str(f) for f in sm.input],
+         plain(sm.output), title=p.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("campaign_summary", sat="hy2b-sim")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,6 +1,9 @@
-"""Snakemake script of rule code_bias_stack: see leopod.codebias.products.stack_maps."""
+"""Rule code_bias_stack: maps of several periods stacked, and their differences
+(leopod.codebias.products.stack_maps)."""
 
 import itertools
+import logging
+from collections.abc import Mapping
 
 import xarray as xr
 
@@ -8,14 +11,20 @@ from leopod.codebias.products import map_difference, stack_maps
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.codebias import plot_code_bias_maps, plot_map_difference
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(inp, out, params, log):
-    maps = [xr.load_dataset(p) for p in inp.maps]
+
+def main(map_paths, outputs: Mapping, *, title: str) -> None:
+    """Stack the period maps (paths in time order) into ``outputs``: ``nc``, ``differences``
+    (CSV), ``maps`` and ``difference`` (PNG)."""
+    maps = [xr.load_dataset(p) for p in map_paths]
     stacked = stack_maps(maps)
-    write_netcdf(stacked, out.nc, step="code_bias_stack", inputs=inp.maps, time_system="GPS",
-                 reference_frame="antenna", title=f"stacked code-bias maps {params.title}")
+    write_netcdf(stacked, outputs["nc"], step="code_bias_stack", inputs=map_paths,
+                 time_system="GPS", reference_frame="antenna",
+                 title=f"stacked code-bias maps {title}")
     lines = ["period_a,period_b,signal,mode,rms_difference_m"]
     for a, b in itertools.pairwise(maps):
         _, rms = map_difference(a, b)
@@ -25,13 +34,22 @@ def main(inp, out, params, log):
                 lines.append(f"{a.attrs['period']},{b.attrs['period']},{sig},{mode},{value:.4f}")
                 log.info("map difference %s - %s %s mode %d: RMS %.3f m", b.attrs["period"],
                          a.attrs["period"], sig, mode, value)
-    write_text(out.differences, "\n".join(lines) + "\n")
-    plot_code_bias_maps(stacked, out.maps, title=f"stacked code-bias maps {params.title}")
-    plot_map_difference(maps[-2], maps[-1], out.difference,
-                        title=f"{params.title} {maps[-1].attrs['period']} minus "
+    write_text(outputs["differences"], "\n".join(lines) + "\n")
+    plot_code_bias_maps(stacked, outputs["maps"], title=f"stacked code-bias maps {title}")
+    plot_map_difference(maps[-2], maps[-1], outputs["difference"],
+                        title=f"{title} {maps[-1].attrs['period']} minus "
                               f"{maps[-2].attrs['period']}")
 
 
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(list(sm.input.maps), plain(sm.output), title=sm.params.title)
+
+
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("code_bias_stack", sat="hy2b-sim")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,11 +1,18 @@
-"""Snakemake script of the download_<family> rules: see leopod.download.fetch_product."""
+"""The download_<family> rules: fetch one product file (leopod.download.fetch_product)."""
+
+import logging
+from collections.abc import Mapping
 
 from leopod.download import fetch_product
 from leopod.workflow.downloads import load_catalogue
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(family, date, dest, settings, default_catalogue, log):
+
+def main(family: str, date: str | None, dest, settings: Mapping, default_catalogue) -> None:
+    """Fetch the file of ``family`` (and ``date``, None for static products) into ``dest``
+    with the campaign's ``download`` settings."""
     catalogue = load_catalogue(settings, default_catalogue)
     fetch_product(catalogue, family, date, dest, mirrors=settings["mirrors"],
                   offline=settings["offline"], retries=settings["retries"],
@@ -13,8 +20,13 @@ def main(family, date, dest, settings, default_catalogue, log):
                   log=log)
 
 
-if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
     main(sm.params.family, sm.wildcards.get("date"), sm.output[0], sm.config["download"],
-         sm.params.default_catalogue, log)
+         sm.params.default_catalogue)
+
+
+if __name__ == "__main__":
+    # the default campaign downloads nothing: call main() by hand, or run through Snakemake
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,65 +1,68 @@
-"""Snakemake script of rule fixed_pod: the float POD re-solved with the fixed ambiguities."""
+"""Rule fixed_pod: the float POD re-solved with the fixed ambiguities (estimation.fixed_arc)."""
 
-import numpy as np
+from collections.abc import Mapping
+
 import xarray as xr
 
-from leopod.ambiguity.screening import degraded_passes, drop_constraints
-from leopod.estimation.arc import run_arc
-from leopod.estimation.write import ArcInputs, log_arc, write_arc
+from leopod.ambiguity.resolve import ArSettings
+from leopod.codebias.apply import CodeCorrection
+from leopod.estimation.arc import ArcData, ArcSettings
+from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
+from leopod.estimation.float_pod import PodSettings
+from leopod.estimation.write import log_arc, write_arc
+from leopod.plots.pod import plot_arc
+from leopod.signals import SystemSignals
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
+from leopod.workflow.settings import pod_settings
+
+#: Outputs written by write_arc and plot_arc.
+PRODUCTS = ("orbit", "sp3", "residuals", "parameters", "ambiguities")
+FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
-def constraints_of(table: xr.Dataset, sigma_m: float):
-    """``(pass_i, pass_j, value_m, sigma_m)`` of the constrained single differences."""
-    sel = table.constrained.values == 1
-    value = table.fixed_if_m.values[sel]
-    return (table.pass_i.values[sel].astype(int), table.pass_j.values[sel].astype(int), value,
-            np.full(value.shape, sigma_m))
+def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
+         arc: ArcSettings, pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None,
+         code_correction: CodeCorrection | None, yaw_flips, ambiguity: ArSettings,
+         title: str, sp3_id: str) -> None:
+    """Ambiguity-fixed POD of the arc of ``date`` from ``inputs`` into ``outputs``.
+
+    ``inputs``: those of scripts/float_pod.py plus ``table`` (ambiguity step) and
+    ``float_orbit``, ``float_parameters``, ``float_ambiguities``, ``float_residuals`` (float
+    POD); ``outputs``: :data:`PRODUCTS` and :data:`FIGURES` paths.
+    """
+    data = ArcData.read(obs=inputs["obs"], quality=inputs["quality"], leo=inputs["leo"],
+                        orbit=inputs["orbit"], clock=inputs["clock"], antex=inputs.get("antex"),
+                        code_bias=inputs.get("code_bias"))
+    float_solution = FloatSolution.read(parameters=inputs["float_parameters"],
+                                        ambiguities=inputs["float_ambiguities"],
+                                        residuals=inputs["float_residuals"],
+                                        orbit=inputs["float_orbit"])
+    fixed = run_fixed_arc(date, data, signals, arc, pod, forces, pco_body_m,
+                          xr.load_dataset(inputs["table"]), float_solution, ambiguity,
+                          code_correction=code_correction, yaw_flips=yaw_flips)
+    log_arc(fixed.arc, f"fixed POD {date}")
+    write_arc(fixed.arc, **{k: outputs[k] for k in PRODUCTS}, step="fixed_pod",
+              kind="ambiguity-fixed", title=title, sp3_id=sp3_id,
+              inputs=[inputs["table"], inputs["float_orbit"], inputs["float_parameters"],
+                      *data.files])
+    plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in FIGURES},
+             title=f"ambiguity-fixed {title}")
 
 
-def main(inp, out, params, date, log):
-    table = xr.load_dataset(inp.table)
-    constraints = constraints_of(table, params.settings["constraint_sigma_m"])
-    log.info("%d fixed single differences constrain the solution (AR product: %s)",
-             constraints[0].size, table.attrs.get("ar_product"))
-    if constraints[0].size == 0:
-        log.warning("no fixed ambiguity: the fixed solution equals the float one")
-    a = ArcInputs(inp)
-    # continue from the float solution; its orbit is the reference of the RTN figure
-    float_solution = tuple(xr.load_dataset(p) for p in (inp.float_parameters,
-                                                         inp.float_ambiguities,
-                                                         inp.float_residuals))
-    float_orbit = xr.load_dataset(inp.float_orbit).pos_itrf_m
-
-    def solve(fixes):
-        return run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex,
-                       params.signals, params.pod, params.pco_body_m, code_maps=a.code_maps,
-                       code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips,
-                       ambiguity_constraints=fixes if fixes[0].size else None,
-                       apriori_orbit=float_orbit,
-                       continue_from=float_solution)
-
-    arc = solve(constraints)
-    # fixes that raise the phase residuals of their passes are dropped and the arc re-solved
-    for _ in range(params.settings["max_rejection_rounds"]):
-        bad = degraded_passes(float_solution[2], arc.residuals,
-                              ratio=params.settings["max_residual_ratio"])
-        if bad.size == 0:
-            break
-        before = constraints[0].size
-        constraints = drop_constraints(constraints, bad)
-        log.warning("phase residuals of %d passes grew by more than x%.1f with the fixes: "
-                    "%d of %d constraints dropped, solving again", bad.size,
-                    params.settings["max_residual_ratio"], before - constraints[0].size, before)
-        arc = solve(constraints)
-    log.info("%d constraints in the fixed solution", constraints[0].size)
-    log_arc(arc, f"fixed POD {date}")
-    write_arc(arc, out, step="fixed_pod", kind="ambiguity-fixed", title=params.title,
-              sp3_id=params.sp3_id,
-              inputs=[inp.table, inp.float_orbit, inp.float_parameters, *a.files])
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    p = sm.params
+    main(sm.wildcards.date, plain(sm.input), plain(sm.output),
+         **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
+         yaw_flips=p.yaw_flips, ambiguity=ArSettings.from_config(p.settings), title=p.title,
+         sp3_id=p.sp3_id)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
-    main(sm.input, sm.output, sm.params, sm.wildcards.date, log)
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("fixed_pod", sat="hy2b-sim", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,21 +1,55 @@
-"""Snakemake script of rule float_pod: see leopod.estimation.arc."""
+"""Rule float_pod: float reduced-dynamic POD of one satellite-day (leopod.estimation.arc)."""
 
-from leopod.estimation.arc import run_arc
-from leopod.estimation.write import ArcInputs, log_arc, write_arc
+from collections.abc import Mapping
+
+from leopod.codebias.apply import CodeCorrection
+from leopod.estimation.arc import ArcData, ArcSettings, run_arc
+from leopod.estimation.float_pod import PodSettings
+from leopod.estimation.write import log_arc, write_arc
+from leopod.plots.pod import plot_arc
+from leopod.signals import SystemSignals
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
+from leopod.workflow.settings import pod_settings
+
+#: Outputs written by write_arc and plot_arc.
+PRODUCTS = ("orbit", "sp3", "residuals", "parameters", "ambiguities")
+FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
-def main(inp, out, params, date, log):
-    a = ArcInputs(inp)
-    arc = run_arc(date, a.obs, a.quality, a.leo, a.orbit, a.clock, a.antex, params.signals,
-                  params.pod, params.pco_body_m, code_maps=a.code_maps,
-                  code_bias_cfg=params.code_bias, yaw_flips=params.yaw_flips)
-    log_arc(arc, f"float POD {date}")
-    write_arc(arc, out, step="float_pod", kind="float", title=params.title,
-              sp3_id=params.sp3_id, inputs=a.files)
+def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
+         arc: ArcSettings, pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None,
+         code_correction: CodeCorrection | None, yaw_flips, title: str, sp3_id: str) -> None:
+    """Float POD of the arc of ``date`` from the files ``inputs`` into the files ``outputs``.
+
+    ``inputs``: lists ``obs``, ``quality``, ``leo``, ``orbit``, ``clock`` and optional
+    ``antex``, ``code_bias`` paths; ``outputs``: :data:`PRODUCTS` and :data:`FIGURES` paths.
+    The settings are those of :func:`leopod.estimation.arc.run_arc`.
+    """
+    data = ArcData.read(obs=inputs["obs"], quality=inputs["quality"], leo=inputs["leo"],
+                        orbit=inputs["orbit"], clock=inputs["clock"], antex=inputs.get("antex"),
+                        code_bias=inputs.get("code_bias"))
+    solution = run_arc(date, data, signals, arc, pod, forces, pco_body_m,
+                       code_correction=code_correction, yaw_flips=yaw_flips)
+    log_arc(solution, f"float POD {date}")
+    write_arc(solution, **{k: outputs[k] for k in PRODUCTS}, step="float_pod", kind="float",
+              title=title, sp3_id=sp3_id, inputs=data.files)
+    plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in FIGURES},
+             title=f"float {title}")
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    p = sm.params
+    main(sm.wildcards.date, plain(sm.input), plain(sm.output),
+         **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
+         yaw_flips=p.yaw_flips, title=p.title, sp3_id=p.sp3_id)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
-    main(sm.input, sm.output, sm.params, sm.wildcards.date, log)
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("float_pod", sat="hy2b-sim", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,4 +1,8 @@
-"""Snakemake script of rule ingest: see leopod.ingest."""
+"""Rule ingest: canonical observations, GNSS products at their epochs and the a-priori orbit
+of one satellite-day (leopod.ingest)."""
+
+import logging
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -9,13 +13,18 @@ from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
+from leopod.signals import SystemSignals, signal_settings
 from leopod.workflow.log import configure_logging
+
+log = logging.getLogger(__name__)
 
 
 def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, out_gnss, out_leo,
-         signal_cfg, pco_body_m, sp3_id, log):
-    raw = read_rinex_obs(obs_path, systems=list(signal_cfg))
-    obs = canonical_observations(raw, signal_cfg)
+         signals: Mapping[str, SystemSignals], pco_body_m, sp3_id) -> None:
+    """Ingest one RINEX observation file with its GNSS products (paths; optional ones None)
+    into ``out_obs``, ``out_gnss`` and ``out_leo`` (netCDF)."""
+    raw = read_rinex_obs(obs_path, systems=list(signals))
+    obs = canonical_observations(raw, signals)
     log.info("%s: %d epochs, %d satellites, signals %s", obs_path, obs.sizes["time"],
              obs.sizes["sv"], " ".join(k for k in obs.data_vars if "_" not in k))
     day_start = obs.time.values[0].astype("datetime64[D]")
@@ -26,7 +35,7 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
         log.warning("no clock product: the SP3 clock records of %s are used", orbit_path)
         clock = orbit
     products = GnssProducts.from_datasets(orbit, clock,
-                                          day_start, systems=list(signal_cfg),
+                                          day_start, systems=list(signals),
                                           max_extrapolation_s=900.0)
     gnss = gnss_at_epochs(products, obs.time.values)
     n_extra = int(gnss.extrapolated.values.any(axis=1).sum())
@@ -36,7 +45,7 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
         leo = apriori_from_sp3(read_sp3(apriori_path), sp3_id, obs.time.values)
     else:
         antex = read_antex(antex_path) if antex_path else None
-        leo = apriori_from_spp(obs, products, signal_cfg, pco_body_m, antex)
+        leo = apriori_from_spp(obs, products, signals, pco_body_m, antex)
         log.info("code-only orbit: %d of %d epochs, median residual RMS %.2f m, median PDOP %.2f",
                  np.isfinite(leo.pos_m.values[:, 0]).sum(), leo.sizes["time"],
                  float(np.nanmedian(leo.rms_m)), float(np.nanmedian(leo.pdop)))
@@ -44,16 +53,25 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
     write_netcdf(obs, out_obs, step="ingest", inputs=inputs, time_system="GPS",
                  title="canonical GNSS observations")
     write_netcdf(gnss, out_gnss, step="ingest", inputs=inputs, time_system="GPS",
-                 reference_frame=str(orbit.attrs.get("coordinate_system", "ITRF")), title="GNSS orbits and clocks at observation epochs")
+                 reference_frame=str(orbit.attrs.get("coordinate_system", "ITRF")),
+                 title="GNSS orbits and clocks at observation epochs")
     write_netcdf(leo, out_leo, step="ingest", inputs=inputs, time_system="GPS",
                  reference_frame="ITRF", title="a-priori LEO orbit")
 
 
-if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
     main(obs_path=sm.input.obs, orbit_path=sm.input.orbit, clock_path=sm.input.get("clock"),
          apriori_path=sm.input.get("apriori"), antex_path=sm.input.get("antex"),
          out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
-         signal_cfg=sm.params.signals, pco_body_m=sm.params.pco_body_m,
-         sp3_id=sm.params.sp3_id, log=log)
+         signals=signal_settings(sm.params.signals), pco_body_m=sm.params.pco_body_m,
+         sp3_id=sm.params.sp3_id)
+
+
+if __name__ == "__main__":
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("ingest", sat="hy2b-sim", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

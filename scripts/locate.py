@@ -1,12 +1,22 @@
-"""Snakemake script of rule locate: link an input named by path in the config into resources/."""
+"""Rule locate: link an input named by path in the config into resources/locate/."""
 
+import logging
 import os
 from pathlib import Path
 
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(source, entry, dest, log):
+
+def main(source, entry: str, dest) -> None:
+    """Link ``dest`` to the file ``source`` of the config entry ``entry`` (atomically).
+
+    Raises
+    ------
+    FileNotFoundError
+        Naming the file, the config entry and the working directory.
+    """
     source = Path(source)
     if not source.is_file():
         raise FileNotFoundError(f"input file {source} does not exist (config entry {entry}, "
@@ -20,7 +30,12 @@ def main(source, entry, dest, log):
     log.info("%s: %s -> %s (%d bytes)", entry, dest, source.resolve(), source.stat().st_size)
 
 
+def run(sm) -> None:
+    """Call :func:`main` with the job's files."""
+    configure_logging(sm)
+    main(sm.params.source, sm.wildcards.entry, sm.output[0])
+
+
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
-    main(sm.params.source, sm.wildcards.entry, sm.output[0], log)
+    # the default campaign locates nothing: call main() by hand, or run through Snakemake
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

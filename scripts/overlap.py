@@ -1,4 +1,7 @@
-"""Snakemake script of rule overlap: see leopod.validation.overlap."""
+"""Rule overlap: the arc of a day against the next day's arc over their common span
+(leopod.validation.overlap)."""
+
+import logging
 
 import xarray as xr
 
@@ -6,17 +9,30 @@ from leopod.io.netcdf import write_netcdf
 from leopod.validation.overlap import overlap
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(inp, out, params, log):
-    ov = overlap(xr.load_dataset(inp.a), xr.load_dataset(inp.b), trim_s=params.trim_s)
+
+def main(orbit_a, orbit_b, out_path, *, trim_s: float, title: str) -> None:
+    """Overlap of two orbit files (netCDF) into ``out_path``."""
+    ov = overlap(xr.load_dataset(orbit_a), xr.load_dataset(orbit_b), trim_s=trim_s)
     rms = ov.rms_m
     log.info("overlap %s to %s (%d epochs): RMS R %.2f T %.2f N %.2f 3D %.2f cm",
              ov.attrs["span_start"], ov.attrs["span_end"], int(ov.n_epochs),
              *(100 * float(rms.sel(component=c)) for c in ("R", "T", "N", "3D")))
-    write_netcdf(ov, out.nc, step="overlap", inputs=[inp.a, inp.b], time_system="GPS",
-                 title=f"orbit overlap {params.title}")
+    write_netcdf(ov, out_path, step="overlap", inputs=[orbit_a, orbit_b], time_system="GPS",
+                 title=f"orbit overlap {title}")
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(sm.input.a, sm.input.b, sm.output.nc, trim_s=sm.params.trim_s, title=sm.params.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("overlap", sat="hy2b-sim", solution="fixed_pod",
+                                   date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

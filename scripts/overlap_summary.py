@@ -1,4 +1,7 @@
-"""Snakemake script of rule overlap_summary: campaign overlap statistics (seed 002 Fig. 13)."""
+"""Rule overlap_summary: campaign overlap statistics (Jiang et al. 2023, Fig. 13)."""
+
+import logging
+from collections.abc import Mapping
 
 import pandas as pd
 import xarray as xr
@@ -8,28 +11,42 @@ from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_overlaps
 from leopod.validation.compare import statistics_table
 from leopod.validation.overlap import overlap_summary
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(inp, out, params, log):
+
+def main(overlaps: Mapping, outputs: Mapping, *, title: str) -> None:
+    """Summary of the overlap files of every solution (``{solution: [paths]}``) into
+    ``outputs``: ``nc``, ``csv`` and ``figure``."""
     summaries = {}
-    for solution in params.solutions:
-        files = list(inp[solution])
+    for solution, files in overlaps.items():
         summaries[solution] = overlap_summary([xr.load_dataset(p) for p in files])
         camp = summaries[solution]
         log.info("%s overlaps (%d pairs): 3D RMS %.2f +- %.2f cm", solution, len(files),
                  100 * float(camp.campaign_rms_mean_m.sel(component="3D")),
                  100 * float(camp.campaign_rms_std_m.sel(component="3D")))
     ds = xr.concat(list(summaries.values()), dim=pd.Index(list(summaries), name="solution"))
-    write_netcdf(ds, out.nc, step="overlap_summary", inputs=[f for s in params.solutions
-                                                              for f in inp[s]],
-                 time_system="GPS", title=f"orbit overlaps {params.title}")
+    write_netcdf(ds, outputs["nc"], step="overlap_summary",
+                 inputs=[f for files in overlaps.values() for f in files],
+                 time_system="GPS", title=f"orbit overlaps {title}")
     tables = [statistics_table(s).assign(solution=k).set_index("solution", append=True)
               for k, s in summaries.items()]
-    write_text(out.csv, pd.concat(tables).to_csv(float_format="%.5f"))
-    plot_overlaps(summaries, out.figure, title=f"{params.title} overlaps")
+    write_text(outputs["csv"], pd.concat(tables).to_csv(float_format="%.5f"))
+    plot_overlaps(summaries, outputs["figure"], title=f"{title} overlaps")
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    files = plain(sm.input)
+    main({s: files[s] for s in sm.params.solutions}, plain(sm.output), title=sm.params.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("overlap_summary", sat="hy2b-sim")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,4 +1,7 @@
-"""Snakemake script of rule quality: see leopod.gnss.quality and leopod.plots.quality."""
+"""Rule quality: data quality of one satellite-day (leopod.gnss.quality, leopod.plots.quality)."""
+
+import logging
+from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
@@ -14,10 +17,17 @@ from leopod.plots.quality import (
     plot_visibility,
     summary_html,
 )
+from leopod.signals import SystemSignals, signal_settings
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(obs_path, gnss_path, leo_path, signal_cfg, settings, title, out, log):
+
+def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
+         settings: QualitySettings, title: str, outputs: Mapping) -> None:
+    """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
+    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML)."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
@@ -29,22 +39,29 @@ def main(obs_path, gnss_path, leo_path, signal_cfg, settings, title, out, log):
     el, az = antenna_angles(rot, los)
     log.info("epochs without a-priori orbit (no angles): %d",
              int((~np.isfinite(leo.pos_m.values[:, 0])).sum()))
-    parts = [assess_quality(obs, el, az, system, cfg["phase"], cfg["code"], cfg["pod_code"],
-                            QualitySettings(**settings))
-             for system, cfg in signal_cfg.items()]
+    parts = [assess_quality(obs, el, az, system, sig.phase, sig.code, sig.pod_code, settings)
+             for system, sig in signals.items()]
     quality = merge_systems(parts)
-    write_netcdf(quality, out.nc, step="quality", inputs=[obs_path, gnss_path, leo_path],
+    write_netcdf(quality, outputs["nc"], step="quality", inputs=[obs_path, gnss_path, leo_path],
                  time_system="GPS", reference_frame="antenna", title=f"data quality {title}")
-    plot_mp_elevation(parts[0], out.mp_elevation, title)
-    plot_skyplot(parts[0], out.skyplot, title)
-    plot_code_noise(parts[0], out.noise, title)
-    plot_visibility(parts[0], out.visibility, title)
-    write_text(out.summary, summary_html(parts, title))
-    log.info("summary: %s", out.summary)
+    plot_mp_elevation(parts[0], outputs["mp_elevation"], title)
+    plot_skyplot(parts[0], outputs["skyplot"], title)
+    plot_code_noise(parts[0], outputs["noise"], title)
+    plot_visibility(parts[0], outputs["visibility"], title)
+    write_text(outputs["summary"], summary_html(parts, title))
+    log.info("summary: %s", outputs["summary"])
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(sm.input.obs, sm.input.gnss, sm.input.leo, signal_settings(sm.params.signals),
+         QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output))
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input.obs, snakemake.input.gnss, snakemake.input.leo,  # noqa: F821
-         snakemake.params.signals, snakemake.params.settings, snakemake.params.title,  # noqa: F821
-         snakemake.output, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("quality", sat="hy2b-sim", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,5 +1,8 @@
-"""Snakemake script of rule reference_summary: daily and total reference-orbit statistics
-(seed 001 Table 4, seed 002 Fig. 17)."""
+"""Rule reference_summary: daily and total reference-orbit statistics
+(Wang et al. 2024, Table 4; Jiang et al. 2023, Fig. 17)."""
+
+import logging
+from collections.abc import Mapping
 
 import pandas as pd
 import xarray as xr
@@ -8,29 +11,44 @@ from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_daily_statistics, plot_reference_differences
 from leopod.validation.compare import orbit_statistics, statistics_table
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
+log = logging.getLogger(__name__)
 
-def main(inp, out, params, log):
+
+def main(differences: Mapping, outputs: Mapping, *, title: str) -> None:
+    """Statistics of the daily difference files of every solution (``{solution: [paths]}``)
+    into ``outputs``: ``nc``, ``csv``, ``differences`` and ``daily`` (PNG)."""
     diffs, stats = {}, {}
-    for solution in params.solutions:
-        days = [xr.load_dataset(p)[["diff_rtn_m", "diff_3d_m"]] for p in inp[solution]]
+    for solution, files in differences.items():
+        days = [xr.load_dataset(p)[["diff_rtn_m", "diff_3d_m"]] for p in files]
         diffs[solution] = xr.concat(days, dim="time")
         stats[solution] = orbit_statistics(diffs[solution].dropna("time"), daily=True)
         rms = stats[solution].rms_m.sel(period="total")
         log.info("%s minus reference, campaign: RMS R %.2f T %.2f N %.2f 3D %.2f cm", solution,
                  *(100 * float(rms.sel(component=c)) for c in ("R", "T", "N", "3D")))
     ds = xr.concat(list(stats.values()), dim=pd.Index(list(stats), name="solution"))
-    write_netcdf(ds, out.nc, step="reference_summary",
-                 inputs=[f for s in params.solutions for f in inp[s]], time_system="GPS",
-                 title=f"orbit minus reference, daily statistics {params.title}")
+    write_netcdf(ds, outputs["nc"], step="reference_summary",
+                 inputs=[f for files in differences.values() for f in files], time_system="GPS",
+                 title=f"orbit minus reference, daily statistics {title}")
     tables = [statistics_table(s).assign(solution=k).set_index("solution", append=True)
               for k, s in stats.items()]
-    write_text(out.csv, pd.concat(tables).to_csv(float_format="%.5f"))
-    plot_reference_differences(diffs, out.differences, title=params.title)
-    plot_daily_statistics(stats, out.daily, title=params.title)
+    write_text(outputs["csv"], pd.concat(tables).to_csv(float_format="%.5f"))
+    plot_reference_differences(diffs, outputs["differences"], title=title)
+    plot_daily_statistics(stats, outputs["daily"], title=title)
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    files = plain(sm.input)
+    main({s: files[s] for s in sm.params.solutions}, plain(sm.output), title=sm.params.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("reference_summary", sat="hy2b-sim")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,26 +1,41 @@
-"""Snakemake script of rule simulate: see leopod.simulate.campaign."""
+"""Rule simulate: onboard observations, truth and SLR normal points of one simulated
+satellite-day (leopod.simulate.campaign)."""
+
+from collections.abc import Mapping
 
 import xarray as xr
 
 from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
 
-def main(date, sat, settings, world_start, world_end, pco_body_m, truth_path, biases_path, out):
+def main(date: str, sat: str, settings: SimulationSettings, world_start: str, world_end: str,
+         pco_body_m, truth_path, biases_path, outputs: Mapping) -> None:
+    """Simulate ``sat`` on ``date`` into ``outputs``: ``rinex3``, ``rinex2``, ``truth_sp3``,
+    ``truth_nc`` and ``crd``."""
     with xr.open_dataset(truth_path) as f:
         truth = f.load()
     with xr.open_dataset(biases_path) as f:
         biases = f.load()
-    simulate_leo_day(date, sat, SimulationSettings.from_config(settings), world_start, world_end,
-                     truth, biases, pco_body_m or None, rinex3=out.rinex3, rinex2=out.rinex2,
-                     truth_sp3=out.truth_sp3, truth_nc=out.truth_nc, crd=out.crd)
+    simulate_leo_day(date, sat, settings, world_start, world_end, truth, biases,
+                     pco_body_m or None, rinex3=outputs["rinex3"], rinex2=outputs["rinex2"],
+                     truth_sp3=outputs["truth_sp3"], truth_nc=outputs["truth_nc"],
+                     crd=outputs["crd"])
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(sm.wildcards.date, sm.wildcards.sat, SimulationSettings.from_config(sm.params.settings),
+         sm.params.world_start, sm.params.world_end, sm.params.pco_body_m, sm.input.truth,
+         sm.input.biases, plain(sm.output))
 
 
 if __name__ == "__main__":
-    configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
-    main(date=sm.wildcards.date, sat=sm.wildcards.sat, settings=sm.params.settings,
-         world_start=sm.params.world_start, world_end=sm.params.world_end,
-         pco_body_m=sm.params.pco_body_m, truth_path=sm.input.truth,
-         biases_path=sm.input.biases, out=sm.output)
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("simulate", sat="hy2b-sim", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

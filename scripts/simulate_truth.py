@@ -1,19 +1,30 @@
-"""Snakemake script of rule simulate_truth: see leopod.simulate.campaign."""
+"""Rule simulate_truth: the true orbit of a simulated satellite and the code-bias map truth
+(leopod.simulate.campaign)."""
 
 from leopod.simulate.campaign import simulate_truth, write_code_bias_maps, write_truth_orbit
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.log import configure_logging
 
 
-def main(sat, settings, world_start, world_end, truth_path, map_path):
-    sim = SimulationSettings.from_config(settings)
-    write_truth_orbit(simulate_truth(sim, sat, world_start, world_end), truth_path)
-    write_code_bias_maps(sim, map_path)
+def main(sat: str, settings: SimulationSettings, world_start: str, world_end: str, truth_path,
+         map_path) -> None:
+    """Integrate the truth orbit of ``sat`` over the world's span into ``truth_path`` and
+    write the simulated code-bias maps into ``map_path``."""
+    write_truth_orbit(simulate_truth(settings, sat, world_start, world_end), truth_path)
+    write_code_bias_maps(settings, map_path)
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(sat=sm.wildcards.sat, settings=SimulationSettings.from_config(sm.params.settings),
+         world_start=sm.params.world_start, world_end=sm.params.world_end,
+         truth_path=sm.output.truth, map_path=sm.output.code_bias_map)
 
 
 if __name__ == "__main__":
-    configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    sm = snakemake  # noqa: F821
-    main(sat=sm.wildcards.sat, settings=sm.params.settings, world_start=sm.params.world_start,
-         world_end=sm.params.world_end, truth_path=sm.output.truth,
-         map_path=sm.output.code_bias_map)
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("simulate_truth", sat="hy2b-sim")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,4 +1,6 @@
-"""Snakemake script of rule slr: laser ranging residuals of one POD arc (leopod.validation.slr)."""
+"""Rule slr: laser ranging residuals of one POD arc (leopod.validation.slr)."""
+
+from collections.abc import Mapping
 
 import xarray as xr
 
@@ -7,23 +9,38 @@ from leopod.io.crd import read_crd
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
 from leopod.validation.slr import SlrResidualSettings, slr_residuals
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
 
-def main(inp, out, params, log):
-    cfg = {k: v for k, v in params.settings.items()
-           if k not in ("elevation_bin_deg", "ocean_loading_blq")}
+def main(inputs: Mapping, out_path, *, retro_offset_body_m, settings: SlrResidualSettings,
+         solution: str, title: str) -> None:
+    """SLR residuals of an orbit. ``inputs``: ``orbit`` (netCDF), ``normal_points`` (CRD),
+    ``stations`` (SINEX), optional ``eccentricities`` (SINEX) and ``ocean_loading`` (BLQ)."""
     res = slr_residuals(
-        xr.load_dataset(inp.orbit), read_crd(inp.normal_points),
-        read_sinex_stations(inp.stations),
-        read_sinex_eccentricities(inp.eccentricities) if inp.get("eccentricities") else None,
-        retro_offset_body_m=params.retro_offset_body_m, settings=SlrResidualSettings(**cfg),
-        ocean_loading=read_blq(inp.ocean_loading) if inp.get("ocean_loading") else None)
-    write_netcdf(res, out.nc, step="slr", inputs=[v for k, v in inp.items() if k != "code"],
+        xr.load_dataset(inputs["orbit"]), read_crd(inputs["normal_points"]),
+        read_sinex_stations(inputs["stations"]),
+        read_sinex_eccentricities(inputs["eccentricities"])
+        if inputs.get("eccentricities") else None,
+        retro_offset_body_m=retro_offset_body_m, settings=settings,
+        ocean_loading=read_blq(inputs["ocean_loading"]) if inputs.get("ocean_loading") else None)
+    write_netcdf(res, out_path, step="slr", inputs=[v for k, v in inputs.items() if k != "code"],
                  time_system="UTC", reference_frame="ITRF",
-                 title=f"SLR residuals of the {params.solution} orbit {params.title}")
+                 title=f"SLR residuals of the {solution} orbit {title}")
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    p = sm.params
+    main(plain(sm.input), sm.output.nc, retro_offset_body_m=p.retro_offset_body_m,
+         settings=SlrResidualSettings.from_config(p.settings), solution=p.solution,
+         title=p.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("slr", sat="hy2b-sim", solution="fixed_pod", date="2019-002")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

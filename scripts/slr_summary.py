@@ -1,5 +1,8 @@
-"""Snakemake script of rule slr_summary: SLR statistics per station (seed 000 Table IV), per
-elevation bin (seed 000 Figs. 17-18) and projected on R/T/N (seed 001 Table 5)."""
+"""Rule slr_summary: SLR statistics per station (Peng et al. 2021, Table IV), per elevation
+bin (Peng et al. 2021, Figs. 17-18) and projected on R/T/N (Wang et al. 2024, Table 5)."""
+
+import logging
+from collections.abc import Mapping
 
 import pandas as pd
 import xarray as xr
@@ -8,7 +11,10 @@ from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.slr import plot_slr_elevation, plot_slr_residuals_time, plot_slr_stations
 from leopod.validation.slr import elevation_statistics, rtn_projection, station_statistics
+from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
+
+log = logging.getLogger(__name__)
 
 
 def _table(stats: dict[str, xr.Dataset], dim: str, names) -> str:
@@ -20,36 +26,53 @@ def _table(stats: dict[str, xr.Dataset], dim: str, names) -> str:
     return pd.concat(frames).to_csv(float_format="%.5f")
 
 
-def main(inp, out, params, log):
-    residuals = {s: xr.concat([xr.load_dataset(p) for p in inp[s]], dim="point")
-                 for s in params.solutions}
-    bin_deg = params.settings["elevation_bin_deg"]
+def main(residual_files: Mapping, outputs: Mapping, *, elevation_bin_deg: float,
+         title: str) -> None:
+    """Statistics of the daily SLR residual files of every solution (``{solution: [paths]}``,
+    the last one is plotted over time) into ``outputs``: ``nc``, ``stations_csv``,
+    ``elevation_csv``, ``stations_png``, ``elevation_png``, ``time_png``."""
+    solutions = list(residual_files)
+    residuals = {s: xr.concat([xr.load_dataset(p) for p in files], dim="point")
+                 for s, files in residual_files.items()}
     stations = {s: station_statistics(r) for s, r in residuals.items()}
-    elevation = {s: elevation_statistics(r, bin_deg) for s, r in residuals.items()}
+    elevation = {s: elevation_statistics(r, elevation_bin_deg) for s, r in residuals.items()}
     rtn = {s: rtn_projection(r) for s, r in residuals.items()}
-    for s in params.solutions:
+    for s in solutions:
         total = stations[s].sel(station="total")
         log.info("%s: %d normal points, mean %.2f cm, STD %.2f cm", s, int(total.n_np),
                  100 * float(total.mean_m), 100 * float(total.std_m))
-    index = pd.Index(list(params.solutions), name="solution")
+    index = pd.Index(solutions, name="solution")
     ds = xr.merge([xr.concat(list(stations.values()), dim=index),
                    xr.concat(list(elevation.values()), dim=index).rename(
                        {k: f"elevation_{k}" for k in ("n_np", "mean_m", "std_m", "rms_m")}),
                    xr.concat(list(rtn.values()), dim=index).rename(
-                       {k: f"rtn_{k}" for k in rtn[params.solutions[0]].data_vars})],
+                       {k: f"rtn_{k}" for k in rtn[solutions[0]].data_vars})],
                   combine_attrs="override")
-    write_netcdf(ds, out.nc, step="slr_summary",
-                 inputs=[f for s in params.solutions for f in inp[s]], time_system="UTC",
-                 title=f"SLR residual statistics {params.title}")
-    write_text(out.stations_csv, _table(stations, "station", ("n_np", "mean_m", "std_m", "rms_m")))
-    write_text(out.elevation_csv, _table(elevation, "elevation_deg",
-                                         ("n_np", "mean_m", "std_m", "rms_m")))
-    plot_slr_stations(residuals, out.stations_png, title=params.title)
-    plot_slr_elevation(residuals, out.elevation_png, title=params.title, bin_deg=bin_deg)
-    plot_slr_residuals_time(residuals[params.solutions[-1]], out.time_png,
-                            title=f"{params.title} {params.solutions[-1]}")
+    write_netcdf(ds, outputs["nc"], step="slr_summary",
+                 inputs=[f for files in residual_files.values() for f in files],
+                 time_system="UTC", title=f"SLR residual statistics {title}")
+    write_text(outputs["stations_csv"],
+               _table(stations, "station", ("n_np", "mean_m", "std_m", "rms_m")))
+    write_text(outputs["elevation_csv"], _table(elevation, "elevation_deg",
+                                                ("n_np", "mean_m", "std_m", "rms_m")))
+    plot_slr_stations(residuals, outputs["stations_png"], title=title)
+    plot_slr_elevation(residuals, outputs["elevation_png"], title=title,
+                       bin_deg=elevation_bin_deg)
+    plot_slr_residuals_time(residuals[solutions[-1]], outputs["time_png"],
+                            title=f"{title} {solutions[-1]}")
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    files = plain(sm.input)
+    main({s: files[s] for s in sm.params.solutions}, plain(sm.output),
+         elevation_bin_deg=sm.params.settings["elevation_bin_deg"], title=sm.params.title)
 
 
 if __name__ == "__main__":
-    log = configure_logging(snakemake)  # noqa: F821 (injected by Snakemake)
-    main(snakemake.input, snakemake.output, snakemake.params, log)  # noqa: F821
+    if "snakemake" not in globals():  # by hand: a job of the default campaign
+        from leopod.workflow.boundary import mock_snakemake
+
+        snakemake = mock_snakemake("slr_summary", sat="hy2b-sim")
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -7,8 +7,6 @@ imported constant (``leopod.constants``) or a jitted function of another module 
 import hashlib
 from pathlib import Path
 
-import leopod
-
 
 def test_cache_dir_is_keyed_by_all_sources():
     import numba

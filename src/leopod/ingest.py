@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
@@ -27,6 +28,7 @@ from leopod.gnss.combinations import ionosphere_free
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.spp import solve_spp
 from leopod.numerics.interpolate import interpolate_table
+from leopod.signals import SystemSignals
 from leopod.time.calendar import seconds_since
 
 __all__ = ["canonical_observations", "gnss_at_epochs", "apriori_from_spp", "apriori_from_sp3",
@@ -45,14 +47,15 @@ def _source_name(raw: xr.Dataset, system: str, code: str) -> str | None:
     return None
 
 
-def canonical_observations(raw: xr.Dataset, signal_cfg: dict) -> xr.Dataset:
+def canonical_observations(raw: xr.Dataset, signal_cfg: Mapping[str, SystemSignals]
+                           ) -> xr.Dataset:
     """Canonical observation Dataset for the configured systems and signals.
 
     Parameters
     ----------
     raw : xarray.Dataset
         Output of :func:`leopod.io.rinex_obs.read_rinex_obs` (phase in cycles).
-    signal_cfg : dict
+    signal_cfg : mapping of str to SystemSignals
         ``{system: {"phase": [...], "code": [...], "pod_code": [...]}}`` (campaign config).
 
     Returns
@@ -79,8 +82,7 @@ def canonical_observations(raw: xr.Dataset, signal_cfg: dict) -> xr.Dataset:
         if not cols.any():
             log.warning("%s: no %s satellites in the file", fname, signals.SYSTEMS[system])
             continue
-        wanted = list(dict.fromkeys(list(cfg["phase"]) + list(cfg["code"]) + list(cfg["pod_code"])))
-        for code in wanted:
+        for code in cfg.observations:
             src = _source_name(raw, system, code)
             if src is None:
                 raise ValueError(f"{fname}: field '{code}': configured signal {code} of "
@@ -206,7 +208,8 @@ def smooth_positions(t_s: np.ndarray, pos_m: np.ndarray, *, window_s: float = 20
     return pos, vel
 
 
-def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
+def apriori_from_spp(obs: xr.Dataset, products: GnssProducts,
+                     signal_cfg: Mapping[str, SystemSignals],
                      pco_body_m: dict | None = None, antex=None) -> xr.Dataset:
     """A-priori LEO orbit from code-only single point positioning.
 
@@ -220,7 +223,7 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
     obs : xarray.Dataset
         Canonical observations.
     products : GnssProducts
-    signal_cfg : dict
+    signal_cfg : mapping of str to SystemSignals
         Campaign signals (only GPS is used for now: one receiver clock, one system).
     pco_body_m : dict, optional
         Antenna phase-centre offsets in the body frame per band name (``{"L1": [x, y, z]}``).
@@ -235,8 +238,7 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts, signal_cfg: dict,
         ``rms_m``, ``pdop`` (time); attrs ``apriori_source = "spp"``.
     """
     system = "G" if "G" in signal_cfg else next(iter(signal_cfg))
-    cfg = signal_cfg[system]
-    c1, c2 = cfg["pod_code"]
+    c1, c2 = signal_cfg[system].pod_code
     f1, f2 = signals.frequency_hz(system, c1), signals.frequency_hz(system, c2)
     cols = np.array([str(s).startswith(system) for s in obs.sv.values])
     code_if = ionosphere_free(obs[c1].values[:, cols], obs[c2].values[:, cols], f1, f2)

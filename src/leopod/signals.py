@@ -15,13 +15,15 @@ B3I 1.0 (BeiDou), Galileo OS SIS ICD 2.0; all in the RINEX 3.04/4.00 frequency t
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from leopod.constants import C_LIGHT_M_S
+from leopod.settings import Settings
 
 __all__ = [
     "Band", "BANDS", "SYSTEMS", "band", "frequency_hz", "wavelength_m", "rinex3_code",
-    "RINEX2_TO_RINEX3", "obs_type", "code_band",
+    "RINEX2_TO_RINEX3", "obs_type", "code_band", "SystemSignals", "signal_settings",
 ]
 
 #: One-letter RINEX system identifiers leopod knows, with their names.
@@ -157,3 +159,32 @@ def obs_type(code: str) -> str:
 def code_band(code: str) -> str:
     """Band digit of a RINEX 3 code."""
     return code[1]
+
+
+@dataclass(frozen=True)
+class SystemSignals(Settings):
+    """Signals of one GNSS that a campaign processes (config ``signals.<system>``).
+
+    Attributes
+    ----------
+    phase : tuple of 2 str
+        The two carrier phases (RINEX 3 codes; the first is frequency 1).
+    code : tuple of str
+        Every code observation to ingest and assess.
+    pod_code : tuple of 2 str
+        The codes, one per frequency of ``phase``, used for positioning and the wide lane.
+    """
+
+    phase: tuple[str, str]
+    code: tuple[str, ...]
+    pod_code: tuple[str, str]
+
+    @property
+    def observations(self) -> list[str]:
+        """Every phase and code named, in that order, without repetitions."""
+        return list(dict.fromkeys([*self.phase, *self.code, *self.pod_code]))
+
+
+def signal_settings(section: Mapping) -> dict[str, SystemSignals]:
+    """:class:`SystemSignals` per system letter from the campaign's ``signals`` section."""
+    return {system: SystemSignals.from_config(cfg) for system, cfg in section.items()}

@@ -1,5 +1,7 @@
 """Map estimation from multipath: closed loop against a known map (analytic truth)."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from _synthetic import smooth_map
@@ -8,8 +10,11 @@ from leopod.codebias.estimate import MapSettings, _solve_datum, estimate_map
 from leopod.codebias.grid import AntennaGrid
 from leopod.codebias.products import mp_statistics
 from leopod.codebias.samples import MpSamples
+from leopod.workflow.config import section_defaults
 
-SETTINGS = MapSettings(az_step_deg=10.0, el_step_deg=10.0, min_count=50)
+#: The schema's defaults (campaign code_bias section) on a 10° grid.
+MAP = MapSettings.from_config(section_defaults("code_bias"))
+SETTINGS = dataclasses.replace(MAP, az_step_deg=10.0, el_step_deg=10.0, min_count=50)
 
 
 def _node_truth(grid: AntennaGrid) -> np.ndarray:
@@ -48,7 +53,7 @@ def test_outliers_are_down_weighted(passes):
     bad = rng.random(mp.size) < 0.01
     spoiled = mp + np.where(bad, rng.choice([-5.0, 5.0], mp.size), 0.0)
     fit = estimate_map(az, el, spoiled, key, SETTINGS)
-    plain = estimate_map(az, el, spoiled, key, MapSettings(10.0, 10.0, 50, iterations=0))
+    plain = estimate_map(az, el, spoiled, key, dataclasses.replace(SETTINGS, iterations=0))
     ok = fit.count >= SETTINGS.min_count
     truth = _node_truth(SETTINGS.grid)[ok]
 
@@ -75,7 +80,7 @@ def test_smoothing_fills_nodes_without_data_and_empty_data_fails(passes):
     keep = ~((az > 100) & (az < 130) & (el < 40))  # a hole in the sky
     plain = estimate_map(az[keep], el[keep], mp[keep], key[keep], SETTINGS)
     smooth = estimate_map(az[keep], el[keep], mp[keep], key[keep],
-                          MapSettings(10.0, 10.0, 50, smoothing_sigma_m=0.05))
+                          dataclasses.replace(SETTINGS, smoothing_sigma_m=0.05))
     hole = SETTINGS.grid.n_az * 1 + 11  # ring 10 deg, azimuth 110 deg
     assert np.isnan(plain.value_m[hole]) and plain.count[hole] == 0
     assert np.isfinite(smooth.value_m[hole])

@@ -1,17 +1,24 @@
 """Map products, stacking, differences, attitude modes and the code correction."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import xarray as xr
+import yaml
 from _synthetic import smooth_map, synthetic_passes
 
 from leopod.codebias.apply import correct_codes, map_correction
 from leopod.codebias.estimate import MapSettings
-from leopod.codebias.period import estimate_period, map_settings
+from leopod.codebias.period import estimate_period
 from leopod.codebias.products import map_difference, node_vector, stack_maps, statistics_csv
 from leopod.codebias.samples import attitude_mode, mp_samples
+from leopod.workflow.boundary import REPOSITORY
+from leopod.workflow.config import section_defaults, validated
 
-SETTINGS = MapSettings(az_step_deg=10.0, el_step_deg=10.0, min_count=50)
+#: The schema's defaults (campaign code_bias section) on a 10° grid.
+MAP = MapSettings.from_config(section_defaults("code_bias"))
+SETTINGS = dataclasses.replace(MAP, az_step_deg=10.0, el_step_deg=10.0, min_count=50)
 T0 = np.datetime64("2021-07-14T00:00:00", "ns")
 
 
@@ -95,7 +102,7 @@ def test_correct_codes_subtracts_the_interpolated_map():
     maps, _ = estimate_period([q], ["C1W"], SETTINGS, period="p", satellite="x")
     obs = xr.Dataset({"C1W": q.el_deg * 0 + 2.0e7, "C2W": q.el_deg * 0 + 2.0e7},
                      coords=q.coords)
-    fixed, summary = correct_codes(obs, q, maps, ["C1W"])
+    fixed, summary = correct_codes(obs, q, maps, ["C1W"], empty_cells="drop")
     have = np.isfinite(obs.C1W.values)
     corr = map_correction(maps, "C1W", q.az_deg.values[have], q.el_deg.values[have], 0)
     got = (obs.C1W.values - fixed.C1W.values)[have]
@@ -107,18 +114,24 @@ def test_correct_codes_subtracts_the_interpolated_map():
     kept, _ = correct_codes(obs, q, maps, ["C1W"], empty_cells="keep")
     assert np.array_equal(kept.C1W.values[have][~ok], obs.C1W.values[have][~ok])
     with pytest.raises(ValueError, match="has no C2W"):
-        correct_codes(obs, q, maps, ["C2W"])
+        correct_codes(obs, q, maps, ["C2W"], empty_cells="drop")
 
 
 def test_settings_from_config():
-    s = map_settings({"az_step_deg": 10.0, "min_count": 5, "apply": ["C1W"], "period": "month"})
+    # the campaign schema supplies the defaults of the keys a campaign leaves out
+    raw = yaml.safe_load((REPOSITORY / "config" / "config.yaml").read_text())
+    raw["code_bias"] = {"az_step_deg": 10.0, "min_count": 5}
+    cfg = validated(raw)
+    s = MapSettings.from_config(cfg["code_bias"])
     assert s.az_step_deg == 10.0 and s.min_count == 5 and s.el_step_deg == 5.0
+    with pytest.raises(KeyError, match="el_step_deg"):
+        MapSettings.from_config({"az_step_deg": 10.0, "min_count": 5})
 
 
 def test_difference_counts_the_zenith_node_once():
     # analytic truth: maps that differ by 1 m at one node only (the zenith, stored once per
     # azimuth) over n nodes: mean difference 1/n, RMS about the mean sqrt(n - 1)/n
-    g = MapSettings(az_step_deg=30.0, el_step_deg=30.0).grid
+    g = dataclasses.replace(MAP, az_step_deg=30.0, el_step_deg=30.0).grid
     dims = ("signal", "mode", "elevation_deg", "azimuth_deg")
     zero = np.zeros((1, 1, g.n_rings + 1, g.n_az))
     coords = {"signal": ["C1W"], "mode": [0], "elevation_deg": g.elevation_deg,

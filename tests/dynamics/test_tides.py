@@ -345,8 +345,10 @@ def test_ocean_tide_selection_and_truncation(fes):
     np.testing.assert_allclose(m2.coefficients(t, gmst)[0] + rest.coefficients(t, gmst)[0],
                                full.coefficients(t, gmst)[0], atol=1e-22)
     low = OceanTides(fes, max_degree=4)
-    np.testing.assert_array_equal(low.coefficients(t, gmst)[1],
-                                  full.coefficients(t, gmst)[1][:, :5, :5])
+    # truncation leaves the low-degree coefficients unchanged (analytic), up to the rounding
+    # of matrix products whose BLAS kernel depends on the array shapes (1 ulp seen)
+    np.testing.assert_allclose(low.coefficients(t, gmst)[1],
+                               full.coefficients(t, gmst)[1][:, :5, :5], rtol=1e-14, atol=0)
     with pytest.raises(ValueError, match="XX"):
         OceanTides(fes, waves=["M2", "XX"])
 

@@ -14,9 +14,12 @@ import xarray as xr
 from leopod.constants import C_LIGHT_M_S
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import canonical_observations
+from leopod.signals import signal_settings
+from leopod.workflow.config import section_defaults
 
 F1, F5 = 1575.42e6, 1176.45e6
-CFG = {"C": {"phase": ["L1P", "L5P"], "code": ["C1P", "C5P"], "pod_code": ["C1P", "C5P"]}}
+CFG = signal_settings({"C": {"phase": ["L1P", "L5P"], "code": ["C1P", "C5P"],
+                             "pod_code": ["C1P", "C5P"]}})
 
 
 @pytest.fixture
@@ -48,8 +51,8 @@ def test_bds3_phases_in_metres_and_quality(bds_pass):
     assert obs.L5P.attrs["wavelength_m"] == pytest.approx(C_LIGHT_M_S / F5)
     n = obs.sizes["time"]
     el = np.full((n, 1), 45.0)
-    q = assess_quality(obs, el, np.zeros((n, 1)), "C", CFG["C"]["phase"], CFG["C"]["code"],
-                       CFG["C"]["pod_code"], QualitySettings())
+    q = assess_quality(obs, el, np.zeros((n, 1)), "C", CFG["C"].phase, CFG["C"].code,
+                       CFG["C"].pod_code, QualitySettings.from_config(section_defaults("quality")))
     assert int(q.C_n_passes) == 1 and int(q.C_n_slips) == 0
     # MP of C1P: injected multipath (zero mean over whole periods) plus noise of the
     # combination (C1P noise and the phases' 0 noise): sqrt(0.1414^2 + 0.05^2) = 0.150 m
@@ -62,5 +65,6 @@ def test_bds3_phases_in_metres_and_quality(bds_pass):
 def test_missing_configured_signal_is_named(bds_pass):
     raw, _, _ = bds_pass
     with pytest.raises(ValueError, match="C7I"):
-        canonical_observations(raw, {"C": {"phase": ["L1P", "L5P"], "code": ["C7I"],
-                                           "pod_code": ["C1P", "C5P"]}})
+        canonical_observations(raw, signal_settings({"C": {"phase": ["L1P", "L5P"],
+                                                           "code": ["C7I"],
+                                                           "pod_code": ["C1P", "C5P"]}}))

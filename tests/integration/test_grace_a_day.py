@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
-from leopod.estimation.arc import run_arc
+from leopod.estimation.arc import ArcData, ArcSettings, run_arc
+from leopod.estimation.float_pod import PodSettings
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
@@ -20,9 +20,12 @@ from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
+from leopod.signals import signal_settings
+from leopod.workflow.config import load_campaign, section_defaults
 
 pytestmark = pytest.mark.shared
-SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}
+SIGNALS = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],
+                                 "pod_code": ["C1W", "C2W"]}})
 REPO = Path(__file__).resolve().parents[2]
 PCO = {"L1": [-0.0004, -0.0004, -0.4514], "L2": [-0.0004, -0.0004, -0.4757]}
 
@@ -40,7 +43,7 @@ def day(shared_data):
     rot = nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values)
     el, az = antenna_angles(rot, gnss.pos_m.sel(sv=obs.sv).values - leo.pos_m.values[:, None, :])
     q = assess_quality(obs, el, az, "G", ["L1C", "L2W"], ["C1C", "C1W", "C2W"], ["C1W", "C2W"],
-                       QualitySettings())
+                       QualitySettings.from_config(section_defaults("quality")))
     return dict(raw=raw, obs=obs, leo=leo, q=q)
 
 
@@ -90,19 +93,21 @@ def test_daily_indicators_are_plausible(day):
 def three_hour_arc(day, shared_data):
     """Float reduced-dynamic POD of 00-03 h with the campaign settings of the GRACE-A config
     (the arc and its run_arc arguments)."""
-    cfg = yaml.safe_load((REPO / "config" / "grace-a-2007.yaml").read_text())
-    pod = dict(cfg["pod"])
+    cfg = load_campaign(REPO / "config" / "grace-a-2007.yaml")
+    pod = cfg["pod"]
     models = shared_data.parent / "models"
     forces = {k: dict(v) for k, v in pod["forces"].items()}
     forces["gravity"]["field"] = str(models / "gravity" / "EGM2008_120.gfc")
     forces["tides"]["ocean"] = str(models / "ocean_tides" / "fes2004_Cnm-Snm.dat")
     forces["drag"]["space_weather"] = str(models / "space_weather" / "SW-All.csv")
-    pod["forces"] = forces
     d = shared_data / "grace-a_2007-080"
     t0 = np.datetime64("2007-03-21T00:00", "ns")
-    args = ("2007-080", [day["obs"]], [day["q"]], [day["leo"]],
-            read_sp3(d / "cod14193.sp3.gz"), read_rinex_clock(d / "cod14193.clk.gz"),
-            read_antex(d / "igs05_1402.atx.gz"), SIGNALS, pod, PCO)
+    data = ArcData(obs=[day["obs"]], quality=[day["q"]], leo=[day["leo"]],
+                   orbit=read_sp3(d / "cod14193.sp3.gz"),
+                   clock=read_rinex_clock(d / "cod14193.clk.gz"),
+                   antex=read_antex(d / "igs05_1402.atx.gz"))
+    args = ("2007-080", data, SIGNALS["G"], ArcSettings.from_config(pod),
+            PodSettings.from_config(pod), forces, PCO)
     limits = (t0, t0 + np.timedelta64(3, "h"))
     return run_arc(*args, limits=limits), args, limits
 

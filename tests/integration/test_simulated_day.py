@@ -21,6 +21,7 @@ from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epoc
 from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
+from leopod.signals import signal_settings
 from leopod.simulate.campaign import (
     simulate_gnss_products,
     simulate_leo_day,
@@ -29,8 +30,10 @@ from leopod.simulate.campaign import (
 )
 from leopod.simulate.settings import SimulationSettings
 from leopod.simulate.truth_orbit import TruthDynamics
+from leopod.workflow.config import section_defaults
 
-SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}
+SIGNALS = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],
+                                 "pod_code": ["C1W", "C2W"]}})
 PCO = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37]}
 DAY, SAT = "2019-002", "hy2b-sim"
 START, END = DAY, DAY
@@ -109,7 +112,7 @@ def _quality(obs, gnss, leo):
     rot = nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values)
     el, az = antenna_angles(rot, gnss.pos_m.sel(sv=obs.sv).values - leo.pos_m.values[:, None, :])
     q = assess_quality(obs, el, az, "G", ["L1C", "L2W"], ["C1C", "C1W", "C2W"], ["C1W", "C2W"],
-                       QualitySettings())
+                       QualitySettings.from_config(section_defaults("quality")))
     return q, el
 
 

@@ -47,7 +47,7 @@ from leopod.io.sinex import read_sinex_stations
 from leopod.io.sp3 import read_sp3
 from leopod.io.wlbias import read_wl_bias
 from leopod.numerics.interpolate import interpolate_table
-from leopod.signals import frequency_hz
+from leopod.signals import SystemSignals, frequency_hz
 from leopod.simulate.campaign import gnss_world, simulate_leo_day
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.observations import DEFAULT_NOISE_M, ObservationSettings
@@ -344,7 +344,8 @@ def _closed_loop(folder, raw, antex=None, system="G"):
     pco_if = ionosphere_free(np.array(PCO[b1]), np.array(PCO[b2]), f1, f2)
     sat_pco, sat_pcv = None, None
     if antex is not None:      # the estimator's ANTEX handling (leopod.estimation.inputs)
-        sat_pco, sat_pcv = satellite_antenna(antex, sv, DAY0, system, {"phase": [p1, p2]})
+        sat_pco, sat_pcv = satellite_antenna(antex, sv, DAY0, system,
+                                             SystemSignals((p1, p2), (), ("", "")))
     model = compute_model(Pairs(epoch=ep, isv=products.sv_index(sv)[sat], sat=sat), t_s, pos,
                           vel, rot, products, sun_position_ef(times), leo_pco_body_m=pco_if,
                           sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,

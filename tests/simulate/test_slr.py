@@ -22,8 +22,12 @@ from leopod.simulate.slr import (
     write_slr_files,
 )
 from leopod.simulate.world import CircularOrbit, earth_fixed
-from leopod.validation.slr import slr_residuals
+from leopod.validation.slr import SlrResidualSettings, slr_residuals
 from leopod.validation.slr_model import elevation_rad
+from leopod.workflow.config import section_defaults
+
+#: Default laser-ranging settings (the campaign schema's defaults).
+SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
 
 T0 = np.datetime64("2021-03-01T00:00:00", "ns")
 THETA0_RAD = 1.1
@@ -225,6 +229,7 @@ def test_crd_and_sinex_round_trip(tmp_path, truth, nps):
 
     # closed loop: the files alone (+ the true orbit) reproduce the observations up to the
     # simulated noise, to the 1-ps resolution of the file (0.15 mm one way)
-    res = slr_residuals(truth, back, sites, eccs, retro_offset_body_m=OFFSET_BODY_M)
+    res = slr_residuals(truth, back, sites, eccs, retro_offset_body_m=OFFSET_BODY_M,
+                        settings=SLR)
     assert np.all(res["flag"].values == 0)
     np.testing.assert_allclose(res["residual_m"], nps["noise_m"], rtol=0, atol=1e-4)

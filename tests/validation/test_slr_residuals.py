@@ -5,6 +5,8 @@ SINEX files."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import erfa
 import numpy as np
 import pytest
@@ -39,6 +41,10 @@ from leopod.validation.slr import (
     station_reference_points,
     station_statistics,
 )
+from leopod.workflow.config import section_defaults
+
+#: Default laser-ranging settings (the campaign schema's defaults).
+SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
 
 T0 = np.datetime64("2021-03-01T00:00:00", "ns")
 THETA0_RAD = 0.4
@@ -98,7 +104,7 @@ def clean(tmp_path_factory, truth):
 @pytest.fixture(scope="module")
 def res_noisy(truth, noisy):
     _, nps, sta, ecc = noisy
-    return slr_residuals(truth, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M)
+    return slr_residuals(truth, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M, settings=SLR)
 
 
 # --------------------------------------------------------------------------- closed loop
@@ -154,7 +160,7 @@ def test_range_terms_are_the_range_changes(truth, noisy, res_noisy):
 
     def run(ecc_ds=ecc, offset=OFFSET_BODY_M, **switches):
         return slr_residuals(truth, nps, sta, ecc_ds, retro_offset_body_m=offset,
-                             settings=SlrResidualSettings(troposphere=False, **switches))
+                             settings=dataclasses.replace(SLR, troposphere=False, **switches))
 
     base = run()
     ref = base["residual_m"].values
@@ -184,7 +190,7 @@ def test_shifted_orbit_gives_offset_on_line_of_sight(truth, clean, offset_rtn_m)
     _, nps, sta, ecc = clean
     shifted = _shifted(truth, offset_rtn_m)
     res = slr_residuals(shifted, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M,
-                        settings=SlrResidualSettings(outlier_k=50.0))
+                        settings=dataclasses.replace(SLR, outlier_k=50.0))
     assert np.all(res["flag"].values == 0)
     projected = -res["los_rtn"].values @ np.asarray(offset_rtn_m)
     np.testing.assert_allclose(res["residual_m"], projected, rtol=0, atol=2e-4)
@@ -209,7 +215,7 @@ def test_time_varying_orbit_error_on_line_of_sight(truth, noisy, res_noisy):
     vel_in = truth["vel_itrf_m_s"].values + np.cross([0.0, 0.0, OMEGA_EARTH_RAD_S], pos)
     moved = truth.assign(pos_itrf_m=(("time", "xyz"), pos + np.einsum(
         "nji,nj->ni", rtn_matrix(pos, vel_in), err)))
-    res = slr_residuals(moved, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M)
+    res = slr_residuals(moved, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M, settings=SLR)
     assert np.all(res["flag"].values == 0)
     explained = line_of_sight_orbit_difference(res, moved, truth)
     assert np.abs(explained).max() > 0.02
@@ -223,7 +229,7 @@ def test_rtn_offset_with_noise(truth, noisy):
     _, nps, sta, ecc = noisy
     offset = np.array([0.0, 0.02, -0.01])
     res = slr_residuals(_shifted(truth, offset), nps, sta, ecc,
-                        retro_offset_body_m=OFFSET_BODY_M)
+                        retro_offset_body_m=OFFSET_BODY_M, settings=SLR)
     proj = rtn_projection(res)
     assert np.all(np.abs(proj["offset_m"].values - offset) < 4 * proj["sigma_offset_m"].values)
     assert float(proj["sigma0_m"]) == pytest.approx(NOISE_M, rel=0.1)
@@ -241,7 +247,7 @@ def test_epoch_events(truth, noisy, res_noisy):
     time = nps["time"].values + np.where(event == 0, tof_ns, np.where(event == 1, up_ns,
                                                                        np.timedelta64(0)))
     moved = nps.assign(epoch_event=("point", event)).assign_coords(time=("point", time))
-    res = slr_residuals(truth, moved, sta, ecc, retro_offset_body_m=OFFSET_BODY_M)
+    res = slr_residuals(truth, moved, sta, ecc, retro_offset_body_m=OFFSET_BODY_M, settings=SLR)
     assert np.all(res["flag"].values == 0)
     np.testing.assert_allclose(res["residual_m"], res_noisy["residual_m"], rtol=0, atol=2e-5)
     # the transmit epoch is recovered (to the iteration tolerance and the 1-ns rounding)
@@ -267,7 +273,7 @@ def test_refraction_and_centre_of_mass_flags(truth, noisy, res_noisy):
                          refraction_applied=("point", refr.astype(np.int8)),
                          com_applied=("point", com.astype(np.int8)),
                          pressure_hpa=("point", pressure))
-    res = slr_residuals(truth, changed, sta, ecc, retro_offset_body_m=OFFSET_BODY_M)
+    res = slr_residuals(truth, changed, sta, ecc, retro_offset_body_m=OFFSET_BODY_M, settings=SLR)
     assert np.all(res["flag"].values == 0)
     np.testing.assert_allclose(res["residual_m"], res_noisy["residual_m"], rtol=0,
                                atol=1.5e-4)
@@ -300,7 +306,7 @@ def test_une_eccentricities(tmp_path, truth, noisy, res_noisy):
     write_sinex_eccentricities(ds, tmp_path / "une.snx")
     ecc = read_sinex_eccentricities(tmp_path / "une.snx")
     assert ecc.attrs["ref_system"] == "UNE"
-    res = slr_residuals(truth, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M)
+    res = slr_residuals(truth, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M, settings=SLR)
     np.testing.assert_allclose(res["residual_m"], res_noisy["residual_m"], rtol=0, atol=2e-4)
 
 
@@ -314,7 +320,7 @@ def test_ocean_loading_applied(truth, noisy, res_noisy):
         coords={"site": ["YARL"], "component": list(BLQ_COMPONENTS),
                 "constituent": list(BLQ_CONSTITUENTS)})
     res = slr_residuals(truth, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M,
-                        ocean_loading=blq)
+                        ocean_loading=blq, settings=SLR)
     at = res["station"].values == "7090"
     term = res["ocean_loading_range_m"].values
     assert np.abs(term[at]).max() > 1e-3 and np.all(term[~at] == 0.0)
@@ -337,7 +343,7 @@ def test_screening(truth, noisy):
     time = nps["time"].values.copy()
     time[100] += np.timedelta64(2, "D")
     nps = nps.assign_coords(time=("point", time))
-    settings = SlrResidualSettings(elevation_cut_off_deg=15.0)
+    settings = dataclasses.replace(SLR, elevation_cut_off_deg=15.0)
     res = slr_residuals(truth, nps, sta, ecc, retro_offset_body_m=OFFSET_BODY_M,
                         settings=settings)
     reason = res["reason"].values
@@ -361,7 +367,7 @@ def test_missing_crd_fields_default():
     with pytest.raises(ValueError, match="tof_s"):
         slr_residuals(_truth(), xr.Dataset({"station": ("point", ["7090"])},
                                            coords={"time": ("point", [T0])}),
-                      xr.Dataset(), retro_offset_body_m=np.zeros(3))
+                      xr.Dataset(), retro_offset_body_m=np.zeros(3), settings=SLR)
 
 
 # ----------------------------------------------------------------------------- statistics
@@ -411,11 +417,11 @@ def test_real_crd_and_slrf_stations(shared_data):
     s20 = read_sinex_stations(slr / "SLRF2020_POS+VEL_2023.10.02.snx")
     s14 = read_sinex_stations(slr / "SLRF2014_POS+VEL_2030.0_180504.snx")
     ecc = read_sinex_eccentricities(slr / "ecc_xyz.snx")
-    pts = station_reference_points(nps, s20, ecc)
+    pts = station_reference_points(nps, s20, ecc, settings=SLR)
     sites = nps["station"].values
     np.testing.assert_array_equal(pts["flag"].values, np.where(sites == "9998", 2, 0))
-    other = station_reference_points(nps, s14, None, settings=SlrResidualSettings(
-        solid_tide=False, pole_tide=False))
+    other = station_reference_points(nps, s14, None, settings=dataclasses.replace(
+        SLR, solid_tide=False, pole_tide=False))
     core = np.isin(sites, ["7080", "7090", "7810", "7839", "7840"])
     diff = pts["pos_marker_itrf_m"].values[core] - other["pos_marker_itrf_m"].values[core]
     assert core.sum() > 50 and np.linalg.norm(diff, axis=1).max() < 0.02

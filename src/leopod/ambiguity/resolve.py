@@ -32,6 +32,7 @@ from leopod.ambiguity.independent import constraint_rows, fixing_rate, independe
 from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_narrow_lane
 from leopod.ambiguity.pairs import sd_pairs
 from leopod.ambiguity.wide_lane import hmw_cycles, sd_wide_lane
+from leopod.settings import Settings
 from leopod.signals import frequency_hz
 
 __all__ = ["ArSettings", "Resolution", "resolve_arc"]
@@ -40,22 +41,19 @@ log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class ArSettings:
+class ArSettings(Settings):
     """Tunables of the ambiguity resolution (config ``ambiguity``; units in the names)."""
 
-    min_common_s: float = 480.0
-    decision: str = "rounding"
-    wl_max_dev_cyc: float = 0.24
-    wl_max_sigma_cyc: float = 0.1
-    nl_max_dev_cyc: float = 0.12
-    nl_max_sigma_cyc: float = 0.1
-    alpha: float = 1e-3
-    constraint_sigma_m: float = 1e-3
-
-    @classmethod
-    def from_config(cls, cfg: dict) -> ArSettings:
-        """Settings from the campaign's ``ambiguity`` section (other keys ignored)."""
-        return cls(**{k: v for k, v in cfg.items() if k in cls.__dataclass_fields__})
+    min_common_s: float
+    decision: str
+    wl_max_dev_cyc: float
+    wl_max_sigma_cyc: float
+    nl_max_dev_cyc: float
+    nl_max_sigma_cyc: float
+    alpha: float
+    constraint_sigma_m: float
+    max_residual_ratio: float
+    max_rejection_rounds: int
 
 
 @dataclass
@@ -91,7 +89,7 @@ def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings) -> FixDecisi
 
 def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system: str,
                 phases, codes, wl_sat_cyc: xr.DataArray | None,
-                settings: ArSettings = ArSettings(), *, sat_if_bias_m=None) -> Resolution:
+                settings: ArSettings, *, sat_if_bias_m=None) -> Resolution:
     """Resolve the single-difference ambiguities of one float arc (module docstring).
 
     Parameters

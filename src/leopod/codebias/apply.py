@@ -12,19 +12,37 @@ mean, which neither the receiver clock nor the wide-lane single difference would
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
 from leopod.codebias.products import grid_of
 from leopod.codebias.samples import attitude_mode
+from leopod.settings import Settings
 
-__all__ = ["EMPTY_CELL_POLICIES", "correct_codes", "map_correction"]
+__all__ = ["EMPTY_CELL_POLICIES", "CodeCorrection", "correct_codes", "map_correction"]
 
 log = logging.getLogger(__name__)
 
 #: What to do with a code whose direction has no map value.
 EMPTY_CELL_POLICIES = ("drop", "keep")
+
+
+@dataclass(frozen=True)
+class CodeCorrection(Settings):
+    """Which codes a step corrects with the maps (config ``code_bias``).
+
+    Attributes
+    ----------
+    apply : tuple of str
+        RINEX 3 codes corrected with their map (empty: none).
+    empty_cells : str
+        Policy for codes whose cell touches an empty node (:data:`EMPTY_CELL_POLICIES`).
+    """
+
+    apply: tuple[str, ...]
+    empty_cells: str
 
 
 def map_correction(maps: xr.Dataset, signal: str, az_deg, el_deg, mode) -> np.ndarray:
@@ -55,7 +73,7 @@ def map_correction(maps: xr.Dataset, signal: str, az_deg, el_deg, mode) -> np.nd
 
 
 def correct_codes(obs: xr.Dataset, quality: xr.Dataset, maps: xr.Dataset, codes, *,
-                  empty_cells: str = "drop", yaw_flips=None) -> tuple[xr.Dataset, dict]:
+                  empty_cells: str, yaw_flips=None) -> tuple[xr.Dataset, dict]:
     """Subtract the maps from the codes of one day of observations.
 
     Parameters

@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from leopod.codebias.grid import AntennaGrid
+from leopod.settings import Settings
 
 __all__ = ["MapFit", "MapSettings", "band_index", "estimate_map"]
 
@@ -44,7 +45,7 @@ log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class MapSettings:
+class MapSettings(Settings):
     """Tunables of the map estimation (config ``code_bias``; units in the names).
 
     Attributes
@@ -63,13 +64,13 @@ class MapSettings:
         Width of the elevation bands of the weights and the statistics [deg].
     """
 
-    az_step_deg: float = 5.0
-    el_step_deg: float = 5.0
-    min_count: int = 200
-    smoothing_sigma_m: float | None = None
-    robust_k: float = 3.0
-    iterations: int = 3
-    band_width_deg: float = 10.0
+    az_step_deg: float
+    el_step_deg: float
+    min_count: int
+    smoothing_sigma_m: float | None
+    robust_k: float
+    iterations: int
+    band_width_deg: float
 
     @property
     def grid(self) -> AntennaGrid:
@@ -188,8 +189,7 @@ def _solve_datum(n: np.ndarray, b: np.ndarray, w: np.ndarray, rel_tol: float = 1
     return x, cov_diag, undetermined
 
 
-def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings = MapSettings()
-                 ) -> MapFit:
+def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings) -> MapFit:
     """Code-bias map from multipath observations (module docstring).
 
     Parameters

@@ -11,15 +11,9 @@ from leopod.codebias.estimate import MapFit, MapSettings, estimate_map
 from leopod.codebias.products import MpStatistics, map_dataset, mp_statistics
 from leopod.codebias.samples import mp_samples
 
-__all__ = ["estimate_period", "map_settings"]
+__all__ = ["estimate_period"]
 
 log = logging.getLogger(__name__)
-
-
-def map_settings(cfg: dict) -> MapSettings:
-    """:class:`MapSettings` from the campaign's ``code_bias`` section (schema defaults)."""
-    names = MapSettings.__dataclass_fields__
-    return MapSettings(**{k: v for k, v in cfg.items() if k in names})
 
 
 def estimate_period(quality_days: list[xr.Dataset], codes, settings: MapSettings, *,

@@ -1,6 +1,6 @@
 """One float POD arc from the ingest/quality outputs of its days: the float_pod rule's logic.
 
-Steps: arc limits from the day and the campaign's ``pod`` settings; ionosphere-free
+Steps: arc limits from the day and the :class:`ArcSettings`; ionosphere-free
 observations (:mod:`leopod.estimation.inputs`); GNSS products of the arc's days merged;
 force model of the estimator; a dynamic fit to the a-priori (code-only or SP3) positions
 gives the initial state (or an earlier solution of the arc is continued: the fixed POD);
@@ -10,16 +10,15 @@ gives the initial state (or an earlier solution of the arc is continued: the fix
 
 from __future__ import annotations
 
-import dataclasses
 import logging
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
 
-from leopod.codebias.apply import correct_codes
+from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.dynamics.force_model import build_force_model
-from leopod.dynamics.model_files import resolve_model_paths
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
 from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna
@@ -32,17 +31,90 @@ from leopod.estimation.outputs import (
     residual_dataset,
 )
 from leopod.gnss.products import GnssProducts
+from leopod.io.antex import read_antex
+from leopod.io.clock import read_rinex_clock
+from leopod.io.netcdf import merge_days
+from leopod.io.sp3 import read_sp3
+from leopod.settings import Settings
+from leopod.signals import SystemSignals
 from leopod.time.calendar import parse_date_id, seconds_since
 
-__all__ = ["ArcOutputs", "arc_limits", "pod_settings", "run_arc"]
+__all__ = ["ArcData", "ArcOutputs", "ArcSettings", "arc_limits", "run_arc"]
 
 log = logging.getLogger(__name__)
 
-def pod_settings(pod_cfg: dict) -> PodSettings:
-    """PodSettings from the campaign's ``pod`` section (its keys that are PodSettings fields)."""
-    names = {f.name for f in dataclasses.fields(PodSettings)}
-    return PodSettings(**{k: (tuple(v) if isinstance(v, list) else v)
-                          for k, v in pod_cfg.items() if k in names})
+
+@dataclass(frozen=True)
+class ArcSettings(Settings):
+    """How the arc of a day is cut, sampled and started (config ``pod``).
+
+    Attributes
+    ----------
+    system : str
+        GNSS of the POD (RINEX letter).
+    sampling_s : float
+        Observation sampling [s].
+    arc_before_s, arc_after_s : float
+        Arc start before 00:00 and end after 24:00 of the day [s].
+    output_step_s : float
+        Step of the written orbit [s].
+    apriori_fit_sigma_m : float
+        Sigma of the a-priori positions in the initial dynamic fit [m].
+    """
+
+    system: str
+    sampling_s: float
+    arc_before_s: float
+    arc_after_s: float
+    output_step_s: float
+    apriori_fit_sigma_m: float
+
+    def limits(self, date: str) -> tuple[np.datetime64, np.datetime64]:
+        """Arc start and end of the day ``date`` (:func:`arc_limits`)."""
+        return arc_limits(date, self.arc_before_s, self.arc_after_s)
+
+
+@dataclass(eq=False)
+class ArcData:
+    """Inputs of one arc, read: ingest/quality outputs of its days and the GNSS products.
+
+    Attributes
+    ----------
+    obs, quality, leo : list of xarray.Dataset
+        Ingest observations, quality outputs and a-priori orbits of the arc's days in time
+        order (the day and its neighbours).
+    orbit, clock : xarray.Dataset
+        GNSS orbits (SP3) and clocks (RINEX clock) covering the arc.
+    antex : leopod.io.antex.AntexFile or None
+        GNSS satellite antenna model.
+    code_maps : xarray.Dataset or None
+        Code-bias maps (:mod:`leopod.codebias`).
+    files : list of str
+        The files read (provenance).
+    """
+
+    obs: list[xr.Dataset]
+    quality: list[xr.Dataset]
+    leo: list[xr.Dataset]
+    orbit: xr.Dataset
+    clock: xr.Dataset
+    antex: object = None
+    code_maps: xr.Dataset | None = None
+    files: list[str] = field(default_factory=list)
+
+    @classmethod
+    def read(cls, *, obs, quality, leo, orbit, clock, antex=None, code_bias=None) -> ArcData:
+        """Read the files of an arc: lists of daily netCDF/SP3/clock paths, optional ANTEX
+        and code-bias map paths."""
+        return cls(obs=[xr.load_dataset(p) for p in obs],
+                   quality=[xr.load_dataset(p) for p in quality],
+                   leo=[xr.load_dataset(p) for p in leo],
+                   orbit=merge_days([read_sp3(p) for p in orbit]),
+                   clock=merge_days([read_rinex_clock(p) for p in clock]),
+                   antex=read_antex(antex) if antex else None,
+                   code_maps=xr.load_dataset(code_bias) if code_bias else None,
+                   files=[*map(str, obs), *map(str, quality), *map(str, leo), *map(str, orbit),
+                          *map(str, clock)])
 
 
 @dataclass(eq=False)
@@ -65,11 +137,11 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
             day + one_day + np.timedelta64(round(arc_after_s * 1e9), "ns"))
 
 
-def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
-            clock: xr.Dataset, antex, signal_cfg: dict, pod_cfg: dict,
-            pco_body_m: dict | None, *, eop=None, limits=None, code_maps=None,
-            code_bias_cfg: dict | None = None, yaw_flips=None,
-            ambiguity_constraints=None, apriori_orbit: xr.DataArray | None = None,
+def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
+            pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None, *,
+            code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
+            limits=None, ambiguity_constraints=None,
+            apriori_orbit: xr.DataArray | None = None,
             continue_from: tuple[xr.Dataset, xr.Dataset, xr.Dataset] | None = None
             ) -> ArcOutputs:
     """Float POD of the arc of ``date`` (module docstring).
@@ -78,28 +150,26 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
     ----------
     date : str
         Day ``YYYY-DDD``.
-    obs_days, quality_days, leo_days : list of xarray.Dataset
-        Ingest/quality outputs of the arc's days in time order (the day and neighbours).
-    orbit, clock : xarray.Dataset
-        GNSS orbits (SP3) and clocks (RINEX clock) covering the arc (:func:`merge_days`).
-    antex : leopod.io.antex.AntexFile or None
-        GNSS satellite antenna model.
-    signal_cfg : dict
-        Campaign ``signals``.
-    pod_cfg : dict
-        Campaign ``pod`` section (schema defaults applied).
-    pco_body_m : dict or None
-        LEO antenna PCO per band in the body frame [m].
-    eop : EarthOrientation, optional
-    limits : (datetime64, datetime64), optional
-        Arc start and end instead of those of the ``pod`` settings (e.g. sub-arcs).
-    code_maps : xarray.Dataset, optional
-        Code-bias maps (:mod:`leopod.codebias`) subtracted from the codes listed in
-        ``code_bias_cfg["apply"]`` (policy ``code_bias_cfg["empty_cells"]``) on every day.
-    code_bias_cfg : dict, optional
-        Campaign ``code_bias`` section.
+    data : ArcData
+        The arc's observations and GNSS products.
+    signals : SystemSignals
+        Signals of the POD's system (``arc.system``).
+    arc : ArcSettings
+    pod : PodSettings
+    forces : mapping
+        Force model configuration (:func:`leopod.dynamics.force_model.build_force_model`) with
+        model files already resolved to paths
+        (:func:`leopod.dynamics.model_files.resolve_model_paths`).
+    pco_body_m : mapping or None
+        LEO antenna PCO per band name in the body frame [m].
+    code_correction : CodeCorrection, optional
+        Codes corrected with ``data.code_maps`` on every day (none if its ``apply`` is empty
+        or there are no maps).
     yaw_flips : sequence of datetime-like, optional
         Yaw-flip epochs selecting the maps' attitude mode.
+    eop : EarthOrientation, optional
+    limits : (datetime64, datetime64), optional
+        Arc start and end instead of those of ``arc`` (e.g. sub-arcs).
     ambiguity_constraints : tuple, optional
         Fixed single-difference ambiguities ``(pass_i, pass_j, value_m, sigma_m)``
         (:func:`leopod.ambiguity.resolve.resolve_arc`): the ambiguity-fixed solution.
@@ -116,25 +186,23 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
     -------
     ArcOutputs
     """
-    system = pod_cfg.get("system", "G")
-    sig = signal_cfg[system]
-    start, end = (arc_limits(date, pod_cfg["arc_before_s"], pod_cfg["arc_after_s"])
-                  if limits is None else (np.datetime64(limits[0], "ns"),
-                                          np.datetime64(limits[1], "ns")))
-    sampling = float(pod_cfg["sampling_s"])
-    if code_maps is not None and code_bias_cfg and code_bias_cfg.get("apply"):
-        obs_days = [correct_codes(obs, qual, code_maps, code_bias_cfg["apply"],
-                                  empty_cells=code_bias_cfg.get("empty_cells", "drop"),
+    system = arc.system
+    start, end = (arc.limits(date) if limits is None
+                  else (np.datetime64(limits[0], "ns"), np.datetime64(limits[1], "ns")))
+    obs_days = data.obs
+    if data.code_maps is not None and code_correction is not None and code_correction.apply:
+        obs_days = [correct_codes(obs, qual, data.code_maps, code_correction.apply,
+                                  empty_cells=code_correction.empty_cells,
                                   yaw_flips=yaw_flips)[0]
-                    for obs, qual in zip(obs_days, quality_days, strict=True)]
-    po = pod_observations(obs_days, quality_days, leo_days, sig, system, start,
-                          end - np.timedelta64(1, "ns"), sampling)
+                    for obs, qual in zip(obs_days, data.quality, strict=True)]
+    po = pod_observations(obs_days, data.quality, data.leo, signals, system, start,
+                          end - np.timedelta64(1, "ns"), float(arc.sampling_s))
     t_ref = po.times[0]
-    products = GnssProducts.from_datasets(orbit, clock, t_ref, systems=[system],
+    products = GnssProducts.from_datasets(data.orbit, data.clock, t_ref, systems=[system],
                                           max_extrapolation_s=0.0)
     sat_pco, sat_pcv = None, None
-    if antex is not None:
-        sat_pco, sat_pcv = satellite_antenna(antex, po.sv, t_ref, system, sig)
+    if data.antex is not None:
+        sat_pco, sat_pcv = satellite_antenna(data.antex, po.sv, t_ref, system, signals)
         missing = ~np.isfinite(sat_pco).all(axis=1)
         if missing.any():
             log.warning("no ANTEX entry for %s: their observations are not used",
@@ -144,31 +212,29 @@ def run_arc(date: str, obs_days, quality_days, leo_days, orbit: xr.Dataset,
             po.phase_m[drop] = np.nan
             po.pass_index[drop] = -1
         sat_pco = np.nan_to_num(sat_pco)
-    leo_pco = receiver_pco_if(pco_body_m, system, sig)
+    leo_pco = receiver_pco_if(pco_body_m, system, signals)
     t_s = seconds_since(po.times, t_ref)
-    forces = resolve_model_paths(pod_cfg["forces"])
     force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop)
     if apriori_orbit is None:
-        apriori = xr.concat([leo.pos_m for leo in leo_days], dim="time")
+        apriori = xr.concat([leo.pos_m for leo in data.leo], dim="time")
         _, first = np.unique(apriori.time.values, return_index=True)
         apriori = apriori.isel(time=np.sort(first))
     else:
         apriori = apriori_orbit
-    settings = pod_settings(pod_cfg)
     if continue_from is None:
         fit = fit_orbit(po.times, apriori.reindex(time=po.times).values,
                         force_model=force_model, t_ref=t_ref,
-                        sigma_obs_m=float(pod_cfg.get("apriori_fit_sigma_m", 1.0)), eop=eop)
+                        sigma_obs_m=float(arc.apriori_fit_sigma_m), eop=eop)
         log.info("initial dynamic fit to the a-priori orbit: RMS R %.2f T %.2f N %.2f m",
                  *fit.rms_rtn_m)
         state0, warm = fit.state0_gcrf, None
     else:
         state0, warm = None, pod_start(*continue_from, po)
         log.info("continuing from the earlier solution of the arc (warm start)")
-    result = float_pod(po, products, force_model, t_ref, state0, settings, eop=eop,
+    result = float_pod(po, products, force_model, t_ref, state0, pod, eop=eop,
                        leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
                        ambiguity_constraints=ambiguity_constraints, start=warm)
-    out_times = output_epochs(po.times[0], po.times[-1], float(pod_cfg["output_step_s"]))
+    out_times = output_epochs(po.times[0], po.times[-1], float(arc.output_step_s))
     orbit_ds = orbit_dataset(result, out_times, eop=eop,
                              apriori_itrf_m=apriori.reindex(time=out_times).values)
     return ArcOutputs(result=result, observations=po, orbit=orbit_ds,

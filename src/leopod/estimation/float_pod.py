@@ -42,6 +42,7 @@ from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.gnss.products import GnssProducts
+from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 from leopod.time.eop import EarthOrientation
 
@@ -54,8 +55,8 @@ _MAD_TO_SIGMA = 1.4826
 _MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
 
 
-@dataclass
-class PodSettings:
+@dataclass(frozen=True)
+class PodSettings(Settings):
     """Tunables of the float POD (all configurable from the campaign file).
 
     Attributes
@@ -87,19 +88,19 @@ class PodSettings:
         of their epoch by more than this are rejected (gross errors in the data) [m].
     """
 
-    code_sigma_m: float = 0.5
-    phase_sigma_m: float = 0.01
-    weight_elevation_deg: float = 30.0
-    min_elevation_deg: float = 0.0
-    pulse_interval_s: float | None = 900.0
-    pulse_sigma_m_s: tuple[float, float, float] = (1e-5, 1e-5, 1e-5)
-    estimate_pco_z: bool = False
-    outlier_k: float = 5.0
-    screen_below_m: float = 0.05
-    max_iterations: int = 8
-    tolerance_m: float = 0.001
-    min_phase_obs: int = 4
-    gross_code_m: float = 1000.0
+    code_sigma_m: float
+    phase_sigma_m: float
+    weight_elevation_deg: float
+    min_elevation_deg: float
+    pulse_interval_s: float | None
+    pulse_sigma_m_s: tuple[float, float, float]
+    estimate_pco_z: bool
+    outlier_k: float
+    screen_below_m: float
+    max_iterations: int
+    tolerance_m: float
+    min_phase_obs: int
+    gross_code_m: float
 
 
 @dataclass
@@ -471,7 +472,7 @@ def _constrain_differences(ne, k: int, active: np.ndarray, ambiguity: np.ndarray
 
 
 def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceModel, t_ref,
-              state0_gcrf: np.ndarray, settings: PodSettings | None = None, *,
+              state0_gcrf: np.ndarray, settings: PodSettings, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
               sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
               ambiguity_constraints=None, start: PodStart | None = None) -> PodResult:
@@ -489,7 +490,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
     state0_gcrf : array_like, shape (6,) or None
         A-priori GCRF state at ``t_ref`` (e.g. a dynamic fit to a code-only orbit,
         :func:`leopod.dynamics.orbit_fit.fit_orbit`); None with ``start``.
-    settings : PodSettings, optional
+    settings : PodSettings
     eop : EarthOrientation, optional
     leo_pco_body_m : array_like, shape (3,), optional
         Ionosphere-free LEO antenna PCO in the body frame [m].
@@ -510,7 +511,6 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
     -------
     PodResult
     """
-    settings = settings or PodSettings()
     prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
                     sat_pco_body_m, sat_pcv_m)
     screening = start is not None

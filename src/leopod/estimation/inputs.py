@@ -15,6 +15,7 @@ from leopod import signals
 from leopod.estimation.float_pod import PodObservations
 from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free, narrow_lane_wavelength_m
+from leopod.signals import SystemSignals
 
 __all__ = ["pod_observations", "receiver_pco_if", "satellite_antenna"]
 
@@ -26,7 +27,7 @@ def _on_grid(times: np.ndarray, sampling_s: float) -> np.ndarray:
 
 
 def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
-                     leo_days: list[xr.Dataset], signal_cfg: dict, system: str,
+                     leo_days: list[xr.Dataset], signal_cfg: SystemSignals, system: str,
                      arc_start, arc_end, sampling_s: float) -> PodObservations:
     """Ionosphere-free observations of an arc.
 
@@ -35,7 +36,7 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     obs_days, quality_days, leo_days : list of xarray.Dataset
         Ingest observations, quality (``pass_id``), and a-priori orbit (``clk_rx_m``) of
         consecutive days, in time order.
-    signal_cfg : dict
+    signal_cfg : SystemSignals
         Campaign signals of the system (``phase`` and ``pod_code`` pairs).
     system : str
         GNSS letter.
@@ -48,8 +49,8 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     -------
     PodObservations
     """
-    p1, p2 = signal_cfg["phase"]
-    c1, c2 = signal_cfg["pod_code"]
+    p1, p2 = signal_cfg.phase
+    c1, c2 = signal_cfg.pod_code
     f1, f2 = signals.frequency_hz(system, p1), signals.frequency_hz(system, p2)
     fc1, fc2 = signals.frequency_hz(system, c1), signals.frequency_hz(system, c2)
     sv_all = sorted({str(s) for ds in obs_days for s in ds.sv.values if str(s)[0] == system})
@@ -94,7 +95,7 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
                            nl_wavelength_m=narrow_lane_wavelength_m(f1, f2))
 
 
-def satellite_antenna(antex, sv, epoch, system: str, signal_cfg: dict):
+def satellite_antenna(antex, sv, epoch, system: str, signal_cfg: SystemSignals):
     """Ionosphere-free GNSS satellite PCO (s, 3) [m] and a PCV function from ANTEX.
 
     Satellites without an ANTEX entry get NaN PCO rows (their observations are then
@@ -105,7 +106,7 @@ def satellite_antenna(antex, sv, epoch, system: str, signal_cfg: dict):
     pco : ndarray, shape (s, 3)
     pcv : callable ``(sat_index (n,), nadir_deg (n,)) -> (n,)`` [m]
     """
-    p1, p2 = signal_cfg["phase"]
+    p1, p2 = signal_cfg.phase
     f1, f2 = signals.frequency_hz(system, p1), signals.frequency_hz(system, p2)
     bands = (signals.code_band(p1), signals.code_band(p2))
     pco = satellite_pco_if(antex, sv, epoch, system, bands, f1, f2)
@@ -132,11 +133,11 @@ def satellite_antenna(antex, sv, epoch, system: str, signal_cfg: dict):
     return pco, pcv
 
 
-def receiver_pco_if(pco_body_m: dict | None, system: str, signal_cfg: dict) -> np.ndarray:
+def receiver_pco_if(pco_body_m: dict | None, system: str, signal_cfg: SystemSignals) -> np.ndarray:
     """Ionosphere-free LEO antenna PCO in the body frame [m] from per-band offsets."""
     if not pco_body_m:
         return np.zeros(3)
-    p1, p2 = signal_cfg["phase"]
+    p1, p2 = signal_cfg.phase
     b1, b2 = signals.band(system, p1).name, signals.band(system, p2).name
     f1, f2 = signals.frequency_hz(system, p1), signals.frequency_hz(system, p2)
     missing = [b for b in (b1, b2) if b not in pco_body_m]

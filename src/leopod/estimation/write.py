@@ -1,4 +1,4 @@
-"""Inputs and products of a POD arc (rules ``float_pod`` and ``fixed_pod``)."""
+"""Products of a POD arc (rules ``float_pod`` and ``fixed_pod``): netCDF, SP3 and the log."""
 
 from __future__ import annotations
 
@@ -6,43 +6,15 @@ import logging
 import textwrap
 
 import numpy as np
-import xarray as xr
 
 from leopod.estimation.arc import ArcOutputs
 from leopod.estimation.outputs import sp3_dataset
-from leopod.io.antex import read_antex
-from leopod.io.clock import read_rinex_clock
-from leopod.io.netcdf import merge_days, write_netcdf
-from leopod.io.sp3 import read_sp3, write_sp3
-from leopod.plots.pod import (
-    plot_apriori_difference,
-    plot_residual_skymap,
-    plot_residuals_elevation,
-    plot_residuals_time,
-)
+from leopod.io.netcdf import write_netcdf
+from leopod.io.sp3 import write_sp3
 
-__all__ = ["ArcInputs", "log_arc", "write_arc"]
+__all__ = ["log_arc", "write_arc"]
 
 log = logging.getLogger(__name__)
-
-
-class ArcInputs:
-    """Inputs of :func:`leopod.estimation.arc.run_arc` read from a rule's input files.
-
-    Attributes: ``obs``, ``quality``, ``leo`` (lists of daily datasets), ``orbit``, ``clock``
-    (merged GNSS products), ``antex`` (or None), ``code_maps`` (or None), ``files`` (the
-    input files, for provenance).
-    """
-
-    def __init__(self, inp):
-        self.obs = [xr.load_dataset(p) for p in inp.obs]
-        self.quality = [xr.load_dataset(p) for p in inp.quality]
-        self.leo = [xr.load_dataset(p) for p in inp.leo]
-        self.orbit = merge_days([read_sp3(p) for p in inp.orbit])
-        self.clock = merge_days([read_rinex_clock(p) for p in inp.clock])
-        self.antex = read_antex(inp.antex) if inp.get("antex") else None
-        self.code_maps = xr.load_dataset(inp.code_bias) if inp.get("code_bias") else None
-        self.files = [*inp.obs, *inp.quality, *inp.leo, *inp.orbit, *inp.clock]
 
 
 def log_arc(arc: ArcOutputs, label: str) -> None:
@@ -60,16 +32,15 @@ def log_arc(arc: ArcOutputs, label: str) -> None:
             log.info("parameter %-16s %+.6e +- %.2e", name, value, sigma)
 
 
-def write_arc(arc: ArcOutputs, out, *, step: str, kind: str, title: str, sp3_id: str,
-              inputs) -> None:
-    """Write orbit (netCDF + SP3), residuals, parameters, ambiguities and figures.
+def write_arc(arc: ArcOutputs, *, orbit, sp3, residuals, parameters, ambiguities, step: str,
+              kind: str, title: str, sp3_id: str, inputs) -> None:
+    """Write orbit (netCDF + SP3), residuals, parameters and ambiguities of a solution.
 
     Parameters
     ----------
     arc : ArcOutputs
-    out : mapping
-        Output paths: ``orbit``, ``sp3``, ``residuals``, ``parameters``, ``ambiguities``,
-        ``res_time``, ``res_elevation``, ``res_skymap``, ``apriori``.
+    orbit, sp3, residuals, parameters, ambiguities : str or Path
+        Output paths.
     step : str
         Processing step written into the metadata (rule name).
     kind : str
@@ -82,18 +53,14 @@ def write_arc(arc: ArcOutputs, out, *, step: str, kind: str, title: str, sp3_id:
         Input files (provenance).
     """
     common = {"step": step, "inputs": inputs, "time_system": "GPS"}
-    write_netcdf(arc.orbit, out.orbit, reference_frame="ITRF and GCRF",
+    write_netcdf(arc.orbit, orbit, reference_frame="ITRF and GCRF",
                  title=f"{kind} reduced-dynamic orbit {title}", **common)
-    write_netcdf(arc.residuals, out.residuals, reference_frame="antenna",
+    write_netcdf(arc.residuals, residuals, reference_frame="antenna",
                  title=f"{kind} POD residuals {title}", **common)
-    write_netcdf(arc.parameters, out.parameters, title=f"{kind} POD parameters {title}",
+    write_netcdf(arc.parameters, parameters, title=f"{kind} POD parameters {title}",
                  **common)
-    write_netcdf(arc.ambiguities, out.ambiguities, title=f"{kind} ambiguities {title}",
+    write_netcdf(arc.ambiguities, ambiguities, title=f"{kind} ambiguities {title}",
                  **common)
-    write_sp3(sp3_dataset(arc.orbit, sp3_id), out.sp3, orbit_type="FIT",
+    write_sp3(sp3_dataset(arc.orbit, sp3_id), sp3, orbit_type="FIT",
               comments=tuple(textwrap.wrap(f"leopod {kind} reduced-dynamic orbit {title}",
                                            77)))
-    plot_residuals_time(arc.residuals, out.res_time, title=f"{kind} {title}")
-    plot_residuals_elevation(arc.residuals, out.res_elevation, title=f"{kind} {title}")
-    plot_residual_skymap(arc.residuals, out.res_skymap, title=f"{kind} {title}")
-    plot_apriori_difference(arc.orbit, out.apriori, title=f"{kind} {title}")

@@ -32,6 +32,7 @@ import xarray as xr
 from leopod import signals
 from leopod.gnss.combinations import ionosphere_l1_m, multipath
 from leopod.gnss.passes import FLAG_GAP, FLAG_NEW, PassResult, detect_passes
+from leopod.settings import Settings
 
 __all__ = ["QualitySettings", "assess_quality", "merge_systems", "sliding_std"]
 
@@ -39,16 +40,16 @@ log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class QualitySettings:
+class QualitySettings(Settings):
     """Tunables of the quality step (see the config schema for meanings and units)."""
 
-    elevation_mask_deg: float = 0.0
-    max_gap_s: float = 60.0
-    min_pass_s: float = 300.0
-    slip_mw_threshold_cyc: float = 4.0
-    slip_gf_threshold_m: float = 0.05
-    noise_window_s: float = 120.0
-    iod_threshold_m_min: float = 4.0
+    elevation_mask_deg: float
+    max_gap_s: float
+    min_pass_s: float
+    slip_mw_threshold_cyc: float
+    slip_gf_threshold_m: float
+    noise_window_s: float
+    iod_threshold_m_min: float
 
 
 def sliding_std(t_s: np.ndarray, x: np.ndarray, window_s: float, min_count: int) -> np.ndarray:

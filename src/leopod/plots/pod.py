@@ -30,6 +30,7 @@ from leopod.plots import save_figure
 
 __all__ = [
     "plot_apriori_difference",
+    "plot_arc",
     "plot_residual_skymap",
     "plot_residuals_elevation",
     "plot_residuals_time",
@@ -297,3 +298,13 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
     fig.suptitle(_heading(title, "a-priori (code-only) orbit minus float POD orbit, R/T/N"))
     fig.tight_layout()
     save_figure(fig, path)
+
+
+def plot_arc(orbit: xr.Dataset, residuals: xr.Dataset, *, res_time, res_elevation, res_skymap,
+             apriori, title: str) -> None:
+    """The four figures of a POD solution: residuals vs time and elevation, phase residual
+    map, and the orbit minus its a-priori orbit in RTN (paths of the PNG files)."""
+    plot_residuals_time(residuals, res_time, title=title)
+    plot_residuals_elevation(residuals, res_elevation, title=title)
+    plot_residual_skymap(residuals, res_skymap, title=title)
+    plot_apriori_difference(orbit, apriori, title=title)

@@ -58,6 +58,7 @@ from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S, WGS84_A_M, WGS84_INV_F
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.sinex import station_eccentricity, station_position
+from leopod.settings import Settings
 from leopod.time.eop import EarthOrientation
 from leopod.time.scales import utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, SlrRange, slr_range, two_way_light_time
@@ -105,7 +106,7 @@ _XYZ = ["x", "y", "z"]
 
 
 @dataclass(frozen=True)
-class SlrResidualSettings:
+class SlrResidualSettings(Settings):
     """Model switches and screening thresholds of :func:`slr_residuals`.
 
     Attributes
@@ -129,17 +130,17 @@ class SlrResidualSettings:
         Lagrange order of the orbit interpolation.
     """
 
-    elevation_cut_off_deg: float = 10.0
-    hard_limit_m: float = 0.5
-    outlier_k: float = 5.0
-    outlier_min_sigma_m: float = 0.002
-    outlier_min_points: int = 10
-    troposphere: bool = True
-    relativity: bool = True
-    solid_tide: bool = True
-    pole_tide: bool = True
-    default_wavelength_nm: float = 532.0
-    interpolation_order: int = 10
+    elevation_cut_off_deg: float
+    hard_limit_m: float
+    outlier_k: float
+    outlier_min_sigma_m: float
+    outlier_min_points: int
+    troposphere: bool
+    relativity: bool
+    solid_tide: bool
+    pole_tide: bool
+    default_wavelength_nm: float
+    interpolation_order: int
 
 
 # ------------------------------------------------------------------------------ stations
@@ -216,7 +217,7 @@ def _blq_coefficients(pads: np.ndarray, names: np.ndarray, ocean_loading: xr.Dat
 
 def station_reference_points(normal_points: xr.Dataset, stations: xr.Dataset,
                              eccentricities: xr.Dataset | None = None, *,
-                             settings: SlrResidualSettings | None = None,
+                             settings: SlrResidualSettings,
                              ocean_loading: xr.Dataset | None = None,
                              eop: EarthOrientation | None = None,
                              ephemeris: Ephemeris | None = None) -> xr.Dataset:
@@ -234,7 +235,7 @@ def station_reference_points(normal_points: xr.Dataset, stations: xr.Dataset,
         is used to find BLQ sites.
     stations, eccentricities, ocean_loading, eop, ephemeris
         As in :func:`slr_residuals`.
-    settings : SlrResidualSettings, optional
+    settings : SlrResidualSettings
         Its ``solid_tide`` and ``pole_tide`` switches are used.
 
     Returns
@@ -251,7 +252,6 @@ def station_reference_points(normal_points: xr.Dataset, stations: xr.Dataset,
     ValueError
         If ``stations`` or ``eccentricities`` lack variables of their reader's schema.
     """
-    settings = SlrResidualSettings() if settings is None else settings
     n = normal_points.sizes["point"]
     flag = np.zeros(n, dtype=np.int8)
     epochs_utc = normal_points["time"].values.astype("datetime64[ns]")
@@ -348,7 +348,7 @@ def _with_defaults(nps: xr.Dataset) -> xr.Dataset:
 
 def slr_residuals(orbit: xr.Dataset, normal_points: xr.Dataset, stations: xr.Dataset,
                   eccentricities: xr.Dataset | None = None, *, retro_offset_body_m,
-                  settings: SlrResidualSettings | None = None,
+                  settings: SlrResidualSettings,
                   ocean_loading: xr.Dataset | None = None, eop: EarthOrientation | None = None,
                   ephemeris: Ephemeris | None = None) -> xr.Dataset:
     """SLR residuals of a LEO orbit, one per normal point, screened.
@@ -369,8 +369,8 @@ def slr_residuals(orbit: xr.Dataset, normal_points: xr.Dataset, stations: xr.Dat
         SINEX positions are taken as the reference points.
     retro_offset_body_m : array_like, shape (3,)
         Retro-reflector offset from the centre of mass in the body frame [m].
-    settings : SlrResidualSettings, optional
-        Default ``SlrResidualSettings()``.
+    settings : SlrResidualSettings
+        Model switches and screening (config ``validation.slr``).
     ocean_loading : xarray.Dataset, optional
         BLQ coefficients (:func:`leopod.io.blq.read_blq`); sites are matched by pad id,
         then by station name.
@@ -400,7 +400,6 @@ def slr_residuals(orbit: xr.Dataset, normal_points: xr.Dataset, stations: xr.Dat
         If ``normal_points`` lacks ``tof_s`` or ``station`` (other CRD variables default to
         epoch event 2, two-way ranges, no corrections applied, no meteorological data).
     """
-    settings = SlrResidualSettings() if settings is None else settings
     nps = _with_defaults(normal_points)
     n = nps.sizes["point"]
     epochs_utc = nps["time"].values.astype("datetime64[ns]")

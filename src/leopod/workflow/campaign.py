@@ -18,7 +18,7 @@ __all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input
            "is_daily_template", "locate_inputs", "located_source",
            "satellite_ids", "script_library_files"]
 
-_PACKAGE = Path(__file__).resolve().parent
+_PACKAGE = Path(__file__).resolve().parents[1]   # src/leopod
 
 
 def campaign_days(config: dict) -> list[str]:

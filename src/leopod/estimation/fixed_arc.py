@@ -1,0 +1,129 @@
+"""The ambiguity-fixed POD of an arc: the float solution re-solved with the fixed ambiguities.
+
+The single differences that the ambiguity step fixed and chose as independent
+(``constrained`` in its table, :func:`leopod.ambiguity.resolve.resolve_arc`) become tight
+constraints of the float POD (:func:`leopod.estimation.arc.run_arc`), which continues from
+the float solution (warm start, no new dynamic fit). Fixes that raise the phase residuals of
+their passes (:func:`leopod.ambiguity.screening.degraded_passes`) have their constraints
+dropped and the arc is solved again, at most ``max_rejection_rounds`` times.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from leopod.ambiguity.resolve import ArSettings
+from leopod.ambiguity.screening import degraded_passes, drop_constraints
+from leopod.codebias.apply import CodeCorrection
+from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, run_arc
+from leopod.estimation.float_pod import PodSettings
+from leopod.signals import SystemSignals
+
+__all__ = ["FloatSolution", "FixedArc", "constraints_of", "run_fixed_arc"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(eq=False)
+class FloatSolution:
+    """The float solution of the arc (outputs of the float POD), read from its files.
+
+    Attributes
+    ----------
+    parameters, ambiguities, residuals : xarray.Dataset
+        Continued from (:func:`leopod.estimation.outputs.pod_start`).
+    orbit : xarray.Dataset
+        Its orbit: the start and the reference (``apriori_diff_rtn_m``) of the fixed one.
+    """
+
+    parameters: xr.Dataset
+    ambiguities: xr.Dataset
+    residuals: xr.Dataset
+    orbit: xr.Dataset
+
+    @classmethod
+    def read(cls, *, parameters, ambiguities, residuals, orbit) -> FloatSolution:
+        """Read the float POD's netCDF files."""
+        return cls(*(xr.load_dataset(p) for p in (parameters, ambiguities, residuals, orbit)))
+
+
+@dataclass(eq=False)
+class FixedArc:
+    """Result of :func:`run_fixed_arc`: the solution and the constraints it kept."""
+
+    arc: ArcOutputs
+    constraints: tuple
+    dropped_rounds: int
+
+
+def constraints_of(table: xr.Dataset, sigma_m: float) -> tuple:
+    """``(pass_i, pass_j, value_m, sigma_m)`` of the constrained single differences.
+
+    Parameters
+    ----------
+    table : xarray.Dataset
+        Table of the ambiguity step (``constrained``, ``fixed_if_m``, ``pass_i``, ``pass_j``).
+    sigma_m : float
+        Sigma given to every constraint [m].
+    """
+    sel = table.constrained.values == 1
+    value = table.fixed_if_m.values[sel]
+    return (table.pass_i.values[sel].astype(int), table.pass_j.values[sel].astype(int), value,
+            np.full(value.shape, sigma_m))
+
+
+def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
+                  pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None,
+                  table: xr.Dataset, float_solution: FloatSolution, settings: ArSettings, *,
+                  code_correction: CodeCorrection | None = None, yaw_flips=None,
+                  eop=None) -> FixedArc:
+    """Ambiguity-fixed POD of the arc of ``date`` (module docstring).
+
+    Parameters
+    ----------
+    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop
+        As for :func:`leopod.estimation.arc.run_arc`.
+    table : xarray.Dataset
+        Single differences of the ambiguity step.
+    float_solution : FloatSolution
+    settings : ArSettings
+        ``constraint_sigma_m``, ``max_residual_ratio`` and ``max_rejection_rounds``.
+
+    Returns
+    -------
+    FixedArc
+    """
+    constraints = constraints_of(table, settings.constraint_sigma_m)
+    log.info("%d fixed single differences constrain the solution (AR product: %s)",
+             constraints[0].size, table.attrs.get("ar_product"))
+    if constraints[0].size == 0:
+        log.warning("no fixed ambiguity: the fixed solution equals the float one")
+    start = (float_solution.parameters, float_solution.ambiguities, float_solution.residuals)
+
+    def solve(fixes):
+        return run_arc(date, data, signals, arc, pod, forces, pco_body_m,
+                       code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
+                       ambiguity_constraints=fixes if fixes[0].size else None,
+                       apriori_orbit=float_solution.orbit.pos_itrf_m, continue_from=start)
+
+    solution = solve(constraints)
+    rounds = 0
+    for _ in range(settings.max_rejection_rounds):
+        bad = degraded_passes(float_solution.residuals, solution.residuals,
+                              ratio=settings.max_residual_ratio)
+        if bad.size == 0:
+            break
+        before = constraints[0].size
+        constraints = drop_constraints(constraints, bad)
+        log.warning("phase residuals of %d passes grew by more than x%.1f with the fixes: "
+                    "%d of %d constraints dropped, solving again", bad.size,
+                    settings.max_residual_ratio, before - constraints[0].size, before)
+        solution = solve(constraints)
+        rounds += 1
+    log.info("%d constraints in the fixed solution", constraints[0].size)
+    return FixedArc(arc=solution, constraints=constraints, dropped_rounds=rounds)

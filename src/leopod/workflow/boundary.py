@@ -1,0 +1,98 @@
+"""The script boundary: what Snakemake hands a script, as plain Python, and the same from a prompt.
+
+Every ``scripts/<rule>.py`` has the same three parts:
+
+- ``main(...)``: plain paths and typed settings in, files out; it calls the library and is
+  what tests call. The library below it never sees a Snakemake object.
+- ``run(snakemake)``: turns the job's input/output/params into those paths and settings
+  (``Settings.from_config`` of the validated config sections, model files resolved).
+- ``if __name__ == "__main__":``: Snakemake injects ``snakemake``; run by hand
+  (``python scripts/<rule>.py`` from the repository root), :func:`mock_snakemake` builds the
+  same object for an example job of the default campaign, so a step can be debugged from a
+  prompt or an IDE with the workflow's own inputs (the idea of PyPSA-Eur's ``mock_snakemake``).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable
+from pathlib import Path
+
+__all__ = ["REPOSITORY", "mock_snakemake", "plain"]
+
+#: Root of the repository checkout (Snakefile, config/, scripts/).
+REPOSITORY = Path(__file__).resolve().parents[3]
+
+
+def plain(named) -> dict[str, str | list[str]]:
+    """A Snakemake input/output container as a dict of str paths (lists for lists of files).
+
+    Parameters
+    ----------
+    named : snakemake.io.Namedlist or mapping
+        ``snakemake.input`` or ``snakemake.output`` (only the named entries are kept).
+    """
+    out = {}
+    for key, value in named.items():
+        out[key] = str(value) if isinstance(value, str | os.PathLike) else [str(v) for v in value]
+    return out
+
+
+def mock_snakemake(rule: str, *, configfiles: Iterable[str | Path] = ("config/config.yaml",),
+                   root: str | Path = REPOSITORY, **wildcards: str):
+    """The ``snakemake`` object of one job, built by Snakemake itself outside a workflow run.
+
+    The working directory becomes ``root`` (the job's paths are relative to it), as in a
+    workflow run. The job's inputs need not exist: the object is what the script would get.
+
+    Parameters
+    ----------
+    rule : str
+        Rule name, e.g. ``"float_pod"``.
+    configfiles : iterable of str or Path
+        Campaign files (relative to ``root``), merged in order as ``--configfile``.
+    root : str or Path
+        Directory of the Snakefile and the working directory of the job.
+    **wildcards : str
+        The job's wildcards, e.g. ``sat="hy2b-sim", date="2019-002"``.
+
+    Returns
+    -------
+    snakemake.script.Snakemake
+        With ``input``, ``output``, ``params``, ``wildcards``, ``log``, ``threads``,
+        ``resources``, ``config`` and ``rule`` as a workflow run would give them.
+
+    Raises
+    ------
+    ValueError
+        If the wildcards do not match those of the rule.
+    """
+    from snakemake.api import SnakemakeApi
+    from snakemake.dag import DAG
+    from snakemake.jobs import Job
+    from snakemake.script import Snakemake
+    from snakemake.settings.types import (
+        ConfigSettings,
+        DAGSettings,
+        OutputSettings,
+        ResourceSettings,
+        StorageSettings,
+        WorkflowSettings,
+    )
+
+    root = Path(root).resolve()
+    os.chdir(root)
+    with SnakemakeApi(OutputSettings()) as api:
+        workflow_api = api.workflow(
+            resource_settings=ResourceSettings(), storage_settings=StorageSettings(),
+            config_settings=ConfigSettings(configfiles=[root / c for c in configfiles]),
+            workflow_settings=WorkflowSettings(), snakefile=root / "Snakefile", workdir=root)
+        workflow = workflow_api.dag(dag_settings=DAGSettings()).workflow_api._workflow
+        job_rule = workflow.get_rule(rule)
+        if set(job_rule.wildcard_names) != set(wildcards):
+            raise ValueError(f"rule {rule} has the wildcards {sorted(job_rule.wildcard_names)}, "
+                             f"not {sorted(wildcards)}")
+        job = Job(job_rule, DAG(workflow, rules=workflow.rules), wildcards_dict=dict(wildcards))
+        return Snakemake(job.input, job.output, job.params, job.wildcards, job.threads,
+                         job.resources, job.log, workflow.config, job_rule.name, None)
+

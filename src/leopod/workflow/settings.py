@@ -1,0 +1,40 @@
+"""Typed settings of the steps from the sections of a validated campaign configuration.
+
+Scripts call these at the script boundary (:mod:`leopod.workflow.boundary`); below them the
+library takes only frozen settings and resolved paths, never a configuration dict.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from leopod.codebias.apply import CodeCorrection
+from leopod.dynamics.model_files import resolve_model_paths
+from leopod.estimation.arc import ArcSettings
+from leopod.estimation.float_pod import PodSettings
+from leopod.signals import signal_settings
+
+__all__ = ["pod_settings"]
+
+
+def pod_settings(signals: Mapping, pod: Mapping, code_bias: Mapping) -> dict:
+    """Settings of a POD step (float or fixed) as keyword arguments of ``run_arc``.
+
+    Parameters
+    ----------
+    signals, pod, code_bias : mapping
+        The validated ``signals``, ``pod`` and ``code_bias`` sections.
+
+    Returns
+    -------
+    dict
+        ``signals`` (:class:`~leopod.signals.SystemSignals` of ``pod.system``), ``arc``
+        (:class:`~leopod.estimation.arc.ArcSettings`), ``pod``
+        (:class:`~leopod.estimation.float_pod.PodSettings`), ``forces`` (the force
+        configuration with ``satkit:`` model names resolved to installed files) and
+        ``code_correction`` (:class:`~leopod.codebias.apply.CodeCorrection`).
+    """
+    return {"signals": signal_settings(signals)[pod["system"]],
+            "arc": ArcSettings.from_config(pod), "pod": PodSettings.from_config(pod),
+            "forces": resolve_model_paths(pod["forces"]),
+            "code_correction": CodeCorrection.from_config(code_bias)}

@@ -1,0 +1,112 @@
+"""The script boundary: every script's ``main`` runs from plain Python with paths and settings.
+
+Authorities: the MANIFEST of the real GRACE-A day (10 s, 8640 epochs, 7-10 satellites per
+epoch) for the ingest/quality chain; analytic truth (a circular orbit displaced by known RTN
+offsets) for the overlap; Snakemake itself for the job that ``mock_snakemake`` rebuilds.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib.util
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from leopod.constants import GM_EARTH_M3_S2
+from leopod.frames.earth_rotation import gcrf_to_itrf
+from leopod.frames.rtn import rtn_matrix
+from leopod.gnss.quality import QualitySettings
+from leopod.signals import signal_settings
+from leopod.workflow.boundary import REPOSITORY, mock_snakemake
+from leopod.workflow.config import section_defaults
+
+SCRIPTS = REPOSITORY / "scripts"
+
+
+def _script(name: str):
+    """scripts/<name>.py imported as a module (its ``__main__`` block does not run)."""
+    spec = importlib.util.spec_from_file_location(f"leopod_script_{name}", SCRIPTS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("path", sorted(SCRIPTS.glob("*.py")), ids=lambda p: p.stem)
+def test_every_script_has_main_and_run(path):
+    """The shape every script shares: ``main`` (plain paths and settings) and ``run``
+    (the Snakemake job mapped onto ``main``); no Snakemake object reaches ``main``."""
+    tree = ast.parse(path.read_text())
+    functions = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
+    assert {"main", "run"} <= set(functions)
+    params = [a.arg for a in functions["main"].args.args + functions["main"].args.kwonlyargs]
+    assert not {"snakemake", "sm", "inp", "out", "params"} & set(params)
+
+
+def _circular_arc(start: str, offset_rtn_m=(0.0, 0.0, 0.0)) -> xr.Dataset:
+    """30 h of a circular 500-km orbit at 30 s (GCRF + ITRF), displaced in its RTN axes."""
+    a_m = 6_878_137.0
+    n = math.sqrt(GM_EARTH_M3_S2 / a_m**3)
+    t_s = np.arange(0.0, 30 * 3600.0 + 1e-6, 30.0)
+    times = np.datetime64(start, "ns") + (t_s * 1e9).astype("timedelta64[ns]")
+    u = n * (times - np.datetime64("2023-01-01", "ns")).astype(np.int64) * 1e-9
+    inc = math.radians(97.4)
+    pos = a_m * np.stack([np.cos(u), np.sin(u) * math.cos(inc), np.sin(u) * math.sin(inc)], 1)
+    vel = a_m * n * np.stack([-np.sin(u), np.cos(u) * math.cos(inc),
+                              np.cos(u) * math.sin(inc)], 1)
+    pos = pos + np.einsum("nji,j->ni", rtn_matrix(pos, vel), np.asarray(offset_rtn_m))
+    pos_itrf, vel_itrf = gcrf_to_itrf(times, pos, vel)
+    dims = ("time", "xyz")
+    return xr.Dataset({"pos_itrf_m": (dims, pos_itrf), "vel_itrf_m_s": (dims, vel_itrf),
+                       "pos_gcrf_m": (dims, pos), "vel_gcrf_m_s": (dims, vel)},
+                      coords={"time": times, "xyz": ["x", "y", "z"]})
+
+
+def test_overlap_main_from_plain_paths(tmp_path):
+    # arc b displaced by (1, -2, 3) cm in RTN: the overlap a - b is (-1, 2, -3) cm, 3D 3.74 cm
+    a, b = tmp_path / "a.nc", tmp_path / "b.nc"
+    _circular_arc("2022-12-31T21:00").to_netcdf(a)
+    _circular_arc("2023-01-01T21:00", (0.01, -0.02, 0.03)).to_netcdf(b)
+    out = tmp_path / "overlap.nc"
+    _script("overlap").main(a, b, out, trim_s=0.0, title="test")
+    rms = xr.load_dataset(out).rms_m
+    np.testing.assert_allclose([float(rms.sel(component=c)) for c in ("R", "T", "N", "3D")],
+                               [0.01, 0.02, 0.03, math.sqrt(14e-4)], atol=2e-4)
+
+
+@pytest.mark.shared
+def test_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path):
+    d = shared_data / "grace-a_2007-080"
+    signals = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],
+                                     "pod_code": ["C1W", "C2W"]}})
+    out = {k: tmp_path / f"{k}.nc" for k in ("obs", "gnss", "leo")}
+    _script("ingest").main(d / "graa0800.07o.gz", d / "cod14193.sp3.gz", d / "cod14193.clk.gz",
+                           None, d / "igs05_1402.atx.gz", out["obs"], out["gnss"], out["leo"],
+                           signals=signals,
+                           pco_body_m={"L1": [0.0, 0.0, -0.4514], "L2": [0.0, 0.0, -0.4757]},
+                           sp3_id=None)
+    assert xr.open_dataset(out["obs"]).sizes["time"] == 8640
+    figures = {k: tmp_path / f"{k}.png" for k in ("mp_elevation", "skyplot", "noise",
+                                                   "visibility")}
+    outputs = {"nc": tmp_path / "quality.nc", "summary": tmp_path / "summary.html", **figures}
+    _script("quality").main(out["obs"], out["gnss"], out["leo"], signals,
+                            QualitySettings.from_config(section_defaults("quality")),
+                            "GRACE-A 2007-080", outputs)
+    quality = xr.load_dataset(outputs["nc"])
+    assert 7.0 <= float(quality.G_mean_sv_per_epoch) <= 10.0
+    assert all(p.stat().st_size > 0 for p in figures.values())
+
+
+def test_mock_snakemake_rebuilds_a_job_of_the_default_campaign(monkeypatch):
+    monkeypatch.chdir(Path.cwd())           # mock_snakemake moves to the repository root
+    sm = mock_snakemake("float_pod", sat="hy2b-sim", date="2019-002")
+    assert [Path(p).name for p in sm.input.obs] == [
+        "2019-001_obs.nc", "2019-002_obs.nc", "2019-003_obs.nc"]      # the 30-h arc's days
+    assert sm.output.sp3 == "results/float_pod/hy2b-sim/2019-002.sp3"
+    assert sm.params.pod["outlier_k"] == section_defaults("pod")["outlier_k"]
+    assert sm.rule == "float_pod" and str(sm.log[0]) == "logs/float_pod/hy2b-sim/2019-002.log"
+    with pytest.raises(ValueError, match="wildcards"):
+        mock_snakemake("float_pod", sat="hy2b-sim")
