@@ -1,4 +1,5 @@
-"""Snakemake script of rule overlap_summary: campaign overlap statistics (seed 002 Fig. 13)."""
+"""Snakemake script of rule overlap_summary: campaign overlap statistics (Jiang et al. 2023,
+Fig. 13)."""
 
 import pandas as pd
 import xarray as xr

@@ -1,5 +1,5 @@
 """Snakemake script of rule reference_summary: daily and total reference-orbit statistics
-(seed 001 Table 4, seed 002 Fig. 17)."""
+(Wang et al. 2024, Table 4; Jiang et al. 2023, Fig. 17)."""
 
 import pandas as pd
 import xarray as xr

@@ -1,5 +1,6 @@
-"""Snakemake script of rule slr_summary: SLR statistics per station (seed 000 Table IV), per
-elevation bin (seed 000 Figs. 17-18) and projected on R/T/N (seed 001 Table 5)."""
+"""Snakemake script of rule slr_summary: SLR statistics per station (Peng et al. 2021, Table IV),
+per elevation bin (Peng et al. 2021, Figs. 17-18) and projected on R/T/N (Wang et al. 2024,
+Table 5)."""
 
 import pandas as pd
 import xarray as xr
