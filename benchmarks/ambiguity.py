@@ -1,9 +1,9 @@
 """Ambiguity resolution and fixed POD of the simulated default campaign against its truth (issue 7).
 
 Run ``make run`` first (or ``snakemake --cores 2``). For every day this prints the fixing
-rates (seed 002: fixed independent / all independent) and the share of fixed pairs, the wrong
-fixes counted against the simulated integers, float and fixed RMS errors (R/T/N/3D over the
-day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
+rates (Jiang et al. 2023: fixed independent / all independent) and the share of fixed pairs,
+the wrong fixes counted against the simulated integers, float and fixed RMS errors (R/T/N/3D over
+the day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
 from Snakemake's benchmark files. With ``--codes`` it re-solves the arc of one day in-process
 with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W) instead, and prints the
 same figures for each (issue 6 and 7: the effect of the map on the fixing rates). With

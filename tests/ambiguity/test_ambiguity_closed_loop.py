@@ -85,7 +85,7 @@ def test_chain_recovers_true_integers_and_constraints(world):
                                rtol=0, atol=1e-5)   # OSB file: 6 decimals of ns
     a = constraint_matrix(rows, amb.sizes["ambiguity"])
     assert np.linalg.matrix_rank(a) == rows.index_i.size
-    # seed 002 fixing rates: independent fixed / all independent
+    # Jiang et al. (2023) fixing rates: independent fixed / all independent
     wl_rate = fixing_rate(i, j, wl.fixed)
     nl_fixed = np.zeros(i.size, dtype=bool)
     nl_fixed[np.nonzero(wl.fixed)[0][ok]] = True

@@ -1,8 +1,9 @@
 """Tests of leopod.ambiguity.decision.
 
 Authorities:
-- seed 000 Table II thresholds (0.24 / 0.12 cycles) for the rounding rule, at the boundary;
-- Dong & Bock (1989) eq. A-12 (seed 004 eq. (9)): its defining sum re-evaluated by direct
+- Peng et al. (2021) Table II thresholds (0.24 / 0.12 cycles) for the rounding rule, at the
+  boundary;
+- Dong & Bock (1989) eq. A-12 (BDS SCB-AR paper, eq. (9)): its defining sum re-evaluated by direct
   numerical integration of the normal density (scipy.stats.norm, scipy.integrate.quad) over
   the intervals |e| ∈ (i − d, i + d), and the analytic limits (d = 0: P0 = 1; d = 1/2: the
   series telescopes to erf(1/(2√2 σ)); σ → 0: 1; σ → ∞: 1 − 2d);
@@ -32,9 +33,9 @@ from leopod.ambiguity.decision import (
 )
 
 
-def test_seed000_thresholds():
-    assert WL_MAX_DEV_CYC == 0.24 and NL_MAX_DEV_CYC == 0.12   # seed 000, Table II
-    assert DONG_BOCK_ALPHA == 1e-3                              # seed 004: α = 0.1 %
+def test_peng2021_thresholds():
+    assert WL_MAX_DEV_CYC == 0.24 and NL_MAX_DEV_CYC == 0.12   # Peng et al. (2021), Table II
+    assert DONG_BOCK_ALPHA == 1e-3                              # the BDS SCB-AR paper: α = 0.1 %
 
 
 def test_rounding_decision_values_and_reasons():

@@ -5,7 +5,8 @@ Authorities:
   selected and of all single differences;
 - brute force optimality: enumeration of every subset of the maximal size of a small graph,
   keeping the linearly independent ones, for the smallest total key;
-- hand-counted graphs for the fixing rate of seed 002 (independent fixed / all independent).
+- hand-counted graphs for the fixing rate of Jiang et al. (2023) (independent fixed / all
+  independent).
 """
 
 from __future__ import annotations
@@ -74,7 +75,7 @@ def test_order_and_ties():
     assert independent_edges([], []).size == 0
 
 
-def test_fixing_rate_seed002_definition():
+def test_fixing_rate_jiang2023_definition():
     # two components: triangle {0, 1, 2} (rank 2) and path 3-4-5 (rank 2): 4 independent SDs
     i = np.array([0, 1, 0, 3, 4])
     j = np.array([1, 2, 2, 4, 5])

@@ -2,7 +2,7 @@
 
 Authorities:
 - analytic truth: float IF ambiguities generated from B = λ_NL N1 + λ_NL f2/(f1 − f2) N_WL
-  + b_r + b^s (seed 000 eq. (5)); noise-free they must give the true ΔN1 exactly, and the
+  + b_r + b^s (Peng et al. 2021, eq. (5)); noise-free they must give the true ΔN1 exactly, and the
   fixed IF value must reproduce the noise-free ΔB;
 - brute force: covariance of the single differences as D C D^T with an explicit ±1 matrix;
 - the simulator's truth ``if_phase_bias_sat_m`` (c (dt^s − dt^s_int), from the drawn β)

@@ -1,7 +1,7 @@
 """Tests of leopod.ambiguity.pairs.
 
 Authorities: brute force (double loop over all pairs with the stated conditions) and the
-8-minute rule of seed 000 (sec. IV-B) at its boundary.
+8-minute rule of Peng et al. (2021) (sec. IV-B) at its boundary.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def test_pairs_match_brute_force():
 
 
 def test_eight_minute_boundary_and_exclusions():
-    # seed 000: common time of fewer than 8 minutes is ignored; 480 s exactly is kept
+    # Peng et al. (2021): common time of fewer than 8 minutes is ignored; 480 s exactly is kept
     sv = ["G01", "G02", "G03", "G01", "C19"]
     start = _s([0.0, 600.0, 600.1, 700.0, 0.0])
     end = _s([1080.0, 2000.0, 2000.0, 2000.0, 2000.0])

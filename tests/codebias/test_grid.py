@@ -1,4 +1,5 @@
-"""Antenna grid: node layout of seed 000 and bilinear interpolation (seed 001 eqs. 7-9)."""
+"""Antenna grid: node layout of Peng et al. (2021) and bilinear interpolation (Wang et al. 2024,
+eqs. 7-9)."""
 
 import numpy as np
 import pytest
@@ -6,8 +7,8 @@ import pytest
 from leopod.codebias.grid import AntennaGrid
 
 
-def test_five_degree_grid_has_the_1297_parameters_of_seed_000():
-    # seed 000 sec. II: "5° x 5° resolution, so there were 1297 grid points"
+def test_five_degree_grid_has_the_1297_parameters_of_peng2021():
+    # Peng et al. (2021) sec. II: "5° x 5° resolution, so there were 1297 grid points"
     g = AntennaGrid(5.0, 5.0)
     assert g.n_nodes == 1297
     assert g.elevation_deg[-1] == 90.0 and g.azimuth_deg[-1] == 355.0

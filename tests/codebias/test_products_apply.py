@@ -43,7 +43,7 @@ def quality_day(seed, map_fn=smooth_map, n_passes=300, n_sv=8):
 
 
 def test_attitude_modes_alternate_at_yaw_flips():
-    # seed 002: periods 1 and 3 share the attitude mode, as do 2 and 4
+    # Jiang et al. (2023): periods 1 and 3 share the attitude mode, as do 2 and 4
     t = np.array(["2021-06-01", "2021-07-20", "2021-09-01", "2021-11-01"], dtype="datetime64[ns]")
     flips = ["2021-07-14T18:21:00", "2021-08-30T00:00:00", "2021-10-23T00:00:00"]
     assert attitude_mode(t, flips).tolist() == [0, 1, 0, 1]

@@ -65,7 +65,7 @@ def test_argument_of_latitude(u_deg, inc_deg):
 
 
 def test_regular_intervals_and_active_parameters():
-    # seed 000 Table II: 30-h arc, every 180 min → 10 intervals of 6 (T, N × C, cos, sin)
+    # Peng et al. (2021) Table II: 30-h arc, every 180 min → 10 intervals of 6 (T, N × C, cos, sin)
     model = EmpiricalModel.regular(0.0, 30 * 3600.0, 180 * 60.0)
     assert model.n_intervals == 10 and model.n_params == 60
     assert model.interval(0.0) == 0 and model.interval(10_799.9) == 0
@@ -74,7 +74,7 @@ def test_regular_intervals_and_active_parameters():
     assert model.active(12_000.0) == slice(6, 12)
     assert model.index(1, "N", "cos") == 10
     assert model.names()[10] == "emp_cos_N_1"
-    # seed 002: 24 h every 120 min → 12; a remainder interval is kept
+    # Jiang et al. (2023): 24 h every 120 min → 12; a remainder interval is kept
     assert EmpiricalModel.regular(0.0, 86_400.0, 7_200.0).n_intervals == 12
     odd = EmpiricalModel.regular(0.0, 10_000.0, 3_000.0)
     np.testing.assert_array_equal(odd.boundaries_s, [0, 3000, 6000, 9000, 10000])
@@ -119,8 +119,8 @@ def test_acceleration_components():
 
 
 def test_default_directions_along_and_cross_track():
-    # seed 000 Table II: along- and cross-track only; a constant C_T is along the velocity of
-    # a circular orbit
+    # Peng et al. (2021) Table II: along- and cross-track only; a constant C_T is along the velocity
+    # of a circular orbit
     pos, vel, _ = STATE
     model = EmpiricalModel(np.array([0.0, 1.0]))
     coef = np.zeros(6)

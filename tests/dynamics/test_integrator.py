@@ -394,7 +394,7 @@ def test_apply_pulses_jumps_the_velocity_by_the_rtn_vector():
     plain = integrate(model, 0.0, STATE0, [], [t_i], with_partials=False)
     basis = rtn_basis(plain.states[0, :3], plain.states[0, 3:])
     # right-continuous: the state at t_i is after the pulse (authority: definition, eq. 1 of
-    # seed 001); before it the orbit is the unpulsed one
+    # Wang et al. 2024); before it the orbit is the unpulsed one
     np.testing.assert_allclose(pulsed.states[1, 3:] - plain.states[0, 3:], basis @ dv_rtn[0],
                                rtol=0, atol=1e-11)
     np.testing.assert_allclose(pulsed.states[1, :3], plain.states[0, :3], rtol=0, atol=1e-6)

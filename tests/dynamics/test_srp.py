@@ -97,7 +97,8 @@ def test_absorbing_box_equals_projected_cannonball():
 
 
 def test_sun_tracking_panels():
-    # seed 002 eq. 4: n = y × (e☉ × y) / |...|: orthogonal to y, cos θ = sqrt(1 − (e☉·y)²)
+    # Jiang et al. (2023) eq. 4: n = y × (e☉ × y) / |...|: orthogonal to y,
+    # cos θ = sqrt(1 − (e☉·y)²)
     model = _box()
     rot = np.linalg.qr(np.array([[0.3, 0.5, 0.8], [0.9, -0.2, 0.1], [0.1, 0.7, -0.4]]))[0].T
     sun = np.array([1.0e11, 9.0e10, 4.0e10])

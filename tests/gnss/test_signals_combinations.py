@@ -87,7 +87,7 @@ def test_multipath_recovers_code_error_up_to_a_constant(synthetic):
     s = synthetic
     mp = multipath(s["code1"], s["phase1"], s["phase2"], s["f1"], s["f2"])
     d = mp - s["mp1"]
-    assert np.ptp(d) < 1e-6   # constant: ambiguity terms only (seed 000 eq. 1)
+    assert np.ptp(d) < 1e-6   # constant: ambiguity terms only (Peng et al. 2021, eq. 1)
 
 
 def test_ionosphere_rate_sign_and_scale(synthetic):

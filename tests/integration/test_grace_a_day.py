@@ -85,7 +85,7 @@ def test_daily_indicators_are_plausible(day):
     assert float(q.G_completeness) > 0.99
     for code in ("C1C", "C1W", "C2W"):
         rms = float(q[f"G_mp_rms_{code}_m"])
-        assert 0.05 < rms < 1.0                          # decimetre level, like seed 001 Table 2
+        assert 0.05 < rms < 1.0          # decimetre level, like Wang et al. (2024) Table 2
     assert 10 < float(q.G_obs_per_slip) < 1000
 
 
@@ -115,8 +115,8 @@ def three_hour_arc(day, shared_data):
 def test_float_pod_three_hour_arc(three_hour_arc):
     """Float reduced-dynamic POD of 00-03 h with the campaign settings of the GRACE-A config.
 
-    Authority for the residual level: seed 001 sec. 3.3.1 (HY-2A float reduced-dynamic POD,
-    undifferenced IF phase residual RMS 7.04-7.76 mm per day); GRACE's BlackJack tracks L1/L2
+    Authority for the residual level: Wang et al. (2024) sec. 3.3.1 (HY-2A float reduced-dynamic
+    POD, undifferenced IF phase residual RMS 7.04-7.76 mm per day); GRACE's BlackJack tracks L1/L2
     at least as well. The code residual follows the IF P-code noise of the day (~0.9 m
     from MP1/MP2, see test_code_only_orbit_is_a_grace_orbit) plus low-elevation multipath.
     """

@@ -1,11 +1,11 @@
 """Closed loop on one simulated HY-2B-like day: files -> ingest -> quality, against the truth.
 
 Authorities: the simulation truth (orbit, receiver clock, passes, antenna angles) written
-beside the files; the code-noise levels put into the simulation are seed 000's typical 2-min
-STDs of epoch-differenced code minus carrier (C1 0.46 m, P1 0.09 m, P2 0.02 m, sec. II-B),
-which the quality step must find again; the HY-2B P1 code-bias map of seed 000 (a crescent
-rising to ~3 m between azimuths 120° and 240° at low elevation), which legitimately moves the
-HMW combination there.
+beside the files; the code-noise levels put into the simulation are the typical 2-min
+STDs of epoch-differenced code minus carrier of Peng et al. (2021) (C1 0.46 m, P1 0.09 m,
+P2 0.02 m, sec. II-B), which the quality step must find again; the HY-2B P1 code-bias map of
+Peng et al. (2021) (a crescent rising to ~3 m between azimuths 120° and 240° at low
+elevation), which legitimately moves the HMW combination there.
 """
 
 from dataclasses import replace
@@ -103,7 +103,7 @@ def test_apriori_orbit_against_truth(day, world):
     clk_true = truth.clk_rx_true_s.sel(obs_time=leo.time).values * 299_792_458.0
     assert np.nanstd(leo.clk_rx_m.values - clk_true) < 0.5
     # With the map (2.55 x 0.5-3 m in the ionosphere-free code, larger at low elevation) the
-    # code-only orbit moves radially by metres: the effect seed 000 corrects with the map.
+    # code-only orbit moves radially by metres: the effect Peng et al. (2021) corrects with the map.
     radial_map, _ = _radial_and_3d_errors(day["leo"], truth)
     assert abs(np.nanmean(radial_map)) > 1.0 + abs(np.nanmean(radial[ok]))
 
@@ -117,8 +117,8 @@ def _quality(obs, gnss, leo):
 
 
 def test_quality_recovers_code_noise_at_10_s(world, tmp_path):
-    # Seed 000 measures noise on 1-s data, where the ionospheric change between epochs that
-    # also enters epoch-differenced code minus carrier (2 dI) is negligible; at 30 s it adds
+    # Peng et al. (2021) measures noise on 1-s data, where the ionospheric change between epochs
+    # that also enters epoch-differenced code minus carrier (2 dI) is negligible; at 30 s it adds
     # ~15 % to the 2-cm P2 level, at 10 s a few per cent. So this check uses 10-s data.
     for name in ("g.sp3", "g.clk"):
         (tmp_path / name).write_bytes((world["dir"] / name).read_bytes())
@@ -126,7 +126,8 @@ def test_quality_recovers_code_noise_at_10_s(world, tmp_path):
                              world["biases"])
     q, _ = _quality(obs, gnss_at_epochs(products, obs.time.values),
                     apriori_from_spp(obs, products, SIGNALS, PCO))
-    # typical (histogram-peak) STDs put in: seed 000 C1 0.46, P1 0.09, P2 0.02 m, within 25 %
+    # typical (histogram-peak) STDs put in: Peng et al. (2021) C1 0.46, P1 0.09, P2 0.02 m,
+    # within 25 %
     assert float(q.G_noise_C1C_peak_m) == pytest.approx(0.46, rel=0.25)
     assert float(q.G_noise_C1W_peak_m) == pytest.approx(0.09, rel=0.25)
     assert float(q.G_noise_C2W_peak_m) == pytest.approx(0.02, rel=0.25)

@@ -1,5 +1,5 @@
-"""Figures of the code-bias maps: PNGs written and deterministic, seed orientation, robust to
-empty maps and a single signal, statistics of the map difference."""
+"""Figures of the code-bias maps: PNGs written and deterministic, orientation of Peng et al. (2021),
+robust to empty maps and a single signal, statistics of the map difference."""
 
 from __future__ import annotations
 
@@ -130,7 +130,8 @@ def test_azimuth_clockwise_from_top():
     assert ax.get_theta_offset() == pytest.approx(np.pi / 2)
     assert ax.get_theta_direction() == -1
     # geometry: in display coordinates (y up) azimuth 0° at zenith distance 45° lies straight
-    # above the centre and azimuth 90° straight to its right (seed 000 Figs. 7–11 orientation)
+    # above the centre and azimuth 90° straight to its right (Peng et al. 2021, Figs. 7–11
+    # orientation)
     fig.canvas.draw()
     centre, north, east = ax.transData.transform([(0.0, 0.0), (0.0, 45.0), (np.pi / 2, 45.0)])
     up, right = north - centre, east - centre

@@ -91,7 +91,7 @@ def _capture(monkeypatch) -> list:
 
 def test_station_bars_are_mean_and_std(monkeypatch):
     # Bars = mean, error bars = sample STD of the used residuals per station, computed here
-    # with numpy (definition of seed 000 Table IV), last group all stations, in cm.
+    # with numpy (definition of Peng et al. 2021, Table IV), last group all stations, in cm.
     figures = _capture(monkeypatch)
     res = _residuals()
     slr_plots.plot_slr_stations(res, "unused.png")
@@ -110,7 +110,7 @@ def test_station_bars_are_mean_and_std(monkeypatch):
 
 
 def test_elevation_std_per_bin(monkeypatch):
-    # Lower panel: STD per 5° bin of the used residuals (seed 000 Figs. 17-18), in cm.
+    # Lower panel: STD per 5° bin of the used residuals (Peng et al. 2021, Figs. 17-18), in cm.
     figures = _capture(monkeypatch)
     res = _residuals()
     slr_plots.plot_slr_elevation(res, "unused.png")

@@ -10,7 +10,7 @@ The files of one HY-2B-like day are written once (module fixture) and checked ag
 - the estimator's own observation model (leopod.estimation.obsmodel, IERS frames, products
   read from the written SP3/CLK files): simulator and estimator must agree to the noise;
 - the readers of leopod and georinex (an independent RINEX reader) for the written files;
-- the noise levels put in (configuration): seed 000's typical code noise.
+- the noise levels put in (configuration): the typical code noise of Peng et al. (2021).
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ F1, F2 = frequency_hz("G", "1"), frequency_hz("G", "2")
 LAM1, LAM2 = C_LIGHT_M_S / F1, C_LIGHT_M_S / F2
 LAM_WL, LAM_NL = wide_lane_wavelength_m(F1, F2), narrow_lane_wavelength_m(F1, F2)
 DAY0 = np.datetime64("2019-01-01T00:00", "ns")
-#: Coefficients of MP1 = P1 - A L1 + B L2 (seed 000 eq. (1)).
+#: Coefficients of MP1 = P1 - A L1 + B L2 (Peng et al. 2021, eq. (1)).
 MP_A = (F1**2 + F2**2) / (F1**2 - F2**2)
 MP_B = 2.0 * F2**2 / (F1**2 - F2**2)
 DZ_PCO_M = PCO["L2"][2] - PCO["L1"][2]      # z2 - z1 of the configured antenna offsets
@@ -101,8 +101,8 @@ def test_mp_recovers_code_bias_map_and_noise(raw, truth_obs):
     el, az = truth_obs.el_deg.values, truth_obs.az_deg.values
     pid = truth_obs.pass_true.values
     mp = multipath(raw.C1W.values, raw.L1C.values * LAM1, raw.L2W.values * LAM2, F1, F2)
-    # expected: the map (independent evaluation of the seed-000 model), the antenna offsets
-    # (rho_b = rho + sin(el) z_b: MP1 keeps B (rho2 - rho1)) and the wind-up (MP1 keeps
+    # expected: the map (independent evaluation of the model of Peng et al. 2021), the antenna
+    # offsets (rho_b = rho + sin(el) z_b: MP1 keeps B (rho2 - rho1)) and the wind-up (MP1 keeps
     # w (B lam2 - A lam1)); ionosphere, clocks, geometry cancel, ambiguities are per pass
     expected = (CodeBiasMap("hy2b_p1", "C1W")(az, el) + MP_B * np.sin(np.radians(el)) * DZ_PCO_M
                 + truth_obs.windup_cyc.values * (MP_B * LAM2 - MP_A * LAM1))
@@ -506,11 +506,11 @@ def test_settings_from_the_campaign_config():
     assert s.systems == {"G": ("C1C", "C1W", "C2W", "L1C", "L2W")}
     assert s.dynamics.gravity_degree == 150 and s.models["field"] == "satkit:ITU_GRACE16.gfc"
     assert s.observations.channels == 12
-    # documented noise values = the defaults of the code (seed 000 / sqrt(2))
+    # documented noise values = the defaults of the code (values of Peng et al. 2021 / sqrt(2))
     for code, value in s.observations.noise_m.items():
         assert value == pytest.approx(DEFAULT_NOISE_M[code], abs=5e-5)
-    # seed 000 Table I: LRA centre (311.29, -215.43, 986.53) minus centre of mass (1383.44,
-    # 6.85, 2.35) mm
+    # Peng et al. (2021) Table I: LRA centre (311.29, -215.43, 986.53) minus centre of mass
+    # (1383.44, 6.85, 2.35) mm
     np.testing.assert_allclose(s.slr.retro_offset_body_m, [-1.07215, -0.22228, 0.98418],
                                atol=1e-9)
     assert s.slr.retro_offset_body_m == SimulationSettings().slr.retro_offset_body_m

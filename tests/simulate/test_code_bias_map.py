@@ -1,8 +1,8 @@
 """Tests of leopod.simulate.code_bias_map.
 
-Authorities: the pattern described in seed 000 (HY-2B P1, sec. II text of Figs. 7-10 and the
-conclusion) and seed 002 (BDS-3 patchy maps), quoted at each check; independent numerical
-quadrature for the map mean; analytic properties (continuity, zero model).
+Authorities: the pattern described in Peng et al. (2021) (HY-2B P1, sec. II text of Figs. 7-10 and
+the conclusion) and Jiang et al. (2023) (BDS-3 patchy maps), quoted at each check; independent
+numerical quadrature for the map mean; analytic properties (continuity, zero model).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ def hy2b():
 
 
 def test_hy2b_valley_on_the_long_axis(hy2b):
-    # seed 000: "a valley along the axis of the area, in which the errors reach a minimum,
+    # Peng et al. (2021): "a valley along the axis of the area, in which the errors reach a minimum,
     # about -0.3 m"; "the two ends of the area point to azimuths of 90° and 270°"
     for az in (90.0, 270.0):
         assert hy2b(az, 60.0) == pytest.approx(-0.3, abs=0.03)
@@ -34,8 +34,8 @@ def test_hy2b_valley_on_the_long_axis(hy2b):
 
 
 def test_hy2b_flat_ellipse_elongated_across_track(hy2b):
-    # seed 000: "an obviously elliptical area in the center of the map ... the errors mainly
-    # varied by 10 to 20 cm"
+    # Peng et al. (2021): "an obviously elliptical area in the center of the map ... the errors
+    # mainly varied by 10 to 20 cm"
     for az, el in ((0.0, 75.0), (180.0, 75.0), (45.0, 70.0), (315.0, 72.0)):
         assert 0.1 <= hy2b(az, el) <= 0.2
     # long axis along 90°/270°: at 50° elevation the cross-track direction is still inside the
@@ -45,14 +45,14 @@ def test_hy2b_flat_ellipse_elongated_across_track(hy2b):
 
 
 def test_hy2b_rest_of_the_map(hy2b):
-    # seed 000: "for the rest of the map, the errors vary from 0.5 to 1 m"
+    # Peng et al. (2021): "for the rest of the map, the errors vary from 0.5 to 1 m"
     for az, el in ((0.0, 30.0), (90.0, 20.0), (300.0, 10.0), (0.0, 5.0), (60.0, 15.0),
                    (270.0, 2.5), (30.0, 40.0)):
         assert 0.5 <= hy2b(az, el) <= 1.0 + 1e-3
 
 
 def test_hy2b_crescent(hy2b):
-    # seed 000 conclusion: "reached a maximum of 3 m in the crescent area between azimuth
+    # Peng et al. (2021) conclusion: "reached a maximum of 3 m in the crescent area between azimuth
     # angles of 120° to 240°"
     grid = hy2b.grid()["code_bias_m"]
     assert 2.5 <= float(grid.max()) <= 3.1
@@ -66,7 +66,7 @@ def test_hy2b_crescent(hy2b):
 
 
 def test_hy2b_rapid_increase_below_40_deg(hy2b):
-    # seed 000 abstract: "P1 code multipath errors ... rapidly increase from sub-meter to
+    # Peng et al. (2021) abstract: "P1 code multipath errors ... rapidly increase from sub-meter to
     # several meters at elevation less than 40°"
     el = np.linspace(0.0, 40.0, 81)
     b = hy2b(180.0, el)
@@ -133,7 +133,7 @@ def test_none_model_is_zero():
 
 
 def test_bds3_patchy_amplitude_seed_and_low_elevation():
-    # seed 002: "patchy patterns with the amplitudes mainly concentrated within ±40 cm"
+    # Jiang et al. (2023): "patchy patterns with the amplitudes mainly concentrated within ±40 cm"
     blobs = CodeBiasMap("bds3_patchy", "C1P", low_elevation_m=0.0, seed=3)
     az, el = np.meshgrid(np.arange(0.0, 360.0, 0.25), np.arange(0.0, 90.01, 0.25))
     peak = np.max(np.abs(blobs(az, el)))
@@ -143,8 +143,8 @@ def test_bds3_patchy_amplitude_seed_and_low_elevation():
     other = CodeBiasMap("bds3_patchy", "C1P", low_elevation_m=0.0, seed=4)
     assert np.array_equal(blobs(az, el), again(az, el))
     assert np.max(np.abs(blobs(az, el) - other(az, el))) > 0.1
-    # seed 002: "at low elevation angles, the MPs of both frequencies predominantly fall below
-    # 0 m": the default low-elevation term is -0.2 m at the horizon, 0 at the zenith
+    # Jiang et al. (2023): "at low elevation angles, the MPs of both frequencies predominantly fall
+    # below 0 m": the default low-elevation term is -0.2 m at the horizon, 0 at the zenith
     full = CodeBiasMap("bds3_patchy", "C1P", seed=3)
     assert full(az[0], 0.0) - blobs(az[0], 0.0) == pytest.approx(np.full(az.shape[1], -0.2))
     assert full(0.0, 90.0) - blobs(0.0, 90.0) == pytest.approx(-0.2 * np.exp(-9.0))

@@ -3,7 +3,7 @@
 Authorities: the real files of ../shared/data/products_2008-279_whu (CODE SP3, WHU phase clocks,
 WHU Bias-SINEX OSB, CODE P1-C1 DCB) and their documented conventions: Bias-SINEX 1.00
 ("corrected = observed − OSB"), CODE's DCB sign (P1−C1 = OSB(C1W) − OSB(C1C), the comment of
-CODE's code.bia); the HMW combination (seed 000 eq. 3) whose satellite term the AR library
+CODE's code.bia); the HMW combination (Peng et al. 2021, eq. 3) whose satellite term the AR library
 reads from the same file (:func:`leopod.ambiguity.wide_lane.sat_wl_bias_osb`).
 """
 

@@ -1,8 +1,8 @@
 """Tests of leopod.simulate.truth_orbit: the truth LEO orbit of the closed-loop simulator.
 
-Authorities: the published HY-2 orbit (sun-synchronous, 99.34° at ~971 km: seeds 000 and 001,
-ILRS HY-2B mission page); the analytic sun-synchronous condition (node rate of 360° per
-tropical year, Vallado 2013 ch. 11) measured on the integrated GCRF orbit itself;
+Authorities: the published HY-2 orbit (sun-synchronous, 99.34° at ~971 km: Peng et al. 2021 and
+Wang et al. 2024, ILRS HY-2B mission page); the analytic sun-synchronous condition (node rate of
+360° per tropical year, Vallado 2013 ch. 11) measured on the integrated GCRF orbit itself;
 spherical trigonometry of the orbit normal and the Sun (local time of the ascending node);
 circular-orbit identities; sample statistics of the random draws (standard errors
 σ/sqrt(2n) of a sample standard deviation); direct evaluation of the built force model
@@ -75,8 +75,8 @@ def one_day():
 
 
 def test_sun_synchronous_inclination_of_hy2b():
-    # authority: published HY-2A/B orbit, 99.34° at 971 km (seed 001 sec. 1; seed 000: ~970 km
-    # and 99.34°; ILRS: 99.35°)
+    # authority: published HY-2A/B orbit, 99.34° at 971 km (Wang et al. 2024, sec. 1;
+    # Peng et al. 2021: ~970 km and 99.34°; ILRS: 99.35°)
     inc = sun_synchronous_inclination_deg(R_EARTH_EQUATOR_M + HY2B_ALTITUDE_M)
     assert abs(inc - 99.34) < 0.02
 

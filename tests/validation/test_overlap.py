@@ -1,4 +1,5 @@
-"""Orbit overlaps of consecutive arcs (seed 002 "Internal consistency validation", Fig. 13).
+"""Orbit overlaps of consecutive arcs (Jiang et al. 2023, "Internal consistency validation",
+Fig. 13).
 
 Analytic truth: arcs of a circular Kepler orbit displaced by known offsets along its inertial
 R, T, N axes; the campaign mean ± STD is checked against numpy on the per-pair values. Real

@@ -1,7 +1,7 @@
 """Tests of the SLR residuals: closed loop with the simulator (truth orbit -> noise, shifted
 orbit -> offset on the line of sight), each model term, epoch events and CRD flags,
-screening, statistics (seed 000 Table IV / Figs. 17-18, seed 001 Table 5), real CRD and
-SINEX files."""
+screening, statistics (Peng et al. 2021, Table IV / Figs. 17-18; Wang et al. 2024, Table 5), real
+CRD and SINEX files."""
 
 from __future__ import annotations
 
@@ -185,7 +185,7 @@ def test_range_terms_are_the_range_changes(truth, noisy, res_noisy):
 @pytest.mark.parametrize("offset_rtn_m", [(0.02, 0.0, 0.0), (0.01, -0.03, 0.02)])
 def test_shifted_orbit_gives_offset_on_line_of_sight(truth, clean, offset_rtn_m):
     # Noise-free closed loop with an orbit moved by a constant RTN offset δ: residual =
-    # −e·δ (e = unit line of sight station -> satellite, seed 001 eq. 16) within 0.2 mm
+    # −e·δ (e = unit line of sight station -> satellite, Wang et al. 2024, eq. 16) within 0.2 mm
     # (CRD 1-ps resolution 0.15 mm), and the least-squares RTN offset recovers δ (0.5 mm).
     _, nps, sta, ecc = clean
     shifted = _shifted(truth, offset_rtn_m)
@@ -197,7 +197,7 @@ def test_shifted_orbit_gives_offset_on_line_of_sight(truth, clean, offset_rtn_m)
     proj = rtn_projection(res)
     np.testing.assert_allclose(proj["offset_m"], offset_rtn_m, rtol=0, atol=5e-4)
     assert np.all(proj["sigma_offset_m"] < 1e-3)
-    # seed 001 Table 5: components ρ e_R, ρ e_T, ρ e_N add in quadrature to the range RMS
+    # Wang et al. (2024) Table 5: components ρ e_R, ρ e_T, ρ e_N add in quadrature to the range RMS
     assert float(np.sqrt((proj["rms_component_m"] ** 2).sum())) == \
         pytest.approx(float(proj["rms_range_m"]), rel=1e-12)
 
@@ -330,7 +330,7 @@ def test_ocean_loading_applied(truth, noisy, res_noisy):
 # ------------------------------------------------------------------------------ screening
 def test_screening(truth, noisy):
     # Each rejection reason on purpose-made points; the robust test (5 robust sigmas of
-    # 5 mm) rejects +0.3 m, the hard limit (0.5 m, seed 004) +1 m.
+    # 5 mm) rejects +0.3 m, the hard limit (0.5 m, BDS SCB-AR paper) +1 m.
     _, nps, sta, ecc = noisy
     nps = nps.copy(deep=True)
     tof = nps["tof_s"].values
@@ -372,7 +372,7 @@ def test_missing_crd_fields_default():
 
 # ----------------------------------------------------------------------------- statistics
 def test_station_and_elevation_statistics(res_noisy):
-    # Definitions (seed 000 Table IV; Figs. 17-18): per station count, mean, sample STD,
+    # Definitions (Peng et al. 2021, Table IV; Figs. 17-18): per station count, mean, sample STD,
     # RMS of the used residuals, recomputed here with numpy; 5° bins partition the points.
     st = station_statistics(res_noisy)
     res = res_noisy["residual_m"].values

@@ -150,8 +150,8 @@ def test_one_simulated_day_end_to_end(tmp_path):
     assert np.abs(sp3.pos_m.isel(sv=0).values - common.pos_itrf_m.values).max() < 1e-3
     # the code-bias map of the simulated P1 (C1W) pattern against the simulator's own map
     # (authority: the simulation truth; the constant is not observable). Issue 6 asks for
-    # < 5 cm RMS over nodes with >= 200 observations and >= 50 % less MP RMS (seed 000: 54.8 %)
-    # on the 3-day campaign (benchmarks/code_bias.py --truth); one day has few such nodes,
+    # < 5 cm RMS over nodes with >= 200 observations and >= 50 % less MP RMS (Peng et al. 2021:
+    # 54.8 %) on the 3-day campaign (benchmarks/code_bias.py --truth); one day has few such nodes,
     # so here the nodes with >= 100 observations are compared.
     maps = xr.load_dataset(tmp_path / "results/code_bias/hy2b-sim/2019-01.nc")
     grid = grid_of(maps)

@@ -1,6 +1,6 @@
-# code_bias: antenna-frame code-bias maps (seed 000 sec. II, seed 002) of one satellite and
-# period from the multipath series of the quality step; code_bias_stack: the maps of all
-# periods stacked, with the differences between consecutive periods (map stability).
+# code_bias: antenna-frame code-bias maps (Peng et al. 2021, sec. II; Jiang et al. 2023) of one
+# satellite and period from the multipath series of the quality step; code_bias_stack: the maps of
+# all periods stacked, with the differences between consecutive periods (map stability).
 rule code_bias:
     params:
         settings=config["code_bias"],

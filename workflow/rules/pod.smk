@@ -59,8 +59,9 @@ rule float_pod:
 
 
 # ambiguity: wide-lane/narrow-lane fixing of the single-differenced float ambiguities
-# (seed 000 sec. III-B, seed 002) with the campaign's AR product (CNES/CLS WL biases +
-# integer clocks, or Bias-SINEX OSB); without a product nothing is fixed and the table says so.
+# (Peng et al. 2021, sec. III-B; Jiang et al. 2023) with the campaign's AR product (CNES/CLS WL
+# biases + integer clocks, or Bias-SINEX OSB); without a product nothing is fixed and the table
+# says so.
 rule ambiguity:
     params:
         signals=config["signals"],

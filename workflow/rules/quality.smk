@@ -1,5 +1,6 @@
-# quality: data-quality indicators of one satellite-day (seed 001 Table 2, seed 000 II-B),
-# with the antenna-frame geometry of every observation and figures for the report.
+# quality: data-quality indicators of one satellite-day (Wang et al. 2024, Table 2;
+# Peng et al. 2021, sec. II-B), with the antenna-frame geometry of every observation and figures
+# for the report.
 rule quality:
     params:
         signals=config["signals"],

@@ -27,7 +27,8 @@ rule overlap:
         "../../scripts/overlap.py"
 
 
-# Campaign overlap statistics per arc pair and mean +- STD, float and fixed (seed 002 Fig. 13).
+# Campaign overlap statistics per arc pair and mean +- STD, float and fixed (Jiang et al. 2023,
+# Fig. 13).
 rule overlap_summary:
     params:
         solutions=solutions(),
@@ -90,7 +91,7 @@ rule reference_orbit:
         "../../scripts/reference_orbit.py"
 
 
-# Daily and campaign statistics of the reference-orbit differences (seed 001 Table 4).
+# Daily and campaign statistics of the reference-orbit differences (Wang et al. 2024, Table 4).
 rule reference_summary:
     params:
         solutions=solutions(),
@@ -210,7 +211,7 @@ rule slr_summary:
 
 
 # Campaign summary: per day and solution the residual RMS, fixing rates, overlap, reference
-# orbit and SLR statistics (the tables of the seeds), as netCDF, CSV and an HTML table.
+# orbit and SLR statistics (the tables of the source papers), as netCDF, CSV and an HTML table.
 rule campaign_summary:
     params:
         solutions=solutions(),

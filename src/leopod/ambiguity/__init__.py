@@ -1,9 +1,10 @@
-"""Single-receiver integer ambiguity resolution of LEO onboard GNSS phase (seeds 000, 002, 004).
+"""Single-receiver integer ambiguity resolution of LEO onboard GNSS phase (Peng et al. 2021;
+Jiang et al. 2023; BDS SCB-AR paper).
 
 Chain (one GNSS system and one frequency pair at a time):
 
 1. :func:`pairs.sd_pairs` — single-difference pairs of passes of different satellites with
-   at least 8 minutes of common observation time (seed 000);
+   at least 8 minutes of common observation time (Peng et al. 2021);
 2. :func:`wide_lane.sd_wide_lane` — float SD wide-lane ambiguities from the HMW
    combination over the common epochs, corrected by the satellite WL biases of the
    products (:func:`wide_lane.sat_wl_bias_cnes`, :func:`wide_lane.sat_wl_bias_osb`);
@@ -12,7 +13,7 @@ Chain (one GNSS system and one frequency pair at a time):
    IF ambiguities of the POD and the fixed WL, then NL fixing (3.);
 5. :func:`narrow_lane.fixed_sd_if_m` and :func:`independent.constraint_rows` — fixed SD IF
    ambiguities of a maximal independent set as pseudo-observations for the fixed POD;
-   :func:`independent.fixing_rate` — WL and NL fixing rates (seed 002).
+   :func:`independent.fixing_rate` — WL and NL fixing rates (Jiang et al. 2023).
 
 Sign conventions of the bias products: docstrings of :mod:`leopod.ambiguity.wide_lane` and
 :mod:`leopod.simulate.biases`.

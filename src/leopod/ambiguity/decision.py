@@ -1,15 +1,15 @@
 """Fixing decisions for float ambiguities in cycles (vectorised over ambiguities).
 
-* :func:`rounding_decision` — the rule of seed 000 (Table II: "Wide-lane fixing decision
+* :func:`rounding_decision` — the rule of Peng et al. (2021) (Table II: "Wide-lane fixing decision
   0.24 cycles", "Narrow-lane fixing decision 0.12 cycles"): fix to the nearest integer when
-  ``|x − round(x)| <= max_dev_cyc`` and ``sigma <= max_sigma_cyc``. Seed 000's text calls
-  the 0.24 cycles "the STD threshold value of the WL ambiguities for making the fixing
+  ``|x − round(x)| <= max_dev_cyc`` and ``sigma <= max_sigma_cyc``. The text of Peng et al. (2021)
+  calls the 0.24 cycles "the STD threshold value of the WL ambiguities for making the fixing
   decision", its Table II a "fixing decision": both bounds are therefore parameters (the
   caller chooses which sigma, formal or empirical STD, to pass).
 * :func:`dong_bock_probability` / :func:`dong_bock_decision` — Dong, D., Bock, Y. (1989)
   "Global Positioning System network analysis with phase ambiguity resolution applied to
   crustal deformation studies in California", J. Geophys. Res. 94(B4), 3949-3966, App. A
-  (eq. A-12), as used by seed 004, eq. (9), with ``α = 0.1 %``.
+  (eq. A-12), as used by the BDS SCB-AR paper, eq. (9), with ``α = 0.1 %``.
 * :func:`integer_bootstrap` — sequential conditional rounding of a correlated set
   (Teunissen, P.J.G. (1998) "Success probability of integer GPS ambiguity rounding and
   bootstrapping", J. Geodesy 72, 606-612), without decorrelation, with its success rate
@@ -31,13 +31,13 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-#: Largest deviation from the nearest integer of a fixable WL ambiguity [cycles] (seed 000,
+#: Largest deviation from the nearest integer of a fixable WL ambiguity [cycles] (Peng et al. 2021,
 #: Table II).
 WL_MAX_DEV_CYC = 0.24
-#: Largest deviation from the nearest integer of a fixable NL ambiguity [cycles] (seed 000,
+#: Largest deviation from the nearest integer of a fixable NL ambiguity [cycles] (Peng et al. 2021,
 #: Table II).
 NL_MAX_DEV_CYC = 0.12
-#: Largest accepted probability of a wrong rounding, ``1 − P0`` (seed 004: α = 0.1 %).
+#: Largest accepted probability of a wrong rounding, ``1 − P0`` (BDS SCB-AR paper: α = 0.1 %).
 DONG_BOCK_ALPHA = 1e-3
 
 _DB_TERM_TOL = 1e-17     # an element's Dong & Bock series stops when its term is below this
@@ -91,7 +91,7 @@ def _messages(mask: np.ndarray, make) -> np.ndarray:
 
 def rounding_decision(value_cyc, sigma_cyc, *, max_dev_cyc: float,
                       max_sigma_cyc: float = np.inf) -> FixDecision:
-    """Seed 000 fixing rule: fractional part and sigma below their bounds.
+    """Fixing rule of Peng et al. (2021): fractional part and sigma below their bounds.
 
     Parameters
     ----------
@@ -129,13 +129,13 @@ def rounding_decision(value_cyc, sigma_cyc, *, max_dev_cyc: float,
 
 
 def dong_bock_probability(value_cyc, sigma_cyc) -> np.ndarray:
-    """Dong & Bock (1989) probability ``P0`` of the nearest integer (seed 004, eq. (9)).
+    """Dong & Bock (1989) probability ``P0`` of the nearest integer (BDS SCB-AR paper, eq. (9)).
 
     ``P0 = 1 − Σ_{i=1}^{∞} [erfc((i − d)/(√2 σ)) − erfc((i + d)/(√2 σ))]``,
     ``d = |x − round(x)|``. Each term is the probability that an ``N(0, σ²)`` variable has
     ``|e|`` in ``(i − d, i + d)``; the terms decrease with ``i`` and the series is summed
-    until they fall below 1e-17. Seed 004's text calls σ "its variance": it is the standard
-    deviation (erfc argument ``(i ∓ d)/(√2 σ)``, as in Dong & Bock 1989, eq. A-12).
+    until they fall below 1e-17. The text of the BDS SCB-AR paper calls σ "its variance": it is
+    the standard deviation (erfc argument ``(i ∓ d)/(√2 σ)``, as in Dong & Bock 1989, eq. A-12).
 
     Properties: ``P0 = 1`` for ``d = 0`` whatever σ (combine with a sigma bound);
     ``P0 = erf(1/(2√2 σ))`` for ``d = 1/2`` (the series telescopes); ``P0 → 1`` as
@@ -170,14 +170,14 @@ def dong_bock_probability(value_cyc, sigma_cyc) -> np.ndarray:
 
 
 def dong_bock_decision(value_cyc, sigma_cyc, *, alpha: float = DONG_BOCK_ALPHA) -> FixDecision:
-    """Fix to the nearest integer when ``1 − P0 <= alpha`` (seed 004, eq. (9)).
+    """Fix to the nearest integer when ``1 − P0 <= alpha`` (BDS SCB-AR paper, eq. (9)).
 
     Parameters
     ----------
     value_cyc, sigma_cyc : array_like, shape (m,)
         Float ambiguities and their standard deviations [cycles].
     alpha : float
-        Largest accepted ``1 − P0`` (seed 004: 0.1 %).
+        Largest accepted ``1 − P0`` (BDS SCB-AR paper: 0.1 %).
 
     Returns
     -------

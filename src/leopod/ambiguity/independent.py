@@ -9,12 +9,12 @@ forest, and Kruskal's algorithm with a union-find over the edges sorted by a qua
 ("best-determined first", e.g. the NL sigma) gives the one of smallest total key.
 
 The fixed set enters the fixed POD as pseudo-observations ``B_i − B_j = ΔB_IF`` with a small
-sigma (seed 000, sec. III-B: the recovered single-differenced IF integer ambiguities "are
-mapped back onto the undifferenced ambiguities and are strongly constrained"; seed 002:
+sigma (Peng et al. 2021, sec. III-B: the recovered single-differenced IF integer ambiguities "are
+mapped back onto the undifferenced ambiguities and are strongly constrained"; Jiang et al. 2023:
 "the relationship ΔN = N_i − N_j is taken as the pseudo-observation to tightly constrain
 the ionospheric-free ambiguity parameters").
 
-Fixing rate (seed 002, "Internal consistency validation"): "the ratio of the number of
+Fixing rate (Jiang et al. 2023, "Internal consistency validation"): "the ratio of the number of
 independent fixed ambiguities to the total number of independent ambiguities", i.e.
 ``rank(fixed edges) / rank(all candidate edges)``.
 """
@@ -28,8 +28,8 @@ import numpy as np
 __all__ = ["CONSTRAINT_SIGMA_M", "ConstraintRows", "constraint_matrix", "constraint_rows",
            "fixing_rate", "graph_rank", "independent_edges"]
 
-#: Default sigma of the ambiguity pseudo-observations [m] (1 mm: "tight", seeds 000/002 give
-#: no number).
+#: Default sigma of the ambiguity pseudo-observations [m] (1 mm: "tight", Peng et al. 2021 and
+#: Jiang et al. 2023 give no number).
 CONSTRAINT_SIGMA_M = 1e-3
 
 
@@ -94,7 +94,7 @@ def graph_rank(i, j) -> int:
 
 
 def fixing_rate(i, j, fixed) -> float:
-    """Fixing rate of seed 002: independent fixed / all independent single differences.
+    """Fixing rate of Jiang et al. (2023): independent fixed / all independent single differences.
 
     Parameters
     ----------

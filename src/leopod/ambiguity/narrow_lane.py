@@ -5,24 +5,24 @@ The float ionosphere-free (IF) ambiguity of a pass in metres (float POD,
 
     B_IF = λ_NL N1 + λ_NL f2/(f1 − f2) N_WL + b_r,IF + b^s_IF,     N_WL = N1 − N2,
 
-(seed 000, eq. (5); seed 002, eq. (3): ``N_IF = f1 f2/(f1² − f2²) N_WL + f1/(f1 + f2) N_NL`` in
-units of ``λ_IF = λ1``, the same thing since ``λ1 f1/(f1 + f2) = λ_NL`` and
-``λ1 f1 f2/(f1² − f2²) = λ_NL f2/(f1 − f2)``; the PDF text of seed 002 eq. (3) is garbled
-and was re-derived). ``b_r,IF`` is the receiver IF phase bias; ``b^s_IF`` the satellite one:
-zero with integer-recovery clocks that hold it (CNES/CLS GRG clocks, used with WL biases
-only; :func:`leopod.simulate.biases.integer_clock_s`), and the IF combination of the phase
-OSBs, ``(f1² p1 − f2² p2)/(f1² − f2²)``, with clocks that are to be used together with
-phase OSBs (:func:`sat_if_phase_bias_osb`; "corrected = observed − OSB", so the uncorrected
-phase carries ``+p_i``). If the OSBs were already subtracted from the observations before
-the float POD, ``b^s_IF`` is zero here too.
+(Peng et al. 2021, eq. (5); Jiang et al. 2023, eq. (3):
+``N_IF = f1 f2/(f1² − f2²) N_WL + f1/(f1 + f2) N_NL`` in units of ``λ_IF = λ1``, the same thing
+since ``λ1 f1/(f1 + f2) = λ_NL`` and ``λ1 f1 f2/(f1² − f2²) = λ_NL f2/(f1 − f2)``; the PDF text of
+Jiang et al. (2023) eq. (3) is garbled and was re-derived). ``b_r,IF`` is the receiver IF phase
+bias; ``b^s_IF`` the satellite one: zero with integer-recovery clocks that hold it (CNES/CLS GRG
+clocks, used with WL biases only; :func:`leopod.simulate.biases.integer_clock_s`), and the IF
+combination of the phase OSBs, ``(f1² p1 − f2² p2)/(f1² − f2²)``, with clocks that are to be used
+together with phase OSBs (:func:`sat_if_phase_bias_osb`; "corrected = observed − OSB", so
+the uncorrected phase carries ``+p_i``). If the OSBs were already subtracted from the observations
+before the float POD, ``b^s_IF`` is zero here too.
 
-Single difference ``i − j`` with a fixed ``ΔN_WL`` (seed 000, eq. (8), where ``ΔB^s_1`` is
+Single difference ``i − j`` with a fixed ``ΔN_WL`` (Peng et al. 2021, eq. (8), where ``ΔB^s_1`` is
 dropped because the integer clocks hold the NL bias)::
 
     ΔN1 = (ΔB_IF − Δb^s_IF)/λ_NL − f2/(f1 − f2) ΔN_WL.
 
-Seed 004 eq. (10) prints ``f2/(f1 + f2)`` for the WL factor (text as extracted): a typo;
-``f2/(f1 − f2)`` follows from eq. (5) above and agrees with seed 000 eq. (8).
+Eq. (10) of the BDS SCB-AR paper prints ``f2/(f1 + f2)`` for the WL factor (text as extracted): a
+typo; ``f2/(f1 − f2)`` follows from eq. (5) above and agrees with Peng et al. (2021) eq. (8).
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ __all__ = ["SdNarrowLane", "fixed_sd_if_m", "sat_if_phase_bias_osb", "sd_covaria
 
 
 def _wl_factor(f1_hz: float, f2_hz: float) -> float:
-    """``f2/(f1 − f2)``: NL cycles per WL cycle in the IF ambiguity (seed 000, eq. (8))."""
+    """``f2/(f1 − f2)``: NL cycles per WL cycle in the IF ambiguity (Peng et al. 2021, eq. (8))."""
     return f2_hz / (f1_hz - f2_hz)
 
 
@@ -97,7 +97,7 @@ def sd_narrow_lane(value_m, covariance_m2, i, j, n_wl_sd, f1_hz: float, f2_hz: f
                    sat_bias_m=None) -> SdNarrowLane:
     """Single-difference float NL ambiguities from float IF ambiguities and fixed WL.
 
-    ``ΔN1 = (ΔB_IF − Δb^s_IF)/λ_NL − f2/(f1 − f2) ΔN_WL`` (seed 000, eq. (8); module
+    ``ΔN1 = (ΔB_IF − Δb^s_IF)/λ_NL − f2/(f1 − f2) ΔN_WL`` (Peng et al. 2021, eq. (8); module
     docstring).
 
     Parameters
@@ -135,7 +135,7 @@ def sd_narrow_lane(value_m, covariance_m2, i, j, n_wl_sd, f1_hz: float, f2_hz: f
 def fixed_sd_if_m(n_wl_sd, n_nl_sd, f1_hz: float, f2_hz: float, *, sat_bias_sd_m=0.0):
     """Fixed single-difference IF ambiguity ``B_i − B_j`` [m] from integer WL and NL.
 
-    ``ΔB_IF = λ_NL (ΔN1 + f2/(f1 − f2) ΔN_WL) + Δb^s_IF`` (seed 000, eq. (7); module
+    ``ΔB_IF = λ_NL (ΔN1 + f2/(f1 − f2) ΔN_WL) + Δb^s_IF`` (Peng et al. 2021, eq. (7); module
     docstring): the value the float parameters ``B_i − B_j`` are constrained to.
 
     Parameters

@@ -1,11 +1,11 @@
 """Single-difference pairs of undifferenced ambiguities (between-satellite differences).
 
 Single differencing two passes of different satellites observed by the same receiver removes
-the receiver phase and code biases (seed 000, sec. III-B, eqs. (6)-(8); seed 002, "IAR-based
-POD with OSB products"). A pair is formed when the two passes share enough observation time:
-"Single-differenced ambiguities with a common observation time of fewer than 8 minutes were
-ignored" (seed 000, sec. IV-B), hence the default ``min_common_s`` of 480 s. Only satellites of
-the same system are paired: across systems the receiver biases of different signals would not
+the receiver phase and code biases (Peng et al. 2021, sec. III-B, eqs. (6)-(8); Jiang et al. 2023,
+"IAR-based POD with OSB products"). A pair is formed when the two passes share enough observation
+time: "Single-differenced ambiguities with a common observation time of fewer than 8 minutes were
+ignored" (Peng et al. 2021, sec. IV-B), hence the default ``min_common_s`` of 480 s. Only satellites
+of the same system are paired: across systems the receiver biases of different signals would not
 cancel.
 """
 
@@ -17,7 +17,7 @@ import numpy as np
 
 __all__ = ["MIN_COMMON_S", "SdPairs", "sd_pairs"]
 
-#: Shortest common observation time of a single-difference pair [s] (seed 000, sec. IV-B:
+#: Shortest common observation time of a single-difference pair [s] (Peng et al. 2021, sec. IV-B:
 #: pairs with fewer than 8 minutes were ignored).
 MIN_COMMON_S = 480.0
 
@@ -51,7 +51,7 @@ def sd_pairs(sv, start, end, *, min_common_s: float = MIN_COMMON_S) -> SdPairs:
         ambiguity dataset of :func:`leopod.estimation.outputs.ambiguity_dataset`).
     min_common_s : float
         Shortest common observation time ``min(end) − max(start)`` [s] of a pair (default
-        480 s, seed 000).
+        480 s, Peng et al. 2021).
 
     Returns
     -------

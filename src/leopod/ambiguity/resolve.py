@@ -1,6 +1,6 @@
 """Single-receiver WL/NL ambiguity resolution of one float POD arc (rule ``ambiguity``).
 
-Steps (seed 000 sec. III-B, seed 002):
+Steps (Peng et al. 2021, sec. III-B; Jiang et al. 2023):
 
 1. single differences between the passes (float ambiguities) of different satellites with at
    least ``min_common_s`` of common observation time (:func:`~leopod.ambiguity.pairs.sd_pairs`);
@@ -13,10 +13,11 @@ Steps (seed 000 sec. III-B, seed 002):
    (:mod:`~leopod.ambiguity.independent`), mapped to constraints ``B_i − B_j = value`` on the
    undifferenced float ambiguities for the fixed POD.
 
-Decisions: ``"rounding"`` — fractional part and sigma below their bounds (seed 000: WL 0.24,
-NL 0.12 cycles) — or ``"dong_bock"`` — the probability test of seed 004 eq. 9 (α = 0.1 %),
-with the same sigma bounds. Every candidate keeps its float value, sigma, integer, decision and
-the reason of a rejection. Fixing rates follow seed 002: fixed independent / all independent.
+Decisions: ``"rounding"`` — fractional part and sigma below their bounds (Peng et al. 2021: WL 0.24,
+NL 0.12 cycles) — or ``"dong_bock"`` — the probability test of the BDS SCB-AR paper eq. 9
+(α = 0.1 %), with the same sigma bounds. Every candidate keeps its float value, sigma, integer,
+decision and the reason of a rejection. Fixing rates follow Jiang et al. (2023): fixed independent /
+all independent.
 """
 
 from __future__ import annotations

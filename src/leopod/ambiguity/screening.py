@@ -3,9 +3,9 @@
 A wrong integer forces the ionosphere-free ambiguity of its passes off the value the data
 want by a multiple of the narrow-lane wavelength (~10.7 cm for GPS): the phase residuals of
 those passes grow far above the ~mm noise, while a right fix leaves them at the float level
-(issue 7: "iterate or reject fixes that raise the residuals"; seed 000 warns that wrong fixes
-degrade the orbit). The fixed POD compares every constrained pass's phase residual RMS with its
-float value, drops the constraints of the passes that degraded and solves again.
+(issue 7: "iterate or reject fixes that raise the residuals"; Peng et al. 2021 warns that wrong
+fixes degrade the orbit). The fixed POD compares every constrained pass's phase residual RMS with
+its float value, drops the constraints of the passes that degraded and solves again.
 """
 
 from __future__ import annotations

@@ -1,12 +1,12 @@
 """Wide-lane (WL) ambiguities from the Hatch–Melbourne–Wübbena (HMW) combination.
 
-Model (seed 000, eq. (3), written with the sign convention of
+Model (Peng et al. 2021, eq. (3), written with the sign convention of
 :mod:`leopod.simulate.biases`; ``s`` satellite, ``r`` receiver, ``λ_WL = c/(f1 − f2)``)::
 
     HMW / λ_WL = N_WL + w_r + w^s + noise,      N_WL = N1 − N2,
     w = β1 − β2 − (f1 d1 + f2 d2) / ((f1 + f2) λ_WL)
 
-with ``β_i`` phase biases [cycles] and ``d_i`` code biases [m]. Seed 000 writes the
+with ``β_i`` phase biases [cycles] and ``d_i`` code biases [m]. Peng et al. (2021) writes the
 satellite biases with the opposite sign, ``λ (N + B_r − B^s)``: its ``B^s_HMW`` is our
 ``−w^s``.
 
@@ -21,7 +21,7 @@ Satellite WL bias ``w^s`` from the products at hand (conventions in the docstrin
   OSBs themselves, ``(f1 p1 − f2 p2)/(f1 − f2) − (f1 d1 + f2 d2)/(f1 + f2)``, which is
   ``λ_WL (β1 − β2) − (f1 d1 + f2 d2)/(f1 + f2)``: :func:`sat_wl_bias_osb`.
 
-Single difference (seed 000, eq. (6)): for two passes ``i`` (satellite ``s``) and ``j``
+Single difference (Peng et al. 2021, eq. (6)): for two passes ``i`` (satellite ``s``) and ``j``
 (satellite ``k``) of the same receiver the receiver term ``w_r`` cancels and::
 
     ΔN_WL = N_WL,i − N_WL,j = mean_t[(HMW_i(t) − HMW_j(t)) / λ_WL] − (w^s − w^k).
@@ -29,12 +29,12 @@ Single difference (seed 000, eq. (6)): for two passes ``i`` (satellite ``s``) an
 Choice: the single difference is formed epoch by epoch and averaged over the *common* epochs
 of the two passes, rather than differencing the two pass means. Eq. (6) is an epoch-wise
 single-difference observation equation fixed "with the multi-epoch data for each pass"
-(seed 000, sec. III-B); only at common epochs do time-varying receiver-side errors common to
+(Peng et al. 2021, sec. III-B); only at common epochs do time-varying receiver-side errors common to
 both satellites (receiver code-bias or clock-related variations) cancel, and the 8-minute
 common-time criterion of the pairs (:mod:`leopod.ambiguity.pairs`) only makes sense for this
 form. Its formal sigma is the empirical STD of the single-difference series over ``sqrt(n)``
 (epochs treated as independent: time-correlated multipath makes it optimistic). The
-per-pass means of :func:`pass_hmw` (seed 002: "an average value of the HMW observations for
+per-pass means of :func:`pass_hmw` (Jiang et al. 2023: "an average value of the HMW observations for
 each pass") are kept for quality reports.
 """
 
@@ -59,7 +59,7 @@ logger = logging.getLogger(__name__)
 
 
 def hmw_cycles(phase_1_m, phase_2_m, code_1_m, code_2_m, f1_hz: float, f2_hz: float):
-    """HMW combination in wide-lane cycles (seed 000, eq. (3)); arrays broadcast.
+    """HMW combination in wide-lane cycles (Peng et al. 2021, eq. (3)); arrays broadcast.
 
     Parameters
     ----------
@@ -191,7 +191,8 @@ class SdWideLane(NamedTuple):
 
 def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
                  wl_sat_cyc: xr.DataArray | None = None) -> SdWideLane:
-    """Single-difference WL float ambiguities averaged over the common epochs (seed 000 eq. 6).
+    """Single-difference WL float ambiguities averaged over the common epochs (Peng et al. 2021,
+    eq. 6).
 
     Parameters
     ----------

@@ -2,10 +2,10 @@
 
 ``corrected = observed − map(az, el)`` for every code the campaign asks to correct, with the
 antenna-frame direction of each observation from the quality step and the attitude mode of
-its epoch. Observations whose interpolation cell touches an empty node (too few data, seed 000
-Fig. 7 "blank areas") have no correction: ``empty_cells="drop"`` removes those codes (NaN),
-``"keep"`` leaves them uncorrected. Dropping is the default because the datum of a map is
-arbitrary: an uncorrected code differs from the corrected ones of the same epoch by the map's
+its epoch. Observations whose interpolation cell touches an empty node (too few data,
+Peng et al. 2021, Fig. 7 "blank areas") have no correction: ``empty_cells="drop"`` removes those
+codes (NaN), ``"keep"`` leaves them uncorrected. Dropping is the default because the datum of a map
+is arbitrary: an uncorrected code differs from the corrected ones of the same epoch by the map's
 mean, which neither the receiver clock nor the wide-lane single difference would absorb.
 """
 

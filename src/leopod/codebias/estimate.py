@@ -1,6 +1,6 @@
 """Least-squares estimation of an antenna-frame code-bias map from multipath combinations.
 
-The multipath combination of a code (seed 000, eq. (1); :func:`leopod.gnss.combinations.
+The multipath combination of a code (Peng et al. 2021, eq. (1); :func:`leopod.gnss.combinations.
 multipath`) observed in direction ``(a, e)`` of the antenna frame during pass ``p`` is modelled
 as::
 
@@ -51,9 +51,9 @@ class MapSettings(Settings):
     Attributes
     ----------
     az_step_deg, el_step_deg : float
-        Grid spacing [deg] (seed 000: 5° × 5°).
+        Grid spacing [deg] (Peng et al. 2021: 5° × 5°).
     min_count : int
-        Nodes touched by fewer observations are flagged empty (seed 000 Fig. 9: 200).
+        Nodes touched by fewer observations are flagged empty (Peng et al. 2021, Fig. 9: 200).
     smoothing_sigma_m : float or None
         Sigma of the difference of adjacent nodes [m]; None: no smoothing.
     robust_k : float

@@ -2,12 +2,12 @@
 
 Nodes lie on rings of constant antenna elevation ``0, Δe, ..., 90° − Δe`` with ``360°/Δa``
 azimuths each, plus one node at the zenith (boresight): for 5° × 5° that is 72 × 18 + 1 = 1297
-nodes, the parameter count of seed 000 (sec. II). Directions follow
+nodes, the parameter count of Peng et al. (2021) (sec. II). Directions follow
 :func:`leopod.frames.attitude.antenna_angles`: elevation above the antenna horizon, azimuth from
 +X (flight direction) towards +Y, in degrees.
 
-A value at a direction is the bilinear interpolation (seed 001 eqs. (7)-(9)) of the four nodes
-around it: along azimuth on the lower and the upper ring, then along elevation. Azimuth wraps
+A value at a direction is the bilinear interpolation (Wang et al. 2024, eqs. (7)-(9)) of the four
+nodes around it: along azimuth on the lower and the upper ring, then along elevation. Azimuth wraps
 around at 360°; between the highest ring and the zenith both upper corners are the zenith node,
 so the interpolation there is linear in elevation towards the zenith value. Elevations below 0°
 are evaluated at 0°. The interpolation weights of one direction sum to one, so a constant added

@@ -1,12 +1,12 @@
 """Multipath samples of a period from the quality outputs, split by attitude mode.
 
 The quality step (:func:`leopod.gnss.quality.assess_quality`) stores per observation the code
-multipath ``mp_<code>_m`` (seed 000 eq. (1), pass mean removed), the antenna-frame
+multipath ``mp_<code>_m`` (Peng et al. 2021, eq. (1), pass mean removed), the antenna-frame
 ``el_deg``/``az_deg`` and the continuous-phase ``pass_id``. The pass mean does not matter to
 the map estimation, which has its own offset per pass.
 
-Attitude modes (seed 002, sec. "Code multipath analysis"): a satellite that flips its yaw by
-180° (HY-2D at a Sun-angle threshold) sees the near-field environment of its antenna from the
+Attitude modes (Jiang et al. 2023, sec. "Code multipath analysis"): a satellite that flips its yaw
+by 180° (HY-2D at a Sun-angle threshold) sees the near-field environment of its antenna from the
 other side, so the maps of some signals differ before and after a flip. Given the flip epochs,
 an observation belongs to mode ``(number of flips before it) mod 2``: periods 1 and 3 share a
 mode, as do 2 and 4.

@@ -5,9 +5,9 @@ RTN (radial, along-track, cross-track) frame of a state (r, v): ``R = r/|r|``,
 matrix of :func:`rtn_matrix` is the transpose of :func:`leopod.frames.rtn.rtn_basis`. :func:`rtn_matrix` returns the rows R, T, N:
 ``x_rtn = M @ x_gcrf``.
 
-Empirical acceleration of seed 000 Table II ("piece-wise periodical terms in the along- and
-cross-track directions estimated every 180 min"), seed 002 Table 2 (every 120 min) and
-Jäggi et al. (2006, J. Geod. 80:47–60, "Pseudo-stochastic orbit modeling techniques for
+Empirical acceleration of Peng et al. (2021) Table II ("piece-wise periodical terms in the along-
+and cross-track directions estimated every 180 min"), Jiang et al. (2023) Table 2 (every 120 min)
+and Jäggi et al. (2006, J. Geod. 80:47–60, "Pseudo-stochastic orbit modeling techniques for
 low-Earth orbiters"), per interval k and direction X ∈ {R, T, N}::
 
     a_X = C_X,k + A_X,k cos u + B_X,k sin u
@@ -72,7 +72,7 @@ class EmpiricalModel:
         after the last boundary use the first or last interval (the integrator may step a
         little beyond the arc).
     directions : tuple of str
-        Subset of ("R", "T", "N"), default ("T", "N") as in seed 000 Table II.
+        Subset of ("R", "T", "N"), default ("T", "N") as in Peng et al. (2021) Table II.
     terms : tuple of str
         Subset of ("const", "cos", "sin"), default all three.
     """

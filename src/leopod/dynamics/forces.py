@@ -210,7 +210,7 @@ class PseudoStochasticPulses:
     Not a force: a pulse ``Δv_i`` at ``t_i`` changes the velocity by ``M(t_i) Δv_i`` (M from
     :func:`rtn_basis`); its partials come from the state transition matrix without
     re-integration (Jäggi et al. 2006, J. Geod. 80:47-60, doi:10.1007/s00190-006-0029-9;
-    seed 001 sec. 2.1, eq. 1-3): see :func:`leopod.dynamics.integrator.pulse_partials`, and
+    Wang et al. 2024, sec. 2.1, eq. 1-3): see :func:`leopod.dynamics.integrator.pulse_partials`, and
     :func:`leopod.dynamics.integrator.apply_pulses` to integrate with actual pulses.
 
     Attributes

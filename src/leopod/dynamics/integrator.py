@@ -684,7 +684,7 @@ def apply_pulses(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
 def pulse_partials(trajectory: Trajectory, pulse_epochs_s, t_out_s=None) -> np.ndarray:
     """Partials of the state w.r.t. velocity pulses in R, T, N, from the STM alone.
 
-    A pulse ``Δv_i`` at ``t_i`` (Jäggi et al. 2006, J. Geod. 80:47–60; seed 001 sec. 2.1,
+    A pulse ``Δv_i`` at ``t_i`` (Jäggi et al. 2006, J. Geod. 80:47–60; Wang et al. 2024, sec. 2.1,
     eq. 1–3) changes the state after it by ``Φ(t, t_i) [0; M(t_i)] Δv_i`` with
     ``Φ(t, t_i) = Φ(t, t0) Φ(t_i, t0)⁻¹`` (Montenbruck & Gill 2000, sec. 7.2): no
     re-integration. For ``t_i > t0`` this applies to ``t ≥ t_i`` (zero before); for a pulse

@@ -30,7 +30,7 @@ shadow function held fixed (in the penumbra |∂ν/∂r| ~ 1/(60 km) gives ≲ 2
 the gravity gradient); ``∂a/∂v = 0``.
 
 Box-wing solar arrays that rotate about a body axis y to face the Sun have the normal
-``e_panel = y × (e☉ × y)`` (seed 002, eq. 4), i.e. the Sun direction projected on the plane
+``e_panel = y × (e☉ × y)`` (Jiang et al. 2023, eq. 4), i.e. the Sun direction projected on the plane
 orthogonal to y; see :class:`MacroModel` and :func:`plate_normals`.
 """
 
@@ -75,7 +75,7 @@ class MacroModel:
         Satellite mass [kg].
     panel : array_like of int, shape (k,), optional
         0 for a body-fixed plate, +1 (−1) for the front (back) face of a solar array rotating
-        about ``panel_axis_body`` to face the Sun (seed 002 eq. 4). Default: all 0.
+        about ``panel_axis_body`` to face the Sun (Jiang et al. 2023, eq. 4). Default: all 0.
     panel_axis_body : array_like, shape (3,)
         Rotation axis of the solar arrays in the body frame (default +Y).
     """
@@ -133,8 +133,9 @@ def plate_normals(model: MacroModel, rot_gcrf_to_body: np.ndarray, pos_m: np.nda
     Returns
     -------
     ndarray, shape (k, 3)
-        Unit normals in GCRF. A Sun-tracking face uses ``y × (e☉ × y)`` normalised (seed 002
-        eq. 4), or its body-fixed normal when the Sun is along the rotation axis y.
+        Unit normals in GCRF. A Sun-tracking face uses ``y × (e☉ × y)`` normalised
+        (Jiang et al. 2023, eq. 4), or its body-fixed normal when the Sun is along the rotation
+        axis y.
     """
     rot = np.asarray(rot_gcrf_to_body, dtype=float)
     normals = model.normal_body @ rot

@@ -1,10 +1,10 @@
 """Float reduced-dynamic POD: iterated batch least squares on undifferenced IF code and phase.
 
-Unknowns (seeds 000-002; Jäggi et al. 2006, J. Geod. 80:47-60): the GCRF initial state, the
-estimated force-model parameters (drag and SRP scale factors, piecewise empirical
-accelerations, :mod:`leopod.dynamics.force_model`), pseudo-stochastic velocity pulses in R,
-T, N at regular epochs with a-priori zero and a given sigma, optionally the LEO antenna PCO
-Z-component, one float ionosphere-free ambiguity per pass (a new pass at every detected slip,
+Unknowns (Peng et al. 2021; Wang et al. 2024; Jiang et al. 2023; Jäggi et al. 2006, J. Geod.
+80:47-60): the GCRF initial state, the estimated force-model parameters (drag and SRP scale factors,
+piecewise empirical accelerations, :mod:`leopod.dynamics.force_model`), pseudo-stochastic velocity
+pulses in R, T, N at regular epochs with a-priori zero and a given sigma, optionally the LEO antenna
+PCO Z-component, one float ionosphere-free ambiguity per pass (a new pass at every detected slip,
 :mod:`leopod.gnss.passes`), and one receiver clock per epoch, pre-eliminated from the normal
 equations epoch by epoch (:mod:`leopod.estimation.normals`).
 
@@ -501,7 +501,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
     ambiguity_constraints : (pass_i, pass_j, value_m, sigma_m), optional
         Pseudo-observations ``B_i − B_j = value ± sigma`` of the ambiguities of passes
         ``pass_i``/``pass_j`` (values of ``obs.pass_index``): the fixed single-differenced
-        ambiguities of the ambiguity-fixed solution (seed 000 sec. III-B). Constraints on
+        ambiguities of the ambiguity-fixed solution (Peng et al. 2021, sec. III-B). Constraints on
         passes without used phase are skipped.
     start : PodStart, optional
         Continue from an earlier solution of the same arc (its estimates, clocks and

@@ -1,6 +1,6 @@
 """Nominal LEO attitude and line-of-sight angles in the antenna (body) frame.
 
-Nominal attitude (seed 000, sec. II-A; GRACE SRF): +Z points to the geocentre, +X along the
+Nominal attitude (Peng et al. 2021, sec. II-A; GRACE SRF): +Z points to the geocentre, +X along the
 inertial velocity (made orthogonal to Z), +Y = Z × X completes the right-handed frame (it
 points opposite to the orbit normal). The inertial velocity expressed in Earth-fixed axes is
 ``v_ef + ω × r``; using the Earth-fixed velocity instead would yaw the frame by up to ~3.5°
@@ -8,7 +8,8 @@ at the equator.
 
 Antenna-frame angles: the antenna looks along −Z (zenith). Elevation is the angle of the
 line of sight above the body X–Y plane (90° = along −Z); azimuth is measured from +X
-(flight direction) towards +Y, in degrees in [0, 360) — the convention of seed 000 Figs. 7–9.
+(flight direction) towards +Y, in degrees in [0, 360) — the convention of Peng et al. (2021)
+Figs. 7–9.
 """
 
 from __future__ import annotations

@@ -5,8 +5,9 @@ frequencies come from :mod:`leopod.signals`. Arrays broadcast in the numpy way.
 
 References
 ----------
-Seed 000, eq. (1) (MP), eqs. (3)/(6) (HMW); seed 001, eqs. (14)-(15) (ionospheric delay and
-its rate); Teunissen & Montenbruck (eds.), Springer Handbook of GNSS (2017), ch. 20.
+Peng et al. (2021), eq. (1) (MP), eqs. (3)/(6) (HMW); Wang et al. (2024), eqs. (14)-(15)
+(ionospheric delay and its rate); Teunissen & Montenbruck (eds.), Springer Handbook of GNSS (2017),
+ch. 20.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ def melbourne_wuebbena(phase_1, phase_2, code_1, code_2, f1_hz: float, f2_hz: fl
 
 
 def multipath(code_i, phase_i, phase_j, fi_hz: float, fj_hz: float):
-    """Code multipath combination MP_i [m] of seed 000 eq. (1).
+    """Code multipath combination MP_i [m] of Peng et al. (2021) eq. (1).
 
     ``MP_i = P_i − (fi² + fj²)/(fi² − fj²) Φ_i + 2 fj²/(fi² − fj²) Φ_j``.
     Free of geometry, clocks and first-order ionosphere; contains code multipath and noise
@@ -74,11 +75,11 @@ def multipath(code_i, phase_i, phase_j, fi_hz: float, fj_hz: float):
 
 
 def ionosphere_l1_m(phase_1, phase_2, f1_hz: float, f2_hz: float):
-    """First-order ionospheric delay on frequency 1 from phase [m] (seed 001 eq. 14).
+    """First-order ionospheric delay on frequency 1 from phase [m] (Wang et al. 2024, eq. 14).
 
     Phase is advanced by the ionosphere (``Φ_k = ρ − I_k + ...`` with ``I_2 = (f1/f2)² I_1``),
     so ``Φ1 − Φ2 = I1 (f1² − f2²)/f2²`` and ``I1 = f2²/(f1² − f2²) (Φ1 − Φ2)``. The result
-    contains a constant ambiguity term per pass, so only its time variation (IOD, seed 001
+    contains a constant ambiguity term per pass, so only its time variation (IOD, Wang et al. 2024
     eq. 15) is meaningful without levelling.
     """
     return f2_hz**2 / (f1_hz**2 - f2_hz**2) * (np.asarray(phase_1) - np.asarray(phase_2))

@@ -2,7 +2,7 @@
 
 A *pass* is a stretch of dual-frequency phase tracking of one GNSS satellite without a gap
 longer than ``max_gap_s`` and without a cycle slip; every pass gets its own float ambiguity
-in the POD. Slips are detected with three independent tests (seed 001 sec. 3.1.3 and the
+in the POD. Slips are detected with three independent tests (Wang et al. 2024, sec. 3.1.3 and the
 TurboEdit idea of Blewitt 1990, GRL 17:3):
 
 * the receiver's loss-of-lock indicator (LLI bit 0) on either phase;

@@ -1,24 +1,26 @@
-"""Data-quality indicators of onboard GNSS observations (seed 001 Table 2, seed 000 sec. II-B).
+"""Data-quality indicators of onboard GNSS observations (Wang et al. 2024, Table 2;
+Peng et al. 2021, sec. II-B).
 
 Input is the canonical observation Dataset written by the ingest step (codes and phases in
 metres, RINEX 3 codes as variable names) plus the antenna-frame angles of every observation.
 Output is one Dataset per satellite and day with per-observation series (pass, MP, code
 noise, IOD), per-GNSS-satellite statistics and the daily indicators:
 
-* satellites tracked per epoch and its histogram (seed 001 Fig. 3);
+* satellites tracked per epoch and its histogram (Wang et al. 2024, Fig. 3);
 * data completeness: epochs with any observation / epochs expected over the day at the file's
   interval; utilisation: satellite-epochs with all configured codes and both phases / all
-  observed satellite-epochs (seed 001 sec. 3.1.2, read at the level of satellite-epochs);
-* code multipath MP_i (seed 000 eq. 1) minus its pass mean, RMS per satellite and per day;
-* observations per cycle slip ("o/slps", seed 001 Table 2): satellite-epochs with phase
+  observed satellite-epochs (Wang et al. 2024, sec. 3.1.2, read at the level of satellite-epochs);
+* code multipath MP_i (Peng et al. 2021, eq. 1) minus its pass mean, RMS per satellite and per day;
+* observations per cycle slip ("o/slps", Wang et al. 2024, Table 2): satellite-epochs with phase
   divided by the slips detected inside continuous tracking (starts of tracking and gaps are
   not slips);
-* ionospheric delay rate IOD on L1 [m/min] (seed 001 eq. 15) and the fraction above a limit;
-* code noise after seed 000 sec. II-B: code minus carrier on the same frequency, differenced
-  between adjacent epochs of a pass, and the STD of that series in a sliding window (2 min);
-  the histogram peak, minimum and 90th percentile of the window STDs are what seed 000 quotes
-  (C1 0.46–0.50 m, P1 0.09–0.10 m, P2 0.02–0.03 m for HY-2B). The STD is of the epoch
-  differences themselves (not divided by √2), as in the paper.
+* ionospheric delay rate IOD on L1 [m/min] (Wang et al. 2024, eq. 15) and the fraction above a
+  limit;
+* code noise after Peng et al. (2021) sec. II-B: code minus carrier on the same frequency,
+  differenced between adjacent epochs of a pass, and the STD of that series in a sliding window
+  (2 min); the histogram peak, minimum and 90th percentile of the window STDs are what
+  Peng et al. (2021) quotes (C1 0.46–0.50 m, P1 0.09–0.10 m, P2 0.02–0.03 m for HY-2B). The STD is
+  of the epoch differences themselves (not divided by √2), as in the paper.
 """
 
 from __future__ import annotations

@@ -3,19 +3,19 @@
 Each public function takes the map Dataset of :mod:`leopod.codebias` (or the MP samples the
 maps were estimated from) and writes one PNG:
 
-- polar maps of the code error per signal and attitude mode (seed 000 Figs. 7, 8, 11; seed 002
-  Figs. 5, 7): zenith (antenna boresight) at the centre, horizon at the rim, azimuth 0° = +X =
-  flight direction at the top, increasing clockwise towards +Y;
-- the number of observations touching each node on a logarithmic scale (seed 000 Fig. 9);
+- polar maps of the code error per signal and attitude mode (Peng et al. 2021, Figs. 7, 8, 11;
+  Jiang et al. 2023, Figs. 5, 7): zenith (antenna boresight) at the centre, horizon at the rim,
+  azimuth 0° = +X = flight direction at the top, increasing clockwise towards +Y;
+- the number of observations touching each node on a logarithmic scale (Peng et al. 2021, Fig. 9);
 - code multipath versus antenna elevation before and after the map correction, with the RMS and
-  mean per elevation band (seed 002 Fig. 6);
-- the difference of two maps on the same grid (e.g. two periods, seed 000 Figs. 7 vs 8), with
-  the mean and the RMS about the mean over the commonly non-empty nodes.
+  mean per elevation band (Jiang et al. 2023, Fig. 6);
+- the difference of two maps on the same grid (e.g. two periods, Peng et al. 2021, Figs. 7 vs 8),
+  with the mean and the RMS about the mean over the commonly non-empty nodes.
 
 Map nodes are drawn as cells centred on the nodes (the map itself is bilinear between nodes,
-seed 001 eqs. (7)–(9)); nodes flagged ``empty`` (fewer than ``attrs["min_count"]``
-observations) are left blank, as in the seeds. The zenith node, repeated in the 90° row of the
-Dataset for every azimuth, counts once in every statistic and colour scale. The PNGs carry no
+Wang et al. (2024) eqs. (7)–(9)); nodes flagged ``empty`` (fewer than ``attrs["min_count"]``
+observations) are left blank, as in the source papers. The zenith node, repeated in the 90° row of
+the Dataset for every azimuth, counts once in every statistic and colour scale. The PNGs carry no
 software or time stamp, so repeated runs give identical bytes.
 """
 
@@ -209,9 +209,9 @@ def plot_code_bias_maps(maps: xr.Dataset, path, *, title: str = "", field: str =
 
     Azimuth is the polar angle with 0° (+X, flight direction) at the top increasing clockwise
     towards +Y; elevation is radial with the zenith (antenna boresight) at the centre, as in
-    seed 000 Figs. 7–11 and seed 002 Fig. 5. Each node fills the cell centred on it; empty nodes
-    are blank. All modes of a signal share one colour scale: symmetric about zero at the 98th
-    percentile of |value| (sequential from zero for ``sigma_m``).
+    Peng et al. (2021) Figs. 7–11 and Jiang et al. (2023) Fig. 5. Each node fills the cell centred
+    on it; empty nodes are blank. All modes of a signal share one colour scale: symmetric about zero
+    at the 98th percentile of |value| (sequential from zero for ``sigma_m``).
 
     Parameters
     ----------
@@ -243,7 +243,7 @@ def _counts_figure(maps: xr.Dataset, *, title: str) -> Figure:
 
 
 def plot_code_bias_counts(maps: xr.Dataset, path, *, title: str = "") -> None:
-    """Polar maps of the number of observations touching each node (seed 000 Fig. 9).
+    """Polar maps of the number of observations touching each node (Peng et al. 2021, Fig. 9).
 
     Same layout and orientation as :func:`plot_code_bias_maps`; logarithmic colour scale per
     signal over the non-empty nodes; nodes with fewer than ``attrs["min_count"]`` observations
@@ -358,8 +358,8 @@ def plot_mp_elevation(samples: Mapping[str, tuple], maps: xr.Dataset | None, pat
                       title: str = "", max_points: int = _MAX_SCATTER_POINTS) -> None:
     """Code multipath versus antenna elevation before and after the map correction.
 
-    One panel per signal, as seed 002 Fig. 6: scatter of MP before (blue) and after (red) the
-    correction, and, when ``maps`` holds the signal, the RMS (solid) and mean (dashed) per
+    One panel per signal, as Jiang et al. (2023) Fig. 6: scatter of MP before (blue) and after (red)
+    the correction, and, when ``maps`` holds the signal, the RMS (solid) and mean (dashed) per
     elevation band. Long series are thinned to every k-th point, ``k = ceil(n / max_points)``
     (deterministic), for the scatter only; the RMS in the panel title comes from ``maps``
     (``mp_rms_all_*_m``) or, for a signal it lacks, from all finite samples.

@@ -3,10 +3,10 @@
 Each function takes a Dataset written by the float POD and writes one PNG:
 
 - post-fit code and phase residuals versus time and versus antenna elevation, with RMS per
-  elevation bin (the usual residual diagnostics of reduced-dynamic POD, e.g. seed 000);
+  elevation bin (the usual residual diagnostics of reduced-dynamic POD, e.g. Peng et al. 2021);
 - a sky map of the mean phase residual in the antenna frame (azimuth 0° = +X = flight
-  direction, the convention of seed 000 Figs. 7–9 and of :mod:`leopod.plots.quality`), a first
-  look at antenna phase-centre variations before an empirical PCV map is estimated;
+  direction, the convention of Peng et al. 2021, Figs. 7–9 and of :mod:`leopod.plots.quality`), a
+  first look at antenna phase-centre variations before an empirical PCV map is estimated;
 - the difference of the a-priori (code-only) orbit to the estimated orbit in radial, along-track
   and cross-track, with the formal sigmas of the estimate.
 

@@ -1,9 +1,10 @@
 """Figures and the summary table of the quality step.
 
 Each function takes the per-system Dataset of :func:`leopod.gnss.quality.assess_quality` and
-writes one PNG: MP versus antenna elevation (seed 001 Fig. 4, seed 000 Fig. 5), an antenna-
-frame sky plot (seed 000 Figs. 7–9 convention: azimuth 0° = +X = flight direction), code-noise
-histograms with cumulative curves (seed 000 Fig. 4) and visibility/IOD (seed 001 Figs. 3, 5).
+writes one PNG: MP versus antenna elevation (Wang et al. 2024, Fig. 4; Peng et al. 2021, Fig. 5), an
+antenna-frame sky plot (Peng et al. 2021, Figs. 7–9 convention: azimuth 0° = +X = flight
+direction), code-noise histograms with cumulative curves (Peng et al. 2021, Fig. 4) and
+visibility/IOD (Wang et al. 2024, Figs. 3, 5).
 """
 
 from __future__ import annotations

@@ -4,13 +4,13 @@ Each function takes the residual Dataset(s) of :func:`leopod.validation.slr.slr_
 and writes one PNG:
 
 - residuals versus time, coloured by station, rejected points as grey crosses;
-- mean ± STD of the residuals per station, one bar per solution (seed 000, Table IV);
+- mean ± STD of the residuals per station, one bar per solution (Peng et al. 2021, Table IV);
 - residuals versus elevation with their STD and mean per 5° elevation bin, one colour per
-  solution (seed 000, Figs. 17–18).
+  solution (Peng et al. 2021, Figs. 17–18).
 
 The station and elevation figures compare solutions (e.g. float and fixed orbits): pass a
 mapping ``{label: residuals}``; a single Dataset is one unlabelled solution. Residuals are
-shown in centimetres, as in the seeds. The PNGs carry no software or time stamp, so repeated
+shown in centimetres, as in the source papers. The PNGs carry no software or time stamp, so repeated
 runs give identical bytes.
 """
 
@@ -104,7 +104,7 @@ def plot_slr_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
 
 def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
                       title: str = "") -> None:
-    """Mean ± STD [cm] of the used residuals per station and solution (seed 000, Table IV).
+    """Mean ± STD [cm] of the used residuals per station and solution (Peng et al. 2021, Table IV).
 
     Bars are the means, error bars the standard deviations; the number of normal points
     of the first solution is written above each station; the last group is all stations.
@@ -148,7 +148,7 @@ def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
 
 def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, title: str = "",
                        bin_deg: float = 5.0) -> None:
-    """Residuals [cm] versus elevation, with STD and mean per elevation bin (seed 000,
+    """Residuals [cm] versus elevation, with STD and mean per elevation bin (Peng et al. 2021,
     Figs. 17–18).
 
     Upper panel: used residuals of each solution; lower panel: their STD (solid) and mean

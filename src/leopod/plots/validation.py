@@ -2,15 +2,17 @@
 
 Each function writes one PNG from the Datasets of :mod:`leopod.validation.overlap` and
 :mod:`leopod.validation.compare`; a Mapping ``{"float": ds, "fixed": ds}`` draws several
-solutions side by side (seed 002 compares ambiguity-float and -fixed orbits in every figure):
+solutions side by side (Jiang et al. 2023 compares ambiguity-float and -fixed orbits in every
+figure):
 
 - :func:`plot_overlaps`: per arc pair the RMS of the overlap differences in R, T, N and 3D as
-  grouped bars, with the campaign mean ± STD of the per-pair RMS in the legend (seed 002
+  grouped bars, with the campaign mean ± STD of the per-pair RMS in the legend (Jiang et al. 2023
   Fig. 13, which shows the 3D panel);
 - :func:`plot_reference_differences`: time series of the differences to an external orbit in
-  R, T, N with mean and RMS in the legend and GPS day boundaries marked (seed 002 Fig. 17);
+  R, T, N with mean and RMS in the legend and GPS day boundaries marked (Jiang et al. 2023,
+  Fig. 17);
 - :func:`plot_daily_statistics`: daily RMS and mean per component as bars, with the totals in
-  the legend (seed 002 Fig. 18, seed 001 Fig. 9).
+  the legend (Jiang et al. 2023, Fig. 18; Wang et al. 2024, Fig. 9).
 
 Values are shown in millimetres. The PNGs carry no software or time stamp, so repeated runs
 give identical bytes.
@@ -67,7 +69,7 @@ def _category_axis(ax, labels: list[str]) -> None:
 
 def plot_overlaps(summaries: xr.Dataset | Mapping[str, xr.Dataset], path,
                   title: str = "") -> None:
-    """RMS of the orbit overlaps per arc pair in R, T, N and 3D (seed 002 Fig. 13).
+    """RMS of the orbit overlaps per arc pair in R, T, N and 3D (Jiang et al. 2023, Fig. 13).
 
     Parameters
     ----------
@@ -117,7 +119,7 @@ def _day_starts(times: np.ndarray) -> np.ndarray:
 
 def plot_reference_differences(diffs: xr.Dataset | Mapping[str, xr.Dataset], path,
                                title: str = "") -> None:
-    """Orbit minus reference orbit in R, T, N versus time (seed 002 Fig. 17).
+    """Orbit minus reference orbit in R, T, N versus time (Jiang et al. 2023, Fig. 17).
 
     Parameters
     ----------

@@ -17,11 +17,11 @@ Bias-SINEX OSB (:func:`leopod.io.bias_sinex.write_bias_sinex`)
     combination ``(f1² d1 − f2² d2)/(f1² − f2²) = 0``, as in the real CODE and WHU files
     (checked in tests/simulate/test_biases.py).
 Wide-lane satellite bias ``w^s`` [WL cycles] (HMW convention)
-    With ``HMW = (f1 L1 − f2 L2)/(f1 − f2) − (f1 P1 + f2 P2)/(f1 + f2)`` (seed 000, eq. (3))
+    With ``HMW = (f1 L1 − f2 L2)/(f1 − f2) − (f1 P1 + f2 P2)/(f1 + f2)`` (Peng et al. 2021, eq. (3))
     and ``λ_WL = c/(f1 − f2)``: ``HMW/λ_WL = (N1 − N2) + w_r + w^s`` with
     ``w = β1 − β2 − (f1 d1 + f2 d2)/((f1 + f2) λ_WL)`` for the satellite and the receiver
-    (geometry, clocks and ionosphere cancel). The codes are the clock-reference pair. (Seed
-    000 writes the satellite biases with the opposite sign, ``λ (N + B_r − B^s)``.)
+    (geometry, clocks and ionosphere cancel). The codes are the clock-reference pair.
+    (Peng et al. 2021 write the satellite biases with the opposite sign, ``λ (N + B_r − B^s)``.)
 CNES/CLS ``WL`` record (:func:`leopod.io.wlbias.write_wl_bias`)
     The file holds ``μ^s = −w^s``, i.e. ``HMW/λ_WL = N_WL + w_r − μ^s``: the sign that the
     public converter of the CNES/CLS (GRG) products (github.com/YuanxinPan/clkcomb,
@@ -31,7 +31,7 @@ CNES/CLS ``WL`` record (:func:`leopod.io.wlbias.write_wl_bias`)
 Integer-recovery clock (:func:`integer_clock_s`)
     ``c dt^s_int = c dt^s − c (f1 β^s_1 − f2 β^s_2)/(f1² − f2²)``: the ionosphere-free phase
     with this clock has the ambiguity ``λ_NL N1 + c f2/(f1² − f2²) (N1 − N2)`` plus the
-    receiver part (seed 000, eq. (5)); its ionosphere-free code, however, keeps
+    receiver part (Peng et al. 2021, eq. (5)); its ionosphere-free code, however, keeps
     ``−c (f1 β^s_1 − f2 β^s_2)/(f1² − f2²)`` (up to ±0.43 m for GPS with ``|β| ≤ 0.5``), as
     with real "phase clocks". The ionosphere-free code with the standard clock ``dt^s`` has no satellite bias.
 
@@ -295,7 +295,7 @@ def simulate_biases(svs, signals_by_system: dict | None, rng: np.random.Generato
 
 def wide_lane_bias_cyc(code_1_m, code_2_m, phase_1_cyc, phase_2_cyc, f1_hz: float,
                        f2_hz: float):
-    """Bias term of ``HMW/λ_WL`` [WL cycles] from code and phase biases (seed 000, eq. (3)).
+    """Bias term of ``HMW/λ_WL`` [WL cycles] from code and phase biases (Peng et al. 2021, eq. (3)).
 
     ``w = β1 − β2 − (f1 d1 + f2 d2)/((f1 + f2) λ_WL)``, ``λ_WL = c/(f1 − f2)``: the phase
     part ``(f1 λ1 β1 − f2 λ2 β2)/(f1 − f2) = λ_WL (β1 − β2)`` minus the narrow-lane code part,

@@ -1,7 +1,7 @@
 """Simulated antenna-frame code-bias maps: a smooth function ``b(az, el)`` [m] added to one code.
 
 A code-bias map is a static error of one code signal of the LEO receiver that depends only on
-the line-of-sight direction in the antenna frame (seed 000, eq. (2): the term ``b(e, z)``).
+the line-of-sight direction in the antenna frame (Peng et al. 2021, eq. (2): the term ``b(e, z)``).
 Directions follow :func:`leopod.frames.attitude.antenna_angles`: elevation above the body
 X-Y plane (towards the antenna boresight), azimuth from +X (flight direction) towards +Y, in
 degrees. Models:
@@ -9,7 +9,7 @@ degrees. Models:
 ``"none"``
     Zero everywhere.
 ``"hy2b_p1"``
-    The HY-2B P1 (``C1W``) pattern of seed 000 (sec. II, Figs. 7-10 text and conclusion),
+    The HY-2B P1 (``C1W``) pattern of Peng et al. (2021) (sec. II, Figs. 7-10 text and conclusion),
     built from the polar map coordinates ``r = (90° - el)/90°``, ``x = r cos az`` (flight),
     ``y = r sin az`` (cross-track) and the elliptic radius ``q = sqrt((x/a)² + (y/b)²)``:
 
@@ -28,9 +28,9 @@ degrees. Models:
       less than 40°").
 
     The crescent lies behind the satellite (azimuth 180° = against the flight direction),
-    where GNSS satellites leave the field of view, as seed 000 describes.
+    where GNSS satellites leave the field of view, as Peng et al. (2021) describes.
 ``"bds3_patchy"``
-    Patchy near-field variations of seed 002 (sec. "Code multipath analysis": "patchy
+    Patchy near-field variations of Jiang et al. (2023) (sec. "Code multipath analysis": "patchy
     patterns with the amplitudes mainly concentrated within ±40 cm"; "at low elevation angles,
     the MPs of both frequencies predominantly fall below 0 m"): a sum of ``n_blobs`` smooth
     blobs ``exp((cos γ - 1)/w²)`` (γ the angle to a random centre, ``w`` a random width) with
@@ -69,7 +69,7 @@ _FINE_GRID_DEG = 1.0  # grid on which the patchy map's blob sum is normalised [d
 
 @dataclass(frozen=True)
 class Hy2bP1:
-    """Parameters of the ``"hy2b_p1"`` model (defaults reproduce seed 000, sec. II).
+    """Parameters of the ``"hy2b_p1"`` model (defaults reproduce Peng et al. 2021, sec. II).
 
     Attributes
     ----------
@@ -139,7 +139,8 @@ class Hy2bP1:
 
 @dataclass(frozen=True)
 class Bds3Patchy:
-    """Parameters of the ``"bds3_patchy"`` model (seed 002, sec. "Code multipath analysis").
+    """Parameters of the ``"bds3_patchy"`` model (Jiang et al. 2023, sec. "Code multipath
+    analysis").
 
     Attributes
     ----------
@@ -150,7 +151,7 @@ class Bds3Patchy:
     width_deg : tuple of float
         Range of the blob widths ``w`` [deg] (uniform).
     low_elevation_m : float
-        Value of the low-elevation term at the horizon [m] (negative: seed 002).
+        Value of the low-elevation term at the horizon [m] (negative: Jiang et al. 2023).
     low_elevation_scale_deg : float
         e-folding elevation of the low-elevation term [deg].
     seed : int

@@ -43,10 +43,10 @@ random short gaps; cycle slips (integer jumps of the phases, LLI set with probab
 ``lli_detected``); a new pass with new random integer ambiguities at each acquisition (LLI
 set); white noise with the elevation-dependent standard deviation ``σ(e) = σ_30 (1 + k exp(−e/10°)) / (1 + k exp(−3))``.
 
-The default code noise levels ``σ_30`` are seed 000's typical 2-min STDs of epoch-differenced
-code minus carrier (C1 0.46, P1 0.09, P2 0.02 m, sec. II-B) divided by √2 (the epoch
-difference doubles the variance); BDS-3 B1C/B2a (0.20 and 0.15 m before the √2) are assumed
-values (seed 002 gives no numbers); phases 1.5 mm.
+The default code noise levels ``σ_30`` are the typical 2-min STDs of epoch-differenced
+code minus carrier of Peng et al. (2021) (C1 0.46, P1 0.09, P2 0.02 m, sec. II-B) divided by
+√2 (the epoch difference doubles the variance); BDS-3 B1C/B2a (0.20 and 0.15 m before the √2)
+are assumed values (Jiang et al. 2023 gives no numbers); phases 1.5 mm.
 """
 
 from __future__ import annotations

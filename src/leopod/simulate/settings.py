@@ -24,9 +24,10 @@ __all__ = ["DEFAULT_PCO_BODY_M", "ClockSettings", "OrbitSettings", "ProductSetti
            "SimulationSettings", "SlrSimulation"]
 
 #: Simple antenna phase-centre offsets per band in the body frame [m]: the antenna on the
-#: zenith face (-Z), 0.35 m (L1, B1C) and 0.37 m (L2, B2a) above the centre of mass. (Seed 000
-#: Table I gives the real HY-2B values in its mechanical frame; relative to the centre of
-#: mass they are L1 (-1.0367, -0.1866, -1.3776) m and L2 (-1.0361, -0.1846, -1.3990) m.)
+#: zenith face (-Z), 0.35 m (L1, B1C) and 0.37 m (L2, B2a) above the centre of mass.
+#: (Table I of Peng et al. 2021 gives the real HY-2B values in its mechanical frame; relative
+#: to the centre of mass they are L1 (-1.0367, -0.1866, -1.3776) m and L2 (-1.0361, -0.1846,
+#: -1.3990) m.)
 DEFAULT_PCO_BODY_M = {"L1": (0.0, 0.0, -0.35), "L2": (0.0, 0.0, -0.37),
                       "B1C": (0.0, 0.0, -0.35), "B2a": (0.0, 0.0, -0.37)}
 
@@ -111,7 +112,7 @@ class SlrSimulation:
     ----------
     retro_offset_body_m : tuple of float
         Retro-reflector offset from the centre of mass in the body frame [m]: HY-2B's LRA
-        spherical centre minus its centre of mass in seed 000 Table I (311.29, -215.43,
+        spherical centre minus its centre of mass in Peng et al. (2021) Table I (311.29, -215.43,
         986.53) - (1383.44, 6.85, 2.35) mm, taking the mechanical frame as the body frame
         (X flight, Z nadir: the LRA is on the Earth-facing side, the GPS antenna on the
         zenith side).

@@ -109,9 +109,9 @@ class SlrStation:
 #: eccentricities (XYZ) valid on 2020-01-01 in the ILRS file ecc_xyz.snx of 2023-03-14 (zero
 #: for the stations whose marker is the reference point).
 #: The clear-sky (tracking) probabilities are rough guesses, higher for the productive LEO
-#: trackers of seed 000 Table IV (Yarragadee, Changchun, Greenbelt, Graz). They give ~600
+#: trackers of Peng et al. (2021) Table IV (Yarragadee, Changchun, Greenbelt, Graz). They give ~600
 #: normal points a day (~1400 if every visible bin were tracked); the real HY-2B tracking is
-#: sparser (seed 000 Table IV: ~10 600 NPs from 10 stations over several months, i.e. tens
+#: sparser (Peng et al. 2021, Table IV: ~10 600 NPs from 10 stations over several months, i.e. tens
 #: per day): ``SlrSettings(clear_sky_probability=0.05)`` comes closer to it.
 DEFAULT_STATIONS: tuple[SlrStation, ...] = (
     SlrStation("7090", "YARL", "Yarragadee", "50107M001",

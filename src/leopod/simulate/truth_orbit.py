@@ -79,12 +79,13 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: HY-2B mean altitude [m]: 971 km (ILRS mission page HY-2B; seed 000 sec. II-A: "about 970 km").
+#: HY-2B mean altitude [m]: 971 km (ILRS mission page HY-2B; Peng et al. 2021, sec. II-A:
+#: "about 970 km").
 HY2B_ALTITUDE_M = 971.0e3
 #: HY-2B local time of the ascending node [h]: dawn–dusk orbit with the descending node at
 #: 06:00 (HY-2 series, eoPortal "HY-2A"; not confirmed for HY-2B by a primary source).
 HY2B_LTAN_H = 18.0
-#: HY-2 spacecraft mass [kg] (seed 001 sec. 1, HY-2A: 1575 kg; HY-2B assumed alike).
+#: HY-2 spacecraft mass [kg] (Wang et al. 2024, sec. 1, HY-2A: 1575 kg; HY-2B assumed alike).
 HY2B_MASS_KG = 1575.0
 #: Tropical year [s], 365.2421897 d (Vallado, Fundamentals of Astrodynamics and Applications,
 #: 4th ed. 2013, ch. 3, time systems).

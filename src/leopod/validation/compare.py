@@ -1,12 +1,12 @@
 """Orbit comparison in the radial, along-track and cross-track frame.
 
-Used for orbit overlaps of consecutive arcs (seed 002, "Internal consistency validation";
-:mod:`.overlap`) and for comparisons with external orbits (seed 001 sec. 3.4.2 and Table 4,
-seed 002 Figs. 17, 18: the precise science orbits / DORIS orbits of CNES).
+Used for orbit overlaps of consecutive arcs (Jiang et al. 2023, "Internal consistency validation";
+:mod:`.overlap`) and for comparisons with external orbits (Wang et al. 2024, sec. 3.4.2 and Table 4,
+Jiang et al. 2023, Figs. 17, 18: the precise science orbits / DORIS orbits of CNES).
 
 External-orbit comparison (:func:`compare_orbits`)
     1. The reference's time labels are converted to GPS time (:func:`to_gps_time`: TAI = GPST
-       + 19 s and TT = GPST + 51.184 s exactly, UTC with the leap seconds; seed 001 converts
+       + 19 s and TT = GPST + 51.184 s exactly, UTC with the leap seconds; Wang et al. 2024 converts
        the TAI-labelled CNES orbits to GPST the same way), plus an optional extra offset.
     2. The reference is interpolated onto the orbit's epochs (:func:`interpolate_orbit`,
        Lagrange, Montenbruck & Gill 2000 sec. 4.1) without crossing data gaps.
@@ -14,12 +14,12 @@ External-orbit comparison (:func:`compare_orbits`)
        orbit is estimated and removed (:func:`fit_helmert`, IERS Conventions 2010 eq. 4.4).
     4. The differences ``orbit − reference`` are rotated into the RTN axes (radial,
        along-track, cross-track) of the reference's *inertial* state (:func:`rtn_axes`): the
-       along-track axis follows the inertial velocity, i.e. the orbital motion, as in seed 001
-       sec. 3.4.3 (RTN built in the J2000 frame). Earth-fixed velocities would tilt the T/N axes
-       by up to ``ω r / v`` ≈ 3.7° for a LEO.
+       along-track axis follows the inertial velocity, i.e. the orbital motion, as in
+       Wang et al. (2024) sec. 3.4.3 (RTN built in the J2000 frame). Earth-fixed velocities would
+       tilt the T/N axes by up to ``ω r / v`` ≈ 3.7° for a LEO.
     5. :func:`orbit_statistics` gives mean, STD and RMS of R, T, N and 3D per GPS day and in
-       total (seed 001 Table 4, seed 002 Fig. 18); :func:`statistics_table` flattens them for
-       CSV.
+       total (Wang et al. 2024, Table 4; Jiang et al. 2023, Fig. 18); :func:`statistics_table`
+       flattens them for CSV.
 
 Statistics convention: for R, T and N the mean, the (population) STD and the RMS of the
 component; for "3D" those of the distance ``|d|``, so ``RMS² = mean² + STD²`` holds for every

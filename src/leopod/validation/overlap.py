@@ -1,7 +1,7 @@
 """Orbit overlaps: consistency of consecutive arcs over their common span.
 
-Seed 002, "Internal consistency validation" (Fig. 13): each daily arc is extended by 3 h at
-both ends, so consecutive 30-h arcs share 6 h (21:00–03:00); the 3D RMS of the differences over
+Jiang et al. (2023), "Internal consistency validation" (Fig. 13): each daily arc is extended by 3 h
+at both ends, so consecutive 30-h arcs share 6 h (21:00–03:00); the 3D RMS of the differences over
 that span, per pair of arcs and averaged over the campaign (mean ± STD), measures the internal
 precision of the POD (float and fixed solutions alike: the input is any orbit Dataset).
 
@@ -9,8 +9,8 @@ Conventions
     - Differences are ``orbit_a − orbit_b`` (earlier minus later arc) at the epochs of
       ``orbit_a`` inside the common span; ``orbit_b`` is Lagrange-interpolated there when its
       epochs differ (exact at common nodes, :func:`leopod.validation.compare.interpolate_orbit`).
-    - RTN axes are those of the **mean** of the two inertial states. Seed 002 does not say which
-      axes it uses; the mean makes the overlap symmetric (swapping the arcs only flips the
+    - RTN axes are those of the **mean** of the two inertial states. Jiang et al. (2023) does not
+      say which axes it uses; the mean makes the overlap symmetric (swapping the arcs only flips the
       sign) and favours neither arc. The choice is immaterial numerically: the axes of the two
       arcs differ by ``|Δr|/|r|`` ≈ 1e-8 rad for cm differences, i.e. < 1e-9 m in the result.
     - Inertial states (GCRF) are used when both orbits carry ``pos_gcrf_m``/``vel_gcrf_m_s``;
@@ -140,7 +140,8 @@ def _default_label(ov: xr.Dataset) -> str:
 
 def overlap_summary(overlaps: Sequence[xr.Dataset], labels: Sequence[str] | None = None
                     ) -> xr.Dataset:
-    """Per-pair statistics and the campaign mean ± STD of the per-pair RMS (seed 002 Fig. 13).
+    """Per-pair statistics and the campaign mean ± STD of the per-pair RMS (Jiang et al. 2023,
+    Fig. 13).
 
     Parameters
     ----------

@@ -34,13 +34,13 @@ exact.
 Screening (:class:`SlrResidualSettings`), in this order: model failures (no orbit at the
 epoch, station not in the SINEX file, no eccentricity, unsupported epoch event or range
 type, missing meteorological data), elevation below the cut-off, |residual| above a hard
-limit (seed 004: 0.5 m), and |residual − median| > k · robust sigma per satellite and UTC
+limit (BDS SCB-AR paper: 0.5 m), and |residual − median| > k · robust sigma per satellite and UTC
 day (robust sigma = 1.4826 · median absolute deviation, not below a floor). ``flag`` holds
 the reason code of :data:`REJECTION_REASONS` (0 = used).
 
-Statistics: per station #NP, mean, STD and RMS, and over all stations (seed 000, Table IV);
-mean, STD and RMS per elevation bin of 5° (seed 000, Figs. 17–18); the projection of the
-residuals on the radial, along-track and cross-track directions (seed 001, sec. 3.4.3,
+Statistics: per station #NP, mean, STD and RMS, and over all stations (Peng et al. 2021, Table IV);
+mean, STD and RMS per elevation bin of 5° (Peng et al. 2021, Figs. 17–18); the projection of the
+residuals on the radial, along-track and cross-track directions (Wang et al. 2024, sec. 3.4.3,
 Table 5) with a least-squares estimate of a constant RTN orbit offset (:func:`rtn_projection`).
 """
 
@@ -114,7 +114,7 @@ class SlrResidualSettings(Settings):
     elevation_cut_off_deg : float
         Lowest elevation of a used normal point [deg] (10° is usual for LEO SLR validation).
     hard_limit_m : float
-        Reject |residual| above this [m] (seed 004: outliers exceeding 0.5 m are excluded).
+        Reject |residual| above this [m] (BDS SCB-AR paper: outliers exceeding 0.5 m are excluded).
     outlier_k : float
         Reject |residual − median| > k · robust sigma per satellite and UTC day.
     outlier_min_sigma_m : float
@@ -658,7 +658,7 @@ def _stats_dataset(dim: str, labels, moments: list, coord_attrs: Mapping | None 
 
 
 def station_statistics(residuals: xr.Dataset) -> xr.Dataset:
-    """Statistics of the used residuals per station and over all (seed 000, Table IV).
+    """Statistics of the used residuals per station and over all (Peng et al. 2021, Table IV).
 
     Parameters
     ----------
@@ -681,7 +681,7 @@ def station_statistics(residuals: xr.Dataset) -> xr.Dataset:
 
 
 def elevation_statistics(residuals: xr.Dataset, bin_deg: float = 5.0) -> xr.Dataset:
-    """Statistics of the used residuals per elevation bin (seed 000, Figs. 17–18).
+    """Statistics of the used residuals per elevation bin (Peng et al. 2021, Figs. 17–18).
 
     Parameters
     ----------
@@ -718,7 +718,7 @@ def rtn_projection(residuals: xr.Dataset) -> xr.Dataset:
     Two views of the same residuals ``ρ`` with the unit lines of sight ``e`` (station →
     satellite) in the orbit's RTN axes:
 
-    * seed 001 (sec. 3.4.3, eq. 16, Table 5): the components ``ρ e_R``, ``ρ e_T``,
+    * Wang et al. (2024) (sec. 3.4.3, eq. 16, Table 5): the components ``ρ e_R``, ``ρ e_T``,
       ``ρ e_N`` of every residual and their RMS; since |e| = 1 the three RMS values add in
       quadrature to the RMS of the residuals;
     * a least-squares estimate of a constant orbit offset δ (orbit minus truth, RTN) from
@@ -754,7 +754,8 @@ def rtn_projection(residuals: xr.Dataset) -> xr.Dataset:
     m = {"units": "m"}
     return xr.Dataset(
         {"rms_component_m": ("rtn", rms_comp, {**m, "long_name": "RMS of the residuals "
-                                               "times the line-of-sight component (seed 001)"}),
+                                               "times the line-of-sight component "
+                                               "(Wang et al. 2024)"}),
          "offset_m": ("rtn", offset, {**m, "long_name": "least-squares constant orbit offset "
                                       "(orbit minus truth)"}),
          "sigma_offset_m": ("rtn", np.sqrt(np.diagonal(cov)), {**m, "long_name":

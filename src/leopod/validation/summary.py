@@ -1,12 +1,12 @@
-"""Campaign summary table: one row per day and solution with the figures the seeds publish.
+"""Campaign summary table: one row per day and solution with the figures the source papers publish.
 
 Columns (NaN where a product does not exist, e.g. no overlap for the last day, no AR for the
-float row): post-fit phase and code residual RMS and their counts (seed 001 sec. 3.3.1), the
-WL/NL fixing rates of the day's ambiguity resolution (seed 002: fixed independent / all
+float row): post-fit phase and code residual RMS and their counts (Wang et al. 2024, sec. 3.3.1),
+the WL/NL fixing rates of the day's ambiguity resolution (Jiang et al. 2023: fixed independent / all
 independent) and the number of constraints, the 3D RMS of the overlap of the day's arc with
-the next one (seed 002 Fig. 13), the RMS of the orbit minus reference orbit in R, T, N and 3D
-(seed 001 Table 4), and the number, mean and STD of the used SLR residuals (seed 000
-Table IV).
+the next one (Jiang et al. 2023, Fig. 13), the RMS of the orbit minus reference orbit in R, T, N and
+3D (Wang et al. 2024, Table 4), and the number, mean and STD of the used SLR residuals
+(Peng et al. 2021, Table IV).
 """
 
 from __future__ import annotations
