@@ -26,7 +26,10 @@ from leopod.constants import (
     R_EARTH_EQUATOR_M,
     TT_MINUS_TAI_S,
 )
-from leopod.dynamics.force_model import Drag, Empirical, apriori_parameters, build_force_model
+from leopod.dynamics.drag import Drag
+from leopod.dynamics.empirical import Empirical
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix

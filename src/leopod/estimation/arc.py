@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.apply import correct_codes
-from leopod.dynamics.force_model import build_force_model
+from leopod.dynamics.force_config import build_force_model
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod

@@ -60,8 +60,8 @@ from leopod.constants import (
     SECONDS_PER_DAY,
     TT_MINUS_TAI_S,
 )
-from leopod.dynamics.force_model import apriori_parameters, build_force_model, interval_edges
-from leopod.dynamics.forces import ForceModel
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import ForceModel, apriori_parameters, interval_edges
 from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
 from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
 from leopod.io.netcdf import write_netcdf
@@ -255,7 +255,7 @@ class TruthForces:
     Attributes
     ----------
     config : dict
-        Configuration for :func:`leopod.dynamics.force_model.build_force_model`.
+        Configuration for :func:`leopod.dynamics.force_config.build_force_model`.
     span_s : float
         Length of the arc [s] (force-model time runs from 0 to ``span_s``).
     drag_edges_s : ndarray, shape (n_drag + 1,)
