@@ -21,7 +21,7 @@ from leopod.frames.rtn import rtn_matrix
 from leopod.io.blq import BLQ_COMPONENTS, BLQ_CONSTITUENTS
 from leopod.io.crd import read_crd
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
-from leopod.io.sinex_ecc import write_sinex_eccentricities
+from leopod.io.sinex_write import write_sinex_eccentricities
 from leopod.simulate.slr import (
     DEFAULT_STATIONS,
     SlrSettings,

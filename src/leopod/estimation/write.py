@@ -13,7 +13,8 @@ from leopod.estimation.outputs import sp3_dataset
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import merge_days, write_netcdf
-from leopod.io.sp3 import read_sp3, write_sp3
+from leopod.io.sp3 import read_sp3
+from leopod.io.sp3_write import write_sp3
 from leopod.plots.pod import (
     plot_apriori_difference,
     plot_residual_skymap,

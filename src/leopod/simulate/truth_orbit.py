@@ -65,7 +65,7 @@ from leopod.dynamics.forces import ForceModel, apriori_parameters, interval_edge
 from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
 from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
 from leopod.io.netcdf import write_netcdf
-from leopod.io.sp3 import write_sp3
+from leopod.io.sp3_write import write_sp3
 from leopod.simulate.world import _J2, CircularOrbit
 from leopod.time.calendar import J2000_TT, from_seconds, seconds_since
 from leopod.time.eop import EarthOrientation
