@@ -32,11 +32,13 @@ from leopod.simulate.world import CircularOrbit, earth_fixed
 from leopod.validation.slr import (
     REJECTION_REASONS,
     SlrResidualSettings,
-    elevation_statistics,
     line_of_sight_orbit_difference,
-    rtn_projection,
     slr_residuals,
     station_reference_points,
+)
+from leopod.validation.slr_statistics import (
+    elevation_statistics,
+    rtn_projection,
     station_statistics,
 )
 
