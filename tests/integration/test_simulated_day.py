@@ -28,7 +28,7 @@ from leopod.simulate.campaign import (
     simulate_world_truth,
 )
 from leopod.simulate.settings import SimulationSettings
-from leopod.simulate.truth_orbit import TruthDynamics
+from leopod.simulate.truth_forces import TruthDynamics
 
 SIGNALS = {"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"], "pod_code": ["C1W", "C2W"]}}
 PCO = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37]}
