@@ -1,5 +1,10 @@
 """Float reduced-dynamic POD: iterated batch least squares on undifferenced IF code and phase.
 
+Why one module of 597 lines: the four dataclasses (settings, observations, start, result) are
+the interface of the one solver below them (_Problem, float_pod) and are imported with it by
+leopod.estimation.arc, .inputs, .outputs and leopod.ambiguity.resolve; splitting them off waits
+for the rework of leopod.estimation.arc under way.
+
 Unknowns (seeds 000-002; Jäggi et al. 2006, J. Geod. 80:47-60): the GCRF initial state, the
 estimated force-model parameters (drag and SRP scale factors, piecewise empirical
 accelerations, :mod:`leopod.dynamics.force_config`), pseudo-stochastic velocity pulses in R,

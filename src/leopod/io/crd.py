@@ -1,5 +1,9 @@
 """ILRS Consolidated laser Ranging Data (CRD): read normal points and full-rate ranges.
 
+Why one module of 557 lines: one reader of both CRD versions, whose record scan and vectorised
+column assembly share the session state; a sixth of it is this docstring with its schema table
+(the writer is leopod.io.crd_write).
+
 Specification: "Consolidated Laser Ranging Data Format (CRD) Version 1.01" (Ricklefs & Moore,
 ILRS 2009) and "ILRS CRD 2.01" (Ricklefs et al., ILRS 2019/2021). Version 2 records are
 free format (fields separated by blanks, ``na`` for "not available", record identifiers in

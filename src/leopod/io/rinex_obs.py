@@ -1,5 +1,9 @@
 """Reader of RINEX observation files (versions 2.xx, 3.00-3.05, 4.00).
 
+Why one module of 633 lines: one reader of RINEX 2, 3 and 4 whose header parser and two
+data-section scanners share the header state (observation types, which epoch flag 4 may redefine
+mid-file); the writer is leopod.io.rinex_obs_write.
+
 Specifications: "RINEX: The Receiver Independent Exchange Format Version 2.11" (Gurtner and
 Estey, 2007/2012, with the 2.20 spaceborne-receiver extension for types such as ``LA``/``SA``),
 "RINEX Version 3.04" (IGS/RTCM-SC104, 2018) and 3.05 / 4.00 (whose observation records are

@@ -1,5 +1,9 @@
 """Simulated GNSS code and phase biases, and the ambiguity-resolution products made from them.
 
+Why one module of 561 lines: the simulated biases and the products made from them (OSB, WL
+records, integer-recovery clock) follow the one set of sign conventions stated below; a split
+would separate the conventions from half of the code they govern.
+
 Observation model of the simulator (metres; ``s`` satellite, ``r`` receiver, ``i`` signal,
 ``λ_i`` wavelength, ``I`` slant ionosphere on frequency 1, ``γ_i = (f_1/f_i)²``)::
 

@@ -1,4 +1,8 @@
-"""SLR residuals of a LEO orbit: model of the normal points, screening, statistics.
+"""SLR residuals of a LEO orbit: station reference points, normal-point model, screening.
+
+Why one module of 627 lines: station reference points, range model, screening and the residual
+Dataset are one pass over the normal points sharing SlrResidualSettings and the rejection codes;
+the statistics are in leopod.validation.slr_statistics.
 
 For every CRD normal point the one-way range ``c · tof / 2`` (observed; ILRS normal points
 are calibrated for the station system delay) is compared with the computed range of
