@@ -1,6 +1,6 @@
 """Benchmark: a 30-h LEO arc with the full force model, STM and ~40 sensitivities.
 
-Force model (leopod.dynamics.force_model): EGM2008 to degree 120 with its full gradient, solid
+Force model (leopod.dynamics.force_config): EGM2008 to degree 120 with its full gradient, solid
 Earth tides (IERS 2010 steps 1-2), FES2004 ocean tides to degree 30, solid and ocean pole
 tides, Sun and Moon (DE421), relativity (IERS 2010 eq. 10.12), drag (cannonball,
 NRLMSISE-00 with CelesTrak space weather, one scale factor per 3 h), SRP (cannonball, conical
@@ -29,7 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from leopod.dynamics.force_model import apriori_parameters, build_force_model
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.io.sp3 import read_sp3

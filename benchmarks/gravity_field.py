@@ -19,7 +19,8 @@ import numba
 import numpy as np
 import xarray as xr
 
-from leopod.dynamics.gravity_field import GravityField, acceleration_sums, field_sums
+from leopod.dynamics.gravity_field import GravityField
+from leopod.dynamics.spherical_harmonics import acceleration_sums, field_sums
 from leopod.io.icgem import read_icgem
 
 EGM2008 = Path(__file__).resolve().parents[2] / "shared/models/gravity/EGM2008_120.gfc"

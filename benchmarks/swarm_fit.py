@@ -32,7 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from leopod.dynamics.force_model import apriori_parameters, build_force_model
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.io.sp3 import read_sp3

@@ -9,7 +9,7 @@ import xarray as xr
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_overlaps
-from leopod.validation.compare import statistics_table
+from leopod.validation.orbit_statistics import statistics_table
 from leopod.validation.overlap import overlap_summary
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging

@@ -10,7 +10,7 @@ import xarray as xr
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_daily_statistics, plot_reference_differences
-from leopod.validation.compare import orbit_statistics, statistics_table
+from leopod.validation.orbit_statistics import orbit_statistics, statistics_table
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 

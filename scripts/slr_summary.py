@@ -10,7 +10,11 @@ import xarray as xr
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.slr import plot_slr_elevation, plot_slr_residuals_time, plot_slr_stations
-from leopod.validation.slr import elevation_statistics, rtn_projection, station_statistics
+from leopod.validation.slr_statistics import (
+    elevation_statistics,
+    rtn_projection,
+    station_statistics,
+)
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 

@@ -30,8 +30,10 @@ from leopod.ambiguity import (
     sd_wide_lane,
 )
 from leopod.ambiguity.decision import NL_MAX_DEV_CYC, WL_MAX_DEV_CYC
-from leopod.io.bias_sinex import read_bias_sinex, write_bias_sinex
-from leopod.io.wlbias import read_wl_bias, write_wl_bias
+from leopod.io.bias_sinex import read_bias_sinex
+from leopod.io.bias_sinex_write import write_bias_sinex
+from leopod.io.wlbias import read_wl_bias
+from leopod.io.wlbias_write import write_wl_bias
 
 
 @pytest.fixture(scope="module")

@@ -23,7 +23,8 @@ from leopod.ambiguity.narrow_lane import (
     sd_narrow_lane,
 )
 from leopod.ambiguity.pairs import sd_pairs
-from leopod.io.bias_sinex import read_bias_sinex, write_bias_sinex
+from leopod.io.bias_sinex import read_bias_sinex
+from leopod.io.bias_sinex_write import write_bias_sinex
 from leopod.simulate.biases import ar_products, simulate_biases
 
 

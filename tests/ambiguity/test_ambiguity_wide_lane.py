@@ -29,8 +29,10 @@ from leopod.ambiguity.wide_lane import (
     sd_wide_lane,
 )
 from leopod.constants import C_LIGHT_M_S
-from leopod.io.bias_sinex import read_bias_sinex, write_bias_sinex
-from leopod.io.wlbias import read_wl_bias, write_wl_bias
+from leopod.io.bias_sinex import read_bias_sinex
+from leopod.io.bias_sinex_write import write_bias_sinex
+from leopod.io.wlbias import read_wl_bias
+from leopod.io.wlbias_write import write_wl_bias
 from leopod.signals import frequency_hz
 from leopod.simulate.biases import ar_products, simulate_biases
 

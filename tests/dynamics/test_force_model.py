@@ -1,4 +1,5 @@
-"""Tests of leopod.dynamics.force_model: the configurable GCRF force model of an arc.
+"""Tests of the configurable GCRF force model of an arc: leopod.dynamics.force_config, the grids
+of leopod.dynamics.environment and the forces beside their physics.
 
 Authorities: direct (non-interpolated) evaluation of the same inputs — the IAU 2006/2000A
 ITRF -> GCRF matrices of :func:`leopod.frames.earth_rotation.gcrf_from_itrf_matrices`, DE421
@@ -16,16 +17,24 @@ import pytest
 import xarray as xr
 
 from leopod.astro.ephemeris import Ephemeris
-from leopod.constants import GM_MOON_M3_S2, GM_SUN_M3_S2
-from leopod.dynamics import force_model as fm
-from leopod.dynamics.drag import HarrisPriesterDensity, drag_cannonball
-from leopod.dynamics.empirical import empirical_acceleration
-from leopod.dynamics.forces import PointMassGravity
-from leopod.dynamics.gravity_field import GravityField
-from leopod.dynamics.relativity import relativistic_acceleration
+from leopod.constants import GM_MOON_M3_S2, GM_SUN_M3_S2, OMEGA_EARTH_RAD_S
+from leopod.dynamics.drag import Drag, HarrisPriesterDensity, drag_cannonball
+from leopod.dynamics.empirical import Empirical, empirical_acceleration
+from leopod.dynamics.environment import ArcEnvironment
+from leopod.dynamics.force_config import DEFAULT_DRAG_COEFFICIENT, build_force_model
+from leopod.dynamics.forces import (
+    PointMassGravity,
+    apriori_parameters,
+    constraint_sigmas,
+    estimated_parameters,
+    interval_edges,
+)
+from leopod.dynamics.gravity_field import EarthGravity, GravityField
+from leopod.dynamics.relativity import Relativity, relativistic_acceleration
 from leopod.dynamics.solid_tides import permanent_tide_c20
-from leopod.dynamics.srp import srp_cannonball
-from leopod.dynamics.third_body import third_body_acceleration
+from leopod.dynamics.srp import SolarRadiation, srp_cannonball
+from leopod.dynamics.third_body import ThirdBodies, third_body_acceleration
+from leopod.dynamics.tides import TideModel
 
 T_REF = np.datetime64("2023-01-01T00:00:00", "ns")
 ARC_S = 6 * 3600.0
@@ -54,7 +63,7 @@ def egm2008_degree4(tide_system: str = "tide_free") -> xr.Dataset:
 
 @pytest.fixture(scope="module")
 def env():
-    return fm.ArcEnvironment(T_REF, 0.0, ARC_S)
+    return ArcEnvironment(T_REF, 0.0, ARC_S)
 
 
 def _times(n=200):
@@ -62,7 +71,7 @@ def _times(n=200):
 
 
 def _build(config, env=None):
-    return fm.build_force_model(config, T_REF, 0.0, ARC_S, environment=env)
+    return build_force_model(config, T_REF, 0.0, ARC_S, environment=env)
 
 
 # ------------------------------------------------------------------------ environment
@@ -96,7 +105,7 @@ def test_tt_reference_epoch(env):
 
 
 def test_epoch_outside_arc_raises(env):
-    force = fm.ThirdBodies(env)
+    force = ThirdBodies(env)
     with pytest.raises(ValueError, match="outside the arc"):
         force.evaluate(ARC_S + 3600.0, POS, VEL, np.empty(0))
 
@@ -106,7 +115,7 @@ def test_epoch_outside_arc_raises(env):
 
 def test_earth_gravity_matches_field_in_itrf(env):
     field = GravityField(egm2008_degree4(), 4)
-    force = fm.EarthGravity(field, env)
+    force = EarthGravity(field, env)
     for t in _times(5):
         acc, grad, da_dv, da_dp = force.evaluate(t, POS, VEL, np.empty(0))
         rot = env.rotation_direct([t])[0][0]
@@ -118,7 +127,7 @@ def test_earth_gravity_matches_field_in_itrf(env):
 
 
 def test_gravity_gradient_equals_finite_differences(env):
-    force = fm.EarthGravity(GravityField(egm2008_degree4(), 4), env)
+    force = EarthGravity(GravityField(egm2008_degree4(), 4), env)
     t = 1234.5
     grad = force.evaluate(t, POS, VEL, np.empty(0))[1]
     step = 1.0
@@ -130,8 +139,8 @@ def test_gravity_gradient_equals_finite_differences(env):
 
 def test_gradient_degree_option(env):
     ds = egm2008_degree4()
-    full = fm.EarthGravity(GravityField(ds, 4), env)
-    low = fm.EarthGravity(GravityField(ds, 4), env, gradient_field=GravityField(ds, 2))
+    full = EarthGravity(GravityField(ds, 4), env)
+    low = EarthGravity(GravityField(ds, 4), env, gradient_field=GravityField(ds, 2))
     a1, g1 = full.evaluate(10.0, POS, VEL, np.empty(0))[:2]
     a2, g2 = low.evaluate(10.0, POS, VEL, np.empty(0))[:2]
     np.testing.assert_allclose(a2, a1, rtol=1e-14)
@@ -142,9 +151,9 @@ def test_gradient_degree_option(env):
 
 def test_tidal_tables_interpolation_and_acceleration(env):
     field = GravityField(egm2008_degree4(), 4)
-    tides = fm.TideModel("tide_free", solid=True, solid_pole=True, ocean_pole=True,
+    tides = TideModel("tide_free", solid=True, solid_pole=True, ocean_pole=True,
                          gm_earth_m3_s2=field.gm_m3_s2, radius_m=field.radius_m)
-    force = fm.EarthGravity(field, env, tides)
+    force = EarthGravity(field, env, tides)
     t = np.array([1000.0, 7777.7, 20000.0])            # off the 300-s grid
     dc, ds = force.tide_coefficients(t)
     direct = force.tide_tables(dc, ds)
@@ -184,14 +193,14 @@ def test_tides_need_a_known_tide_system(env):
     with pytest.raises(ValueError, match="tide system"):
         _build(cfg, env)
     # without tides any field is fine
-    assert isinstance(_build({"gravity": cfg["gravity"]}, env).forces[0], fm.EarthGravity)
+    assert isinstance(_build({"gravity": cfg["gravity"]}, env).forces[0], EarthGravity)
 
 
 # ------------------------------------------------------------ third bodies, relativity
 
 
 def test_third_bodies_match_reference(env):
-    force = fm.ThirdBodies(env)
+    force = ThirdBodies(env)
     eph = Ephemeris()
     for t in _times(3):
         acc, grad = force.evaluate(t, POS, VEL, np.empty(0))[:2]
@@ -203,7 +212,7 @@ def test_third_bodies_match_reference(env):
             ref_a, ref_g = ref_a + a, ref_g + g
         np.testing.assert_allclose(acc, ref_a, rtol=1e-9)
         np.testing.assert_allclose(grad, ref_g, rtol=1e-9)
-    moon_only = fm.ThirdBodies(env, sun=False)
+    moon_only = ThirdBodies(env, sun=False)
     a = moon_only.evaluate(50.0, POS, VEL, np.empty(0))[0]
     ref = third_body_acceleration(POS, eph.moon_m(env.tt_j2000_s(50.0))[0], GM_MOON_M3_S2,
                                   with_gradient=False)
@@ -212,7 +221,7 @@ def test_third_bodies_match_reference(env):
 
 @pytest.mark.parametrize("lense_thirring, de_sitter", [(True, True), (False, False)])
 def test_relativity_matches_reference(env, lense_thirring, de_sitter):
-    force = fm.Relativity(env, lense_thirring, de_sitter)
+    force = Relativity(env, lense_thirring, de_sitter)
     t = 4321.0
     eph = Ephemeris()
     tt = env.tt_j2000_s(t)
@@ -229,18 +238,18 @@ def test_relativity_matches_reference(env, lense_thirring, de_sitter):
 
 
 def test_interval_edges():
-    np.testing.assert_array_equal(fm.interval_edges(0.0, 86390.0, 10800.0),
+    np.testing.assert_array_equal(interval_edges(0.0, 86390.0, 10800.0),
                                   10800.0 * np.arange(9).clip(max=86390 / 10800))
-    np.testing.assert_array_equal(fm.interval_edges(5.0, 10.0, None), [5.0, 10.0])
-    np.testing.assert_array_equal(fm.interval_edges(0.0, 21600.0, 10800.0), [0, 10800, 21600])
+    np.testing.assert_array_equal(interval_edges(5.0, 10.0, None), [5.0, 10.0])
+    np.testing.assert_array_equal(interval_edges(0.0, 21600.0, 10800.0), [0, 10800, 21600])
     with pytest.raises(ValueError):
-        fm.interval_edges(0.0, 1.0, 0.0)
+        interval_edges(0.0, 1.0, 0.0)
 
 
 def test_drag_matches_reference_per_interval(env):
     density = HarrisPriesterDensity()
     cd_am = 2.3 / 470.0
-    force = fm.Drag(env, density, cd_am, [0.0, 7200.0, ARC_S])
+    force = Drag(env, density, cd_am, [0.0, 7200.0, ARC_S])
     assert force.parameters == ["drag_scale_0", "drag_scale_1"]
     np.testing.assert_array_equal(force.breakpoints_s, [7200.0])
     scales = np.array([1.3, 0.6])
@@ -250,7 +259,7 @@ def test_drag_matches_reference_per_interval(env):
         sun = env.bodies_direct([t])[0, :3]
         rho, grad = density(env.tt_j2000_s(t), POS, rot.T, sun)
         ref = drag_cannonball(POS, VEL, rho, grad, cd_am, scales[k],
-                              omega_rad_s=fm.OMEGA_EARTH_RAD_S * rot[:, 2])
+                              omega_rad_s=OMEGA_EARTH_RAD_S * rot[:, 2])
         np.testing.assert_allclose(acc, ref[0], rtol=1e-9)
         np.testing.assert_allclose(da_dv, ref[2], rtol=1e-9)
         np.testing.assert_allclose(da_dp[:, k], acc / scales[k], rtol=1e-12)
@@ -258,7 +267,7 @@ def test_drag_matches_reference_per_interval(env):
 
 
 def test_srp_matches_reference(env):
-    force = fm.SolarRadiation(env, 1.3 / 470.0, [0.0, ARC_S])
+    force = SolarRadiation(env, 1.3 / 470.0, [0.0, ARC_S])
     assert force.parameters == ["srp_scale_0"] and not force.estimate
     t = 2000.0
     acc, _, _, da_dp = force.evaluate(t, POS, VEL, np.array([0.9]))
@@ -292,12 +301,12 @@ FULL = {"gravity": {"field": egm2008_degree4()}, "tides": {"solid": True},
 def test_build_every_force_switchable(env):
     model = _build(FULL, env)
     kinds = [type(f) for f in model.forces]
-    assert kinds == [fm.EarthGravity, fm.ThirdBodies, fm.Relativity, fm.Drag,
-                     fm.SolarRadiation, fm.Empirical]
+    assert kinds == [EarthGravity, ThirdBodies, Relativity, Drag,
+                     SolarRadiation, Empirical]
     assert model.n_params == 2 + 1 + 12
-    for name, kind in (("third_body", fm.ThirdBodies), ("relativity", fm.Relativity),
-                       ("drag", fm.Drag), ("srp", fm.SolarRadiation),
-                       ("empirical", fm.Empirical)):
+    for name, kind in (("third_body", ThirdBodies), ("relativity", Relativity),
+                       ("drag", Drag), ("srp", SolarRadiation),
+                       ("empirical", Empirical)):
         for off in (None, False, {"enabled": False}):
             reduced = _build({**FULL, name: off}, env)
             assert kind not in [type(f) for f in reduced.forces]
@@ -308,10 +317,10 @@ def test_build_every_force_switchable(env):
 def test_build_parameters_and_ratios(env):
     model = _build(FULL, env)
     drag = model.forces[3]
-    assert drag.cd_area_mass_m2_kg == pytest.approx(fm.DEFAULT_DRAG_COEFFICIENT / 470.0)
-    ap = fm.apriori_parameters(model)
-    est = fm.estimated_parameters(model)
-    sig = fm.constraint_sigmas(model)
+    assert drag.cd_area_mass_m2_kg == pytest.approx(DEFAULT_DRAG_COEFFICIENT / 470.0)
+    ap = apriori_parameters(model)
+    est = estimated_parameters(model)
+    sig = constraint_sigmas(model)
     names = model.parameters
     assert ap[names.index("drag_scale_1")] == 1.0 and ap[names.index("srp_scale_0")] == 1.0
     assert ap[names.index("emp_cos_N_1")] == 0.0
@@ -336,7 +345,7 @@ def test_build_rejects_bad_config(env, config, message):
 def test_total_partials_equal_finite_differences(env):
     cfg = {**FULL, "relativity": None}                 # relativity partials are neglected
     model = _build(cfg, env)
-    params = fm.apriori_parameters(model)              # empirical terms 0: no frame partials
+    params = apriori_parameters(model)              # empirical terms 0: no frame partials
     t = 12345.0
     _, da_dr, da_dv, _ = model.evaluate(t, POS, VEL, params)
 
@@ -357,7 +366,7 @@ def test_egm2008_fes2004_model(shared):
     models = shared / "models"
     cfg = {"gravity": {"field": models / "gravity" / "EGM2008_120.gfc"},
            "tides": {"ocean": models / "ocean_tides" / "fes2004_Cnm-Snm.dat"}}
-    env = fm.ArcEnvironment(T_REF, 0.0, 3600.0)
+    env = ArcEnvironment(T_REF, 0.0, 3600.0)
     force = _build_short(cfg, env)
     assert force.field.tide_system == "tide_free" and force.tides.max_degree == 30
     t = np.array([1111.1, 2222.2])
@@ -369,4 +378,4 @@ def test_egm2008_fes2004_model(shared):
 
 
 def _build_short(cfg, env):
-    return fm.build_force_model(cfg, T_REF, 0.0, 3600.0, environment=env).forces[0]
+    return build_force_model(cfg, T_REF, 0.0, 3600.0, environment=env).forces[0]

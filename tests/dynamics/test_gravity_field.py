@@ -1,4 +1,4 @@
-"""Tests of leopod.dynamics.gravity_field.
+"""Tests of leopod.dynamics.gravity_field and its sums (leopod.dynamics.spherical_harmonics).
 
 Authorities: analytic point-mass and J2 fields; an independent brute-force potential summed in
 50-120 significant digits (``decimal``) from the explicit Legendre polynomial sum, itself
@@ -19,12 +19,8 @@ import xarray as xr
 from scipy.special import lpmv
 
 from leopod.constants import OMEGA_EARTH_WGS84_RAD_S, WGS84_A_M, WGS84_INV_F
-from leopod.dynamics.gravity_field import (
-    GravityField,
-    acceleration_sums,
-    decimal_year,
-    field_sums,
-)
+from leopod.dynamics.gravity_field import GravityField, decimal_year
+from leopod.dynamics.spherical_harmonics import acceleration_sums, field_sums
 from leopod.io.icgem import read_icgem
 
 # test inputs: the GM and radius of the EGM2008 header (any values would do)

@@ -15,7 +15,8 @@ import pytest
 from test_force_model import POS, VEL, egm2008_degree4
 
 from leopod.constants import GM_EARTH_M3_S2
-from leopod.dynamics import force_model as fm
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import apriori_parameters, estimated_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.dynamics.orbit_fit import STATE_NAMES, _solve, fit_orbit, initial_state
 from leopod.frames.earth_rotation import gcrf_to_itrf
@@ -35,9 +36,9 @@ SWARM_SP3 = "SW_OPER_SP3ACOM_2__20221231T235942_20230101T235942_0201.sp3"
 def simulation():
     """Truth: parameters, initial state and ITRF positions every 60 s over 3 h."""
     t_s = np.arange(0.0, ARC_S + 1.0, SAMPLING_S)
-    model = fm.build_force_model(CONFIG, T_REF, t_s[0], t_s[-1])
+    model = build_force_model(CONFIG, T_REF, t_s[0], t_s[-1])
     rng = np.random.default_rng(7)
-    params = fm.apriori_parameters(model)
+    params = apriori_parameters(model)
     names = model.parameters
     for i, name in enumerate(names):
         if name.startswith("drag_scale"):
@@ -52,7 +53,7 @@ def simulation():
 
 
 def _truth_vector(model, state0, params):
-    est = fm.estimated_parameters(model)
+    est = estimated_parameters(model)
     return np.concatenate([state0, params[est]])
 
 

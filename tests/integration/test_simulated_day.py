@@ -29,7 +29,7 @@ from leopod.simulate.campaign import (
     simulate_world_truth,
 )
 from leopod.simulate.settings import SimulationSettings
-from leopod.simulate.truth_orbit import TruthDynamics
+from leopod.simulate.truth_forces import TruthDynamics
 from leopod.workflow.config import section_defaults
 
 SIGNALS = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],

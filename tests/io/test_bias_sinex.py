@@ -8,7 +8,8 @@ import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.io._text import FormatError, read_lines
-from leopod.io.bias_sinex import osb, read_bias_sinex, write_bias_sinex
+from leopod.io.bias_sinex import osb, read_bias_sinex
+from leopod.io.bias_sinex_write import write_bias_sinex
 
 WHU = "products_2008-279_whu/WHU0IGSFIN_20082790000_01D_01D_ABS.BIA.Z"
 COD = "products_2023-189_cod_osb/COD0OPSFIN_20231890000_01D_01D_OSB.BIA"

@@ -9,7 +9,8 @@ import xarray as xr
 from _helpers import assert_format_error, write_lines
 
 from leopod.io import FormatError
-from leopod.io.clock import read_rinex_clock, write_rinex_clock
+from leopod.io.clock import read_rinex_clock
+from leopod.io.clock_write import write_rinex_clock
 
 COD_CLK = "grace-a_2007-080/cod14193.clk.gz"
 WHU_CLK = "products_2008-279_whu/whp15000.clk.Z"

@@ -16,7 +16,8 @@ import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.io._text import FormatError
-from leopod.io.crd import ilrs_id_to_cospar, read_crd, write_crd
+from leopod.io.crd import ilrs_id_to_cospar, read_crd
+from leopod.io.crd_write import write_crd
 
 PROD = dt.datetime(2024, 1, 2, 3)
 

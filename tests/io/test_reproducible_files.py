@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 
 from leopod.io._text import creation_time
-from leopod.io.clock import write_rinex_clock
+from leopod.io.clock_write import write_rinex_clock
 from leopod.plots import save_figure
 
 

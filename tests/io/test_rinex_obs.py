@@ -16,7 +16,8 @@ import pytest
 import xarray as xr
 
 from leopod.io._text import FormatError
-from leopod.io.rinex_obs import read_rinex_obs, write_rinex_obs
+from leopod.io.rinex_obs import read_rinex_obs
+from leopod.io.rinex_obs_write import write_rinex_obs
 
 GRACE_A = "grace-a_2007-080/graa0800.07o.gz"
 GRACE_B = "grace-b_2010-208/GRCB2080.10D"

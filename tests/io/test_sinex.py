@@ -18,8 +18,8 @@ from leopod.io.sinex import (
     read_sinex_stations,
     station_eccentricity,
     station_position,
-    write_sinex_stations,
 )
+from leopod.io.sinex_write import write_sinex_stations
 
 SLRF2020 = "SLRF2020_POS+VEL_2023.10.02.snx"
 SLRF2014 = "SLRF2014_POS+VEL_2030.0_180504.snx"

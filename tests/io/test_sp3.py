@@ -10,7 +10,8 @@ import xarray as xr
 from _helpers import assert_format_error, write_lines
 
 from leopod.io import FormatError
-from leopod.io.sp3 import read_sp3, write_sp3
+from leopod.io.sp3 import read_sp3
+from leopod.io.sp3_write import write_sp3
 
 COD_SP3C = "grace-a_2007-080/cod14193.sp3.gz"
 COD_SP3D = "products_2023-189_cod_osb/COD0OPSFIN_20231890000_01D_05M_ORB.SP3"

@@ -12,8 +12,10 @@ import pytest
 import xarray as xr
 
 from leopod.io._text import FormatError
-from leopod.io.clock import read_rinex_clock, write_rinex_clock
-from leopod.io.wlbias import read_wl_bias, wl_bias_records, write_wl_bias
+from leopod.io.clock import read_rinex_clock
+from leopod.io.clock_write import write_rinex_clock
+from leopod.io.wlbias import read_wl_bias
+from leopod.io.wlbias_write import wl_bias_records, write_wl_bias
 
 
 def _wl(sv, epoch, values, comment=False):

@@ -11,7 +11,7 @@ from leopod.plots.validation import (
     plot_overlaps,
     plot_reference_differences,
 )
-from leopod.validation.compare import COMPONENTS, orbit_statistics
+from leopod.validation.orbit_statistics import COMPONENTS, orbit_statistics
 
 pytestmark = pytest.mark.filterwarnings("error")
 

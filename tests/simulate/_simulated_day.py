@@ -14,7 +14,7 @@ from leopod.simulate.campaign import (
     simulate_world_truth,
 )
 from leopod.simulate.settings import SimulationSettings
-from leopod.simulate.truth_orbit import TruthDynamics
+from leopod.simulate.truth_forces import TruthDynamics
 
 DAY = "2019-001"
 SAT = "hy2b-sim"

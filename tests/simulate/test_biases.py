@@ -22,10 +22,12 @@ from leopod.gnss.combinations import (
     narrow_lane_wavelength_m,
     wide_lane_wavelength_m,
 )
-from leopod.io.bias_sinex import osb, read_bias_sinex, write_bias_sinex
+from leopod.io.bias_sinex import osb, read_bias_sinex
+from leopod.io.bias_sinex_write import write_bias_sinex
 from leopod.io.dcb import read_code_dcb
 from leopod.io.netcdf import write_netcdf
-from leopod.io.wlbias import read_wl_bias, write_wl_bias
+from leopod.io.wlbias import read_wl_bias
+from leopod.io.wlbias_write import write_wl_bias
 from leopod.signals import frequency_hz
 from leopod.simulate.biases import (
     CLOCK_REFERENCE_CODES,

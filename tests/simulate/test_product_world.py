@@ -25,7 +25,7 @@ from leopod.simulate.campaign import _campaign_biases, gnss_world, receiver_cloc
 from leopod.simulate.observations import simulate_observations
 from leopod.simulate.product_world import ProductSet
 from leopod.simulate.settings import DEFAULT_PCO_BODY_M, SimulationSettings
-from leopod.simulate.truth_orbit import TruthDynamics
+from leopod.simulate.truth_forces import TruthDynamics
 
 pytestmark = pytest.mark.shared
 

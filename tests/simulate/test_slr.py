@@ -205,7 +205,7 @@ def test_crd_and_sinex_round_trip(tmp_path, truth, nps):
     crd, snx, ecc = tmp_path / "hy2b.npt", tmp_path / "stations.snx", tmp_path / "ecc.snx"
     write_slr_files(nps, DEFAULT_STATIONS, crd, snx, "2021-03-01", ecc_path=ecc)
     back = read_crd(crd)
-    # CRD 2 writes tof to 1 ps and epochs to 1 ns (leopod.io.crd.write_crd)
+    # CRD 2 writes tof to 1 ps and epochs to 1 ns (leopod.io.crd_write.write_crd)
     assert back.sizes["point"] == nps.sizes["point"]
     np.testing.assert_allclose(back["tof_s"], nps["tof_s"], rtol=0, atol=0.5e-12)
     np.testing.assert_array_equal(back["time"].values, nps["time"].values)

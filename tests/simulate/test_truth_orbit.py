@@ -26,20 +26,21 @@ from leopod.constants import (
     R_EARTH_EQUATOR_M,
     TT_MINUS_TAI_S,
 )
-from leopod.dynamics.force_model import Drag, Empirical, apriori_parameters, build_force_model
+from leopod.dynamics.drag import Drag
+from leopod.dynamics.empirical import Empirical
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.sp3 import read_sp3
+from leopod.simulate.truth_forces import TruthDynamics, default_models, truth_force_config
 from leopod.simulate.truth_orbit import (
     HY2B_ALTITUDE_M,
     SUN_SYNCHRONOUS_NODE_RATE_RAD_S,
-    TruthDynamics,
-    default_models,
     initial_state_sun_synchronous,
     simulate_truth_orbit,
     sun_synchronous_inclination_deg,
-    truth_force_config,
     write_truth_files,
 )
 from leopod.time.calendar import J2000_TT, seconds_since

@@ -23,20 +23,20 @@ from leopod.io.grace_orbit_csv import read_grace_orbit_csv
 from leopod.io.sp3 import read_sp3
 from leopod.time.calendar import seconds_since
 from leopod.validation.compare import (
-    COMPONENTS,
-    HELMERT_PARAMETERS,
     compare_orbits,
-    component_statistics,
     difference_rtn,
-    fit_helmert,
     fit_time_offset,
-    helmert_displacement,
     interpolate_orbit,
     orbit_from_sp3,
-    orbit_statistics,
     rms_rtn,
-    statistics_table,
     to_gps_time,
+)
+from leopod.validation.helmert import HELMERT_PARAMETERS, fit_helmert, helmert_displacement
+from leopod.validation.orbit_statistics import (
+    COMPONENTS,
+    component_statistics,
+    orbit_statistics,
+    statistics_table,
 )
 
 T0 = np.datetime64("2023-01-01T21:00:00", "ns")

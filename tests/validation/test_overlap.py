@@ -20,7 +20,8 @@ from leopod.frames.earth_rotation import gcrf_to_itrf
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3 import read_sp3
-from leopod.validation.compare import COMPONENTS, orbit_from_sp3, statistics_table
+from leopod.validation.compare import orbit_from_sp3
+from leopod.validation.orbit_statistics import COMPONENTS, statistics_table
 from leopod.validation.overlap import overlap, overlap_summary
 
 DAY0 = np.datetime64("2023-01-01T00:00:00", "ns")

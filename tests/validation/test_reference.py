@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 
 from leopod.frames.earth_rotation import gcrf_to_itrf
-from leopod.io.sp3 import write_sp3
+from leopod.io.sp3_write import write_sp3
 from leopod.validation.reference import compare_day, read_reference_orbit
 
 GM = 3.986004418e14

@@ -12,12 +12,14 @@ from leopod.simulate.world import CircularOrbit, earth_fixed
 from leopod.validation.slr_model import (
     OrbitReflector,
     elevation_rad,
-    fcula_mapping,
-    mendes_pavlis_delay_m,
-    saturation_vapour_pressure_hpa,
     shapiro_delay_m,
     slr_range,
     two_way_light_time,
+)
+from leopod.validation.slr_troposphere import (
+    fcula_mapping,
+    mendes_pavlis_delay_m,
+    saturation_vapour_pressure_hpa,
     water_vapour_pressure_hpa,
     zenith_delay_m,
 )

@@ -23,7 +23,7 @@ from leopod.frames.rtn import rtn_matrix
 from leopod.io.blq import BLQ_COMPONENTS, BLQ_CONSTITUENTS
 from leopod.io.crd import read_crd
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
-from leopod.io.sinex_ecc import write_sinex_eccentricities
+from leopod.io.sinex_write import write_sinex_eccentricities
 from leopod.simulate.slr import (
     DEFAULT_STATIONS,
     SlrSettings,
@@ -34,11 +34,13 @@ from leopod.simulate.world import CircularOrbit, earth_fixed
 from leopod.validation.slr import (
     REJECTION_REASONS,
     SlrResidualSettings,
-    elevation_statistics,
     line_of_sight_orbit_difference,
-    rtn_projection,
     slr_residuals,
     station_reference_points,
+)
+from leopod.validation.slr_statistics import (
+    elevation_statistics,
+    rtn_projection,
     station_statistics,
 )
 from leopod.workflow.config import section_defaults

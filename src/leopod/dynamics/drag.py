@@ -32,6 +32,8 @@ matrix and the GCRF gradient [kg/m⁴]):
   (Emmert et al. 2021) through ``pymsis``, fed with F10.7 and ap from the CelesTrak file
   (:mod:`leopod.io.space_weather`); the gradient is the geodetic-vertical derivative from a
   central difference over ±1 km (horizontal gradients, on scales of 1000s of km, neglected).
+
+:class:`Drag` is the cannonball force of the orbit integrator, a scale factor per interval.
 """
 
 from __future__ import annotations
@@ -42,10 +44,12 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
+from leopod.dynamics.forces import _Scaled
 from leopod.time.calendar import J2000_TT
 from leopod.time.scales import tai_minus_utc_s
 
 __all__ = [
+    "Drag",
     "HarrisPriesterDensity",
     "MsisDensity",
     "drag_cannonball",
@@ -408,3 +412,38 @@ class MsisDensity:
         rho = out[:, 0].astype(float)
         drho_dh = (rho[2] - rho[0]) / (2.0 * dh * 1000.0)
         return float(rho[1]), drho_dh * (up_ef @ rot)
+
+
+class Drag(_Scaled):
+    """Atmospheric drag on a cannonball, one scale factor per interval (M&G 2000, sec. 3.5).
+
+    ``a = −½ s_k ρ (C_D A/m) |v_r| v_r``, ``v_r = v − ω × r`` with ω the Earth's rotation
+    about the CIP (``ω_E R ẑ``, R the ITRF -> GCRF matrix); ρ and ∇ρ from ``density``
+    (:class:`leopod.dynamics.drag.HarrisPriesterDensity` or ``MsisDensity``).
+
+    Parameters
+    ----------
+    env : ArcEnvironment
+    density : callable
+        ``density(t_tt_j2000_s, pos_gcrf_m, rot_gcrf_to_itrf, sun_gcrf_m) -> (ρ, ∇ρ)``.
+    cd_area_mass_m2_kg : float
+        C_D A/m [m²/kg].
+    edges_s : array_like, shape (n + 1,)
+        Interval boundaries [s] of the scale factors ``drag_scale_k``.
+    apriori, estimate, sigma
+        A priori scale, whether it is estimated, a priori constraint (None: free).
+    """
+
+    def __init__(self, env, density, cd_area_mass_m2_kg: float, edges_s, **kwargs):
+        super().__init__(env, edges_s, "drag_scale", **kwargs)
+        self.density = density
+        self.cd_area_mass_m2_kg = float(cd_area_mass_m2_kg)
+
+    def _unscaled(self, t_s, pos, vel, scale):
+        bodies = self.env.body_grid(t_s)[0]
+        rot = self.env.rotation(t_s)[0]
+        rho, grad_rho = self.density(self.env.tt_j2000_ref_s + t_s, pos, rot.T, bodies[0:3])
+        acc, da_dr, da_dv, a0 = drag_cannonball(pos, vel, rho, grad_rho, self.cd_area_mass_m2_kg,
+                                                scale, omega_rad_s=OMEGA_EARTH_RAD_S * rot[:, 2])
+        return acc, da_dr, da_dv, a0
+

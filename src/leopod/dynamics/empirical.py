@@ -25,7 +25,8 @@ below the gravity gradient.
 
 Parameter layout: the flat vector is ``coefficients[k, d, j]`` raveled in C order, k the
 interval, d the direction (``EmpiricalModel.directions``), j the term (``terms``); see
-:meth:`EmpiricalModel.index` and :meth:`EmpiricalModel.active`.
+:meth:`EmpiricalModel.index` and :meth:`EmpiricalModel.active`. :class:`Empirical` is the force
+of the orbit integrator.
 """
 
 from __future__ import annotations
@@ -35,7 +36,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-__all__ = ["EmpiricalModel", "argument_of_latitude", "empirical_acceleration"]
+from leopod.dynamics.forces import Force
+
+__all__ = ["Empirical", "EmpiricalModel", "argument_of_latitude", "empirical_acceleration"]
 
 _DIRECTIONS = ("R", "T", "N")
 _TERMS = ("const", "cos", "sin")
@@ -194,3 +197,32 @@ def empirical_acceleration(t_s: float, pos_m, vel_m_s, coefficients, model: Empi
     da_dp = np.zeros((3, model.n_params))
     da_dp[:, active] = local
     return local @ coef[active], np.zeros((3, 3)), np.zeros((3, 3)), da_dp
+
+
+class Empirical(Force):
+    """Constant and once-per-revolution accelerations per interval
+    (:func:`leopod.dynamics.empirical.empirical_acceleration`); parameters
+    ``emp_{term}_{direction}_{k}`` [m/s²].
+
+    Parameters
+    ----------
+    model : EmpiricalModel
+    apriori, estimate, sigma
+        A priori value of every coefficient (0), whether they are estimated, and an a priori
+        constraint [m/s²] (None: free).
+    """
+
+    def __init__(self, model: EmpiricalModel, *, apriori: float = 0.0, estimate: bool = True,
+                 sigma: float | None = None):
+        self.model = model
+        self.parameters = model.names("emp")
+        self.apriori = np.full(model.n_params, float(apriori))
+        self.estimate = bool(estimate)
+        self.sigma = np.full(model.n_params, np.inf if sigma is None else float(sigma))
+
+    @property
+    def breakpoints_s(self) -> np.ndarray:
+        return self.model.boundaries_s[1:-1]
+
+    def evaluate(self, t_s, pos_m, vel_m_s, params):
+        return empirical_acceleration(t_s, pos_m, vel_m_s, params, self.model)

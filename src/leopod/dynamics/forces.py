@@ -16,7 +16,11 @@ A force whose acceleration jumps at known epochs (piecewise-constant parameters)
 ``breakpoints_s``: the integrator restarts there, since a multistep or high-order Runge–Kutta
 step across a discontinuity of the right-hand side loses its order.
 
-:class:`ForceModel` sums forces and concatenates their parameters into one global vector.
+:class:`ForceModel` sums forces and concatenates their parameters into one global vector;
+:func:`apriori_parameters`, :func:`estimated_parameters` and :func:`constraint_sigmas` collect
+the forces' per-parameter a priori values, estimation flags and constraints. Forces with a
+scale factor per interval (:func:`interval_edges`; drag, solar radiation pressure) derive
+from ``_Scaled``.
 :class:`PseudoStochasticPulses` is not a force: instantaneous velocity changes whose partials
 follow from the state transition matrix (:func:`leopod.dynamics.integrator.pulse_partials`).
 
@@ -34,10 +38,12 @@ from itertools import pairwise
 import numpy as np
 
 from leopod.constants import GM_EARTH_M3_S2
+from leopod.dynamics.environment import ArcEnvironment
 from leopod.frames.rtn import RTN_AXES, rtn_basis, rtn_vector_partials
 
 __all__ = ["ConstantAcceleration", "Force", "ForceModel", "PointMassGravity",
-           "PseudoStochasticPulses"]
+           "PseudoStochasticPulses", "apriori_parameters", "constraint_sigmas",
+           "estimated_parameters", "interval_edges"]
 
 
 class Force(ABC):
@@ -232,3 +238,83 @@ class PseudoStochasticPulses:
         object.__setattr__(self, "epochs_s", epochs)
         names = [f"{self.prefix}_{axis}_{i}" for i in range(epochs.size) for axis in RTN_AXES]
         object.__setattr__(self, "parameters", names)
+
+
+# ------------------------------------------------------- parameters per interval
+
+
+def interval_edges(t_start_s: float, t_end_s: float, interval_s: float | None) -> np.ndarray:
+    """Boundaries of intervals of ``interval_s`` from ``t_start_s`` (the last ends at
+    ``t_end_s``); one interval for ``None``."""
+    if interval_s is None:
+        return np.array([t_start_s, t_end_s], dtype=float)
+    if interval_s <= 0:
+        raise ValueError(f"interval_s must be positive, not {interval_s}")
+    n = max(int(np.ceil((t_end_s - t_start_s) / interval_s - 1e-9)), 1)
+    return np.minimum(t_start_s + interval_s * np.arange(n + 1), t_end_s)
+
+
+class _Scaled(Force):
+    """Force ``s_k a0(t, r, v)`` with a scale factor per interval (shared by drag and SRP).
+
+    Parameters ``f"{prefix}_{k}"``; the interval k holding t is clipped to the first and
+    last (the integrator may step just outside the arc); interior edges are breakpoints.
+    """
+
+    def __init__(self, env: ArcEnvironment, edges_s: np.ndarray, prefix: str, *,
+                 apriori: float = 1.0, estimate: bool = True, sigma: float | None = None):
+        self.env = env
+        self.edges_s = np.asarray(edges_s, dtype=float)
+        n = self.edges_s.size - 1
+        self.parameters = [f"{prefix}_{k}" for k in range(n)]
+        self.apriori = np.full(n, float(apriori))
+        self.estimate = bool(estimate)
+        self.sigma = np.full(n, np.inf if sigma is None else float(sigma))
+
+    @property
+    def breakpoints_s(self) -> np.ndarray:
+        return self.edges_s[1:-1]
+
+    def interval(self, t_s: float) -> int:
+        k = int(np.searchsorted(self.edges_s, t_s, side="right")) - 1
+        return min(max(k, 0), self.edges_s.size - 2)
+
+    @abstractmethod
+    def _unscaled(self, t_s, pos, vel, scale):
+        """(s a0, ∂(s a0)/∂r, ∂(s a0)/∂v, a0 (3, 1)) at one state."""
+
+    def evaluate(self, t_s, pos_m, vel_m_s, params):
+        self.env.check(t_s)
+        k = self.interval(t_s)
+        acc, da_dr, da_dv, a0 = self._unscaled(float(t_s), np.asarray(pos_m, dtype=float),
+                                               np.asarray(vel_m_s, dtype=float), params[k])
+        da_dp = np.zeros((3, len(self.parameters)))
+        da_dp[:, k] = a0[:, 0]
+        return acc, da_dr, da_dv, da_dp
+
+
+# ------------------------------------------------------- parameter attributes
+
+
+def _per_parameter(force_model: ForceModel, attribute: str, default) -> np.ndarray:
+    parts = []
+    for force in force_model.forces:
+        k = len(force.parameters)
+        value = getattr(force, attribute, default)
+        parts.append(np.broadcast_to(np.asarray(value), (k,)))
+    return np.concatenate(parts) if parts else np.empty(0)
+
+
+def apriori_parameters(force_model: ForceModel) -> np.ndarray:
+    """A priori values (P,) of the force model's parameters (0 for forces without any)."""
+    return _per_parameter(force_model, "apriori", 0.0).astype(float)
+
+
+def estimated_parameters(force_model: ForceModel) -> np.ndarray:
+    """Boolean mask (P,): which parameters are estimated (default True)."""
+    return _per_parameter(force_model, "estimate", True).astype(bool)
+
+
+def constraint_sigmas(force_model: ForceModel) -> np.ndarray:
+    """A priori standard deviations (P,) of the parameters (inf: unconstrained)."""
+    return _per_parameter(force_model, "sigma", np.inf).astype(float)

@@ -1,38 +1,19 @@
 """Earth gravity field: potential, acceleration and its gradient from spherical harmonics.
 
-Potential of a field with fully normalised coefficients ``C̄nm``, ``S̄nm`` (Heiskanen & Moritz
-1967; Montenbruck & Gill 2000, eq. 3.13 and 3.29)::
+:class:`GravityField` holds the coefficients of a model (fully normalised ``C̄nm``, ``S̄nm``
+of an ICGEM file) and sums them with the recursions and compiled kernels of
+:mod:`leopod.dynamics.spherical_harmonics` (formulas there), in the Earth-fixed frame.
 
-    U(r) = GM/R Σ_{n=0..N} Σ_{m=0..n} (C̄nm V̄nm + S̄nm W̄nm) = GM/R Re Σ (C̄nm − i S̄nm) Ȳnm
-
-with the normalised solid harmonics ``Ȳnm = V̄nm + i W̄nm = N̄nm (R/r)^(n+1) Pnm(sin φ) e^(i m λ)``
-and ``N̄nm = sqrt((2 − δm0)(2n + 1)(n − m)!/(n + m)!)``. ``Ȳnm`` are computed in Cartesian
-coordinates by the recursions of Cunningham (1970) (Montenbruck & Gill 2000, sec. 3.2.4,
-eq. 3.31-3.32), rewritten for normalised functions: diagonal
-``Ȳmm = c_m (x + i y) R/r² Ȳm-1,m-1`` (``c_1 = √3``, ``c_m = sqrt((2m + 1)/(2m))``) and column
-``Ȳnm = a_nm z R/r² Ȳn-1,m − b_nm R²/r² Ȳn-2,m`` with the factors ``a_nm``, ``b_nm`` of the
-standard forward-column recursion of normalised Legendre functions (Holmes & Featherstone 2002,
-J. Geodesy 76, eq. 12-13). The recursion uses no 1/cos φ and is valid at the poles; columns
-whose diagonal term underflows to zero (orders m ≳ 50 within ~1e-6 rad of the poles, or any
-m ≥ 1 on the axis) contribute exactly zero and are skipped. At degree ≤ ~2000 the diagonal
-terms cannot underflow where they matter, so no extended-range arithmetic is needed
-(Holmes & Featherstone 2002, sec. 2.6).
-
-Derivatives. The operators ``∂z``, ``∂± = ∂x ± i ∂y`` map solid harmonics of degree n onto
-degree n + 1 (Cunningham 1970; Montenbruck & Gill 2000, eq. 3.33, from which)::
-
-    ∂z Ynm = −(n − m + 1)/R Yn+1,m,   ∂+ Ynm = −Yn+1,m+1/R,
-    ∂− Ynm = (n − m + 1)(n − m + 2)/R Yn+1,m−1  (m ≥ 1),   ∂− Yn0 = −conj(Yn+1,1)/R
-
-(unnormalised). Any component of the acceleration ``a = ∇U`` and of the gradient
-``∂a/∂r = ∇∇U`` is therefore again a sum ``Re Σ D̄nm Ȳnm``, of degree N + 1 and N + 2; its
-coefficients ``D̄`` are derived once from ``C̄``, ``S̄`` (see :func:`_derivative_fields`), and one
-evaluation of ``Ȳnm`` up to degree N + 2 gives all nine sums in O(N²) operations.
-
-Time-variable models (ICGEM ``gfct``/``trnd``/``acos``/``asin``) are evaluated at an epoch
 given as a decimal year with :meth:`GravityField.at_epoch` (formula in
 :mod:`leopod.io.icgem`). The tide system (``tide_free``, ``zero_tide``, ...) is recorded from the
 file; converting C̄20 between systems is left to the solid-tide model.
+
+:class:`EarthGravity` is its force in the GCRF for the orbit integrator: the static field plus
+the tidal ΔC̄nm, ΔS̄nm of :class:`leopod.dynamics.tides.TideModel` (solid Earth steps 1-2, ocean
+FES2004, solid and ocean pole tides; IERS Conventions 2010 ch. 6), evaluated in the ITRF and
+rotated: ``a = R ∇U(Rᵀ r)``, ``∂a/∂r = R G Rᵀ`` (G = ∇∇U; the tidal part of G, < 1e-7 of it,
+is neglected), R and the tidal tables interpolated on the grids of
+:class:`leopod.dynamics.environment.ArcEnvironment`.
 """
 
 from __future__ import annotations
@@ -40,18 +21,33 @@ from __future__ import annotations
 import logging
 from datetime import date
 
+import erfa
 import numba
 import numpy as np
 import xarray as xr
 
-__all__ = ["GravityField", "acceleration_sums", "acceleration_table", "decimal_year", "field_sums",
-           "recursion_tables"]
+from leopod.dynamics.environment import ArcEnvironment, _Grid
+from leopod.dynamics.forces import Force
+from leopod.dynamics.spherical_harmonics import (
+    _acc_grad_fields,
+    _acc_grad_many,
+    _field_table,
+    _sums_many,
+    acceleration_sums,
+    acceleration_table,
+    field_sums,
+    recursion_tables,
+)
+from leopod.dynamics.tides import TideModel
+from leopod.numerics.interpolate import lagrange_equidistant
+from leopod.time.eop import jd_ut1
+from leopod.time.scales import jd_tt
+
+__all__ = ["EarthGravity", "GravityField", "decimal_year"]
 
 logger = logging.getLogger(__name__)
 
-#: Index of each component in the nine sums of ``_ACC_GRAD_FIELDS``: a_x, a_y, a_z, then the
-#: gradient's upper triangle xx, xy, xz, yy, yz, zz.
-_GRAD_INDEX = np.array([[3, 4, 5], [4, 6, 7], [5, 7, 8]])
+_TIDE_POINTS = 6              # Lagrange points of the tidal coefficient tables (degree 5)
 
 
 def decimal_year(day: date | np.datetime64 | str) -> float:
@@ -76,268 +72,6 @@ def decimal_year(day: date | np.datetime64 | str) -> float:
     start = year.astype("datetime64[ns]")
     length = (year + 1).astype("datetime64[ns]") - start
     return float(year.astype(int) + 1970) + float((t - start) / length)
-
-
-# ------------------------------------------------------------------------ coefficient algebra
-
-
-def _degree_order(size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Degree n (shape (size, 1)), order m (shape (1, size)) and the mask m <= n (size, size)."""
-    n = np.arange(size, dtype=float)[:, None]
-    m = np.arange(size, dtype=float)[None, :]
-    return n, m, m <= n
-
-
-def _derivative_fields(d: np.ndarray, radius_m: float) -> tuple[np.ndarray, np.ndarray,
-                                                                np.ndarray]:
-    """Coefficients of ∂F/∂x, ∂F/∂y, ∂F/∂z for a field ``F = Re Σ d[n, m] Ȳnm``.
-
-    Parameters
-    ----------
-    d : ndarray of complex, shape (L + 1, L + 1)
-        Coefficients [unit of F]; only m <= n is used, and only the real part at m = 0.
-    radius_m : float
-        Reference radius R of the solid harmonics [m].
-
-    Returns
-    -------
-    dx, dy, dz : ndarray of complex, shape (L + 2, L + 2)
-        Coefficients of the three derivatives [unit of F / m] (imaginary part 0 at m = 0).
-
-    Notes
-    -----
-    Normalised form of the operators of the module docstring, with ``∂x = (∂+ + ∂−)/2``,
-    ``∂y = (∂+ − ∂−)/(2i)``. The ratios of normalisation factors are
-    ``p = N̄nm/N̄n+1,m+1``, ``q = (n − m + 1)(n − m + 2) N̄nm/N̄n+1,m−1`` and
-    ``s = (n − m + 1) N̄nm/N̄n+1,m``.
-    """
-    size = d.shape[0]
-    n, m, valid = _degree_order(size)
-    d = np.where(valid, d, 0.0)
-    d[:, 0] = d[:, 0].real
-    two_m0 = np.where(m == 0, 1.0, 2.0)          # 2 − δm0
-    two_m1 = np.where(m == 1, 1.0, 2.0)          # 2 − δm−1,0
-    p = np.sqrt(two_m0 * (2 * n + 1) * (n + m + 2) * (n + m + 1) / (2 * (2 * n + 3)))
-    q = np.sqrt(np.where(valid, 2 * (2 * n + 1) * (n - m + 1) * (n - m + 2)
-                         / (two_m1 * (2 * n + 3)), 0.0))
-    s = np.sqrt(np.where(valid, (2 * n + 1) * (n + m + 1) * (n - m + 1) / (2 * n + 3), 0.0))
-
-    dx, dy, dz = (np.zeros((size + 1, size + 1), dtype=complex) for _ in range(3))
-    dz[1:, :size] = -s * d
-    # sources m >= 1: ∂+ -> (n+1, m+1), ∂- -> (n+1, m-1)
-    plus, minus = -p[:, 1:] * d[:, 1:], q[:, 1:] * d[:, 1:]
-    dx[1:, 2:] += plus / 2
-    dx[1:, :size - 1] += minus / 2
-    dy[1:, 2:] += plus / 2j
-    dy[1:, :size - 1] += -minus / 2j
-    # sources m = 0 (real): ∂x -> −p Re Ȳn+1,1, ∂y -> −p Im Ȳn+1,1
-    dx[1:, 1] += -p[:, 0] * d[:, 0].real
-    dy[1:, 1] += 1j * p[:, 0] * d[:, 0].real
-    for out in (dx, dy, dz):
-        out /= radius_m
-        out[:, 0] = out[:, 0].real
-    return dx, dy, dz
-
-
-def _acc_grad_fields(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: float
-                     ) -> list[np.ndarray]:
-    """Coefficients of U, a_x, a_y, a_z, and of U_xx, U_xy, U_xz, U_yy, U_yz, U_zz.
-
-    Returns ten complex arrays of shape (N + 3, N + 3) (zero-padded), in that order.
-    """
-    size = c.shape[0] + 2
-    u = np.zeros((size, size), dtype=complex)
-    u[:size - 2, :size - 2] = gm_m3_s2 / radius_m * (c - 1j * s)
-    ax, ay, az = (f[:size, :size] for f in _derivative_fields(u[:size - 1, :size - 1],
-                                                             radius_m))
-    axx, axy, axz = _derivative_fields(ax[:size - 1, :size - 1], radius_m)
-    _, ayy, ayz = _derivative_fields(ay[:size - 1, :size - 1], radius_m)
-    azz = _derivative_fields(az[:size - 1, :size - 1], radius_m)[2]
-    return [u, ax, ay, az, axx, axy, axz, ayy, ayz, azz]
-
-
-def recursion_tables(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Packed factors of the normalised Cunningham recursion up to ``degree``.
-
-    Packing: index ``k = offsets[m] + n − m`` runs order by order (m outer, n inner).
-
-    Returns
-    -------
-    offsets : ndarray of int64, shape (degree + 2,)
-    rec_a, rec_b : ndarray, shape (K,)
-        ``a_nm = sqrt((2n − 1)(2n + 1)/((n − m)(n + m)))`` and
-        ``b_nm = sqrt((2n + 1)(n + m − 1)(n − m − 1)/((n − m)(n + m)(2n − 3)))`` (0 where
-        unused), Holmes & Featherstone (2002) eq. 12-13.
-    diag : ndarray, shape (degree + 1,)
-        ``c_m`` of the diagonal step (c_0 unused).
-    """
-    lengths = degree + 1 - np.arange(degree + 1)
-    offsets = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
-    n, m, valid = _degree_order(degree + 1)
-    above = valid & (n > m)
-    nm = np.where(above, (n - m) * (n + m), 1.0)
-    rec_a = np.sqrt(np.where(above, (2 * n - 1) * (2 * n + 1) / nm, 0.0))
-    rec_b = np.sqrt(np.where(above & (n > m + 1), (2 * n + 1) * (n + m - 1) * (n - m - 1)
-                             / (nm * np.maximum(2 * n - 3, 1.0)), 0.0))
-    diag = np.sqrt((2 * np.arange(degree + 1) + 1) / np.maximum(2 * np.arange(degree + 1), 1))
-    if degree >= 1:
-        diag[1] = np.sqrt(3.0)
-    return offsets, _pack(rec_a, offsets), _pack(rec_b, offsets), diag
-
-
-def _pack(grid: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-    """Pack the m <= n part of a (L+1, L+1) grid order by order (index offsets[m] + n − m)."""
-    size = grid.shape[0]
-    return np.concatenate([grid[m:, m] for m in range(size)]) if size else np.zeros(0)
-
-
-def acceleration_table(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: float,
-                       offsets: np.ndarray) -> np.ndarray:
-    """Packed acceleration-sum table (K, 6) of a coefficient set, for :func:`acceleration_sums`.
-
-    Parameters
-    ----------
-    c, s : ndarray, shape (N+1, N+1)
-        Fully normalised coefficients (e.g. tidal corrections ΔC̄, ΔS̄).
-    gm_m3_s2, radius_m : float
-        GM and reference radius the coefficients refer to.
-    offsets : ndarray of int64
-        Packing offsets from :func:`recursion_tables` of degree ≥ N + 2.
-
-    Returns
-    -------
-    ndarray, shape (K, 6)
-        The table is linear in (c, s), so tables at two epochs may be interpolated.
-    """
-    return _field_table(_acc_grad_fields(c, s, gm_m3_s2, radius_m)[1:4], offsets)
-
-
-def _field_table(fields: list[np.ndarray], offsets: np.ndarray) -> np.ndarray:
-    """Table (K, 2 f) of the packed coefficients: [Re D, −Im D] of each field side by side.
-
-    With this sign, ``Re(D Ȳ) = Re D V̄ − Im D W̄`` becomes a plain sum of products.
-    """
-    cols = []
-    for f in fields:
-        packed = _pack(f, offsets)
-        cols += [packed.real, -packed.imag]
-    return np.ascontiguousarray(np.stack(cols, axis=1))
-
-
-# ------------------------------------------------------------------------------- kernels
-
-
-@numba.njit(cache=True)
-def field_sums(pos_m, radius_m, degree, offsets, rec_a, rec_b, diag, table, out):
-    """Sums ``Re Σ_{n<=degree} D̄nm Ȳnm(pos)`` of several fields at one position (in place).
-
-    Parameters
-    ----------
-    pos_m : ndarray, shape (3,)
-        Earth-fixed position [m], not the origin.
-    radius_m : float
-        Reference radius R [m].
-    degree : int
-        Highest degree summed (<= the degree of the tables).
-    offsets, rec_a, rec_b, diag : ndarray
-        Recursion tables of :func:`recursion_tables`.
-    table : ndarray, shape (K, 2 f)
-        Packed field coefficients (:func:`_field_table`).
-    out : ndarray, shape (f,)
-        Receives the f sums.
-    """
-    nf = out.shape[0]
-    x, y, z = pos_m[0], pos_m[1], pos_m[2]
-    r2 = x * x + y * y + z * z
-    scale = radius_m / r2
-    xs, ys, zs, rs = x * scale, y * scale, z * scale, radius_m * scale
-    for j in range(nf):
-        out[j] = 0.0
-    v_mm = radius_m / np.sqrt(r2)
-    w_mm = 0.0
-    for m in range(degree + 1):
-        if m > 0:
-            v_new = diag[m] * (xs * v_mm - ys * w_mm)
-            w_mm = diag[m] * (xs * w_mm + ys * v_mm)
-            v_mm = v_new
-            if v_mm == 0.0 and w_mm == 0.0:
-                break  # underflow (or on the axis): all higher orders are exactly zero
-        k = offsets[m]
-        for j in range(nf):
-            out[j] += table[k, 2 * j] * v_mm + table[k, 2 * j + 1] * w_mm
-        v1, w1, v2, w2 = v_mm, w_mm, 0.0, 0.0
-        for _ in range(m + 1, degree + 1):
-            k += 1
-            v = rec_a[k] * zs * v1 - rec_b[k] * rs * v2
-            w = rec_a[k] * zs * w1 - rec_b[k] * rs * w2
-            for j in range(nf):
-                out[j] += table[k, 2 * j] * v + table[k, 2 * j + 1] * w
-            v2, w2, v1, w1 = v1, w1, v, w
-
-
-@numba.njit(cache=True)
-def acceleration_sums(pos_m, radius_m, degree, offsets, rec_a, rec_b, diag, table, out):
-    """:func:`field_sums` specialised to three fields (the acceleration), ~1.6 times faster.
-
-    Same arguments as :func:`field_sums` with ``table`` of shape (K, 6) and ``out`` (3,).
-    """
-    x, y, z = pos_m[0], pos_m[1], pos_m[2]
-    r2 = x * x + y * y + z * z
-    scale = radius_m / r2
-    xs, ys, zs, rs = x * scale, y * scale, z * scale, radius_m * scale
-    ax = ay = az = 0.0
-    v_mm = radius_m / np.sqrt(r2)
-    w_mm = 0.0
-    for m in range(degree + 1):
-        if m > 0:
-            v_new = diag[m] * (xs * v_mm - ys * w_mm)
-            w_mm = diag[m] * (xs * w_mm + ys * v_mm)
-            v_mm = v_new
-            if v_mm == 0.0 and w_mm == 0.0:
-                break
-        k = offsets[m]
-        v, w, v1, w1, v2, w2 = v_mm, w_mm, v_mm, w_mm, 0.0, 0.0
-        for n in range(m, degree + 1):
-            if n > m:
-                k += 1
-                v = rec_a[k] * zs * v1 - rec_b[k] * rs * v2
-                w = rec_a[k] * zs * w1 - rec_b[k] * rs * w2
-                v2, w2, v1, w1 = v1, w1, v, w
-            ax += table[k, 0] * v + table[k, 1] * w
-            ay += table[k, 2] * v + table[k, 3] * w
-            az += table[k, 4] * v + table[k, 5] * w
-    out[0], out[1], out[2] = ax, ay, az
-
-
-@numba.njit(cache=True)
-def _sums_many(pos_m, radius_m, degree, offsets, rec_a, rec_b, diag, table, out):
-    """Sums for positions (n, 3) into out (n, f); False if a position is the origin."""
-    for i in range(pos_m.shape[0]):
-        if pos_m[i, 0] == 0.0 and pos_m[i, 1] == 0.0 and pos_m[i, 2] == 0.0:
-            return False
-        if out.shape[1] == 3:
-            acceleration_sums(pos_m[i], radius_m, degree, offsets, rec_a, rec_b, diag, table,
-                              out[i])
-        else:
-            field_sums(pos_m[i], radius_m, degree, offsets, rec_a, rec_b, diag, table, out[i])
-    return True
-
-
-@numba.njit(cache=True)
-def _acc_grad_many(pos_m, radius_m, degree, offsets, rec_a, rec_b, diag, table, acc, grad):
-    """Acceleration (n, 3) and gradient (n, 3, 3) from the nine sums; False if a position is 0."""
-    sums = np.empty(9)
-    for i in range(pos_m.shape[0]):
-        if pos_m[i, 0] == 0.0 and pos_m[i, 1] == 0.0 and pos_m[i, 2] == 0.0:
-            return False
-        field_sums(pos_m[i], radius_m, degree, offsets, rec_a, rec_b, diag, table, sums)
-        for a in range(3):
-            acc[i, a] = sums[a]
-            grad[i, a, a] = sums[_GRAD_INDEX[a, a]]
-            for b in range(a + 1, 3):
-                grad[i, a, b] = sums[_GRAD_INDEX[a, b]]
-                grad[i, b, a] = grad[i, a, b]
-    return True
 
 
 # ---------------------------------------------------------------------------------- class
@@ -454,7 +188,8 @@ class GravityField:
 
     def kernel_args(self, kind: str = "acceleration") -> tuple:
         """Arguments ``(radius_m, degree, offsets, rec_a, rec_b, diag, table)`` of
-        :func:`field_sums` (or :func:`acceleration_sums`) for use inside other jitted code.
+        :func:`leopod.dynamics.spherical_harmonics.field_sums` (or ``acceleration_sums``) for
+        use inside other jitted code.
 
         ``kind`` "potential" gives 1 sum (U), "acceleration" 3 (a_x, a_y, a_z) and
         "gradient" 9 (a_x, a_y, a_z, then ∂a/∂r: xx, xy, xz, yy, yz, zz).
@@ -529,3 +264,149 @@ class GravityField:
         return (f"GravityField({self.modelname!r}, N={self.max_degree}, tide_system="
                 f"{self.tide_system!r}, central_term={self.central_term}, "
                 f"epoch_decimal_year={self.epoch_decimal_year})")
+
+
+# ------------------------------------------------------------------------------- gravity
+
+
+#: Positions of the gradient components in the nine sums of ``GravityField.kernel_args``:
+#: a_x, a_y, a_z, then xx, xy, xz, yy, yz, zz (:mod:`leopod.dynamics.gravity_field`).
+_GRAD_INDEX = np.array([[3, 4, 5], [4, 6, 7], [5, 7, 8]])
+
+
+@numba.njit(cache=True)
+def _rotation_at(t, grid, rot):  # pragma: no cover - numba
+    """Interpolated ITRF -> GCRF matrix at t into rot (3, 3)."""
+    flat = np.empty(9)
+    lagrange_equidistant(t, grid[0], grid[1], grid[2], grid[3], flat)
+    for i in range(3):
+        for j in range(3):
+            rot[i, j] = flat[3 * i + j]
+
+
+@numba.njit(cache=True)
+def _gravity_kernel(t, pos, rot_grid, full_gradient, sum_args, grad_args, with_tides,
+                    tide_args, tide_grid, acc, grad):  # pragma: no cover - numba
+    """GCRF acceleration ``R ∇U(Rᵀ r)`` and gradient ``R G Rᵀ`` of the field (+ tides)."""
+    rot = np.empty((3, 3))
+    _rotation_at(t, rot_grid, rot)
+    pos_ef = np.empty(3)
+    for i in range(3):
+        pos_ef[i] = rot[0, i] * pos[0] + rot[1, i] * pos[1] + rot[2, i] * pos[2]
+    sums = np.empty(9)
+    acc_ef = np.empty(3)
+    if full_gradient:
+        field_sums(pos_ef, *sum_args, sums)
+        acc_ef[:] = sums[:3]
+    else:
+        acceleration_sums(pos_ef, *sum_args, acc_ef)
+        field_sums(pos_ef, *grad_args, sums)
+    if with_tides:
+        flat = np.empty(tide_grid[3].shape[1])
+        lagrange_equidistant(t, tide_grid[0], tide_grid[1], tide_grid[2], tide_grid[3], flat)
+        tide_acc = np.empty(3)
+        acceleration_sums(pos_ef, *tide_args, flat.reshape(flat.shape[0] // 6, 6), tide_acc)
+        for i in range(3):
+            acc_ef[i] += tide_acc[i]
+    g_ef = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            g_ef[i, j] = sums[_GRAD_INDEX[i, j]]
+    grad[:, :] = rot @ g_ef @ rot.T
+    for i in range(3):
+        acc[i] = rot[i, 0] * acc_ef[0] + rot[i, 1] * acc_ef[1] + rot[i, 2] * acc_ef[2]
+
+
+class EarthGravity(Force):
+    """Static gravity field plus tidal corrections, in the GCRF (no parameters).
+
+    ``a = R ∇(U + ΔU_tides)(Rᵀ r)`` with R the ITRF -> GCRF matrix interpolated from
+    ``env``; ``∂a/∂r = R G Rᵀ``, G the gradient of the static field (of ``gradient_field`` if
+    given, e.g. a lower degree for speed). The tidal ΔC̄nm, ΔS̄nm of ``tides`` are computed on
+    a grid (``tide_step_s``) and their acceleration-sum tables (linear in ΔC̄, ΔS̄) interpolated
+    in time; the tidal part of G (< 1e-7 of G) is neglected.
+
+    Parameters
+    ----------
+    field : GravityField
+        Static field (GM and R of the model are used for its coefficients and the tides).
+    env : ArcEnvironment
+    tides : TideModel, optional
+        Tidal corrections; its ``tide_system`` must be the field's (see
+        :func:`leopod.dynamics.force_config.build_force_model`).
+    gradient_field : GravityField, optional
+        Field whose gradient gives ``∂a/∂r`` (default: ``field``).
+    tide_step_s : float
+        Node spacing of the tidal corrections [s] (default 300).
+    """
+
+    def __init__(self, field: GravityField, env: ArcEnvironment, tides: TideModel | None = None,
+                 *, gradient_field: GravityField | None = None, tide_step_s: float = 300.0):
+        self.field, self.env, self.tides = field, env, tides
+        self.parameters = []
+        self._full = gradient_field is None
+        if self._full:
+            self._sum_args = self._grad_args = field.kernel_args("gradient")
+        else:
+            self._sum_args = field.kernel_args("acceleration")
+            self._grad_args = gradient_field.kernel_args("gradient")
+        # tidal acceleration sums to degree N + 1 (tables packed as GravityField's, to N + 2)
+        degree = 0 if tides is None else tides.max_degree
+        recursion = recursion_tables(degree + 2)
+        self._tide_offsets = recursion[0]
+        self._tide_args = (field.radius_m, degree + 1, *recursion)
+        if tides is None:
+            self.tide_grid = None
+            self._tide_grid_args = (0.0, 1.0, 2, np.zeros((2, 6)))
+        else:
+            self.tide_grid = _Grid(env.t_start_s, env.t_end_s, tide_step_s, _TIDE_POINTS,
+                                   self._tide_tables)
+            self._tide_grid_args = self.tide_grid.args()
+
+    def tide_coefficients(self, t_s) -> tuple[np.ndarray, np.ndarray]:
+        """Tidal ΔC̄nm, ΔS̄nm (n, N+1, N+1) computed directly at epochs ``t_s`` (n,) [s].
+
+        Inputs of :meth:`TideModel.coefficients`: GMST (IAU 2006, ``erfa.gmst06``) from the
+        EOP's UT1, Sun and Moon rotated to the ITRF, pole coordinates of the EOP.
+        """
+        t = np.atleast_1d(np.asarray(t_s, dtype=float))
+        times = self.env.times(t)
+        eop = self.env.eop.at(times)
+        gmst = erfa.gmst06(*jd_ut1(times, eop), *jd_tt(times))
+        rot = self.env.rotation_direct(t)[0]
+        bodies = self.env.bodies_direct(t)
+        sun_ef = np.einsum("nji,nj->ni", rot, bodies[:, 0:3])
+        moon_ef = np.einsum("nji,nj->ni", rot, bodies[:, 6:9])
+        return self.tides.coefficients(self.env.tt_j2000_s(t), gmst, sun_ef, moon_ef,
+                                       eop.xp_rad, eop.yp_rad)
+
+    def tide_tables(self, dc: np.ndarray, ds: np.ndarray) -> np.ndarray:
+        """Packed acceleration-sum tables (n, K·6) of tidal corrections (n, N+1, N+1)."""
+        return np.array([acceleration_table(c, s, self.field.gm_m3_s2, self.field.radius_m,
+                                            self._tide_offsets).ravel()
+                         for c, s in zip(dc, ds)])
+
+    def _tide_tables(self, t_s) -> np.ndarray:
+        return self.tide_tables(*self.tide_coefficients(t_s))
+
+    def tide_acceleration_itrf(self, t_s: float, pos_itrf_m: np.ndarray,
+                               table: np.ndarray | None = None) -> np.ndarray:
+        """Tidal acceleration [m/s²] (ITRF) at one epoch, from the interpolated tables (or
+        from ``table`` (K·6,) if given); for tests of the interpolation."""
+        if table is None:
+            table = self.tide_grid(t_s)[0]
+        out = np.empty(3)
+        acceleration_sums(np.ascontiguousarray(pos_itrf_m, dtype=float), *self._tide_args,
+                          table.reshape(-1, 6), out)
+        return out
+
+    def evaluate(self, t_s, pos_m, vel_m_s, params):
+        self.env.check(t_s)
+        acc = np.empty(3)
+        grad = np.empty((3, 3))
+        _gravity_kernel(float(t_s), np.ascontiguousarray(pos_m, dtype=float),
+                        self.env.rotation_grid.args(), self._full, self._sum_args,
+                        self._grad_args, self.tide_grid is not None, self._tide_args,
+                        self._tide_grid_args, acc, grad)
+        return acc, grad, np.zeros((3, 3)), np.zeros((3, 0))
+

@@ -32,7 +32,7 @@ def resolve_model_paths(forces: dict) -> dict:
     Parameters
     ----------
     forces : dict
-        Sections of :func:`leopod.dynamics.force_model.build_force_model`; the keys
+        Sections of :func:`leopod.dynamics.force_config.build_force_model`; the keys
         ``field``, ``ocean``, ``space_weather`` and ``ephemeris`` may name a file of the
         satkit-data package as ``satkit:EGM96.gfc``.
 

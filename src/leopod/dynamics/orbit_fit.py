@@ -1,7 +1,7 @@
 """Dynamic orbit fit: batch least squares of an integrated orbit to tabulated positions.
 
 The unknowns are the GCRF state at the first epoch and the estimated parameters of the force
-model (:mod:`leopod.dynamics.force_model`: drag scale factors, empirical accelerations, ...);
+model (:mod:`leopod.dynamics.force_config`: drag scale factors, empirical accelerations, ...);
 the observations are positions (e.g. a reference orbit in the ITRF, rotated to the GCRF with
 the IERS 2010 transformation and EOP). Gauss–Newton iteration (Montenbruck & Gill 2000,
 sec. 8.1-8.2): with the residuals ``Δz = z − r(x)`` and the design matrix
@@ -25,13 +25,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from leopod.dynamics.force_model import (
+from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.forces import (
+    ForceModel,
     apriori_parameters,
-    build_force_model,
     constraint_sigmas,
     estimated_parameters,
 )
-from leopod.dynamics.forces import ForceModel
 from leopod.dynamics.integrator import DEFAULT_STEP_S, Trajectory, integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
@@ -190,7 +190,7 @@ def fit_orbit(times, pos_m, force_config: Mapping | None = None, *, frame: str =
     pos_m : array_like, shape (n, 3)
         Observed positions [m] in ``frame`` (rows with NaN are skipped).
     force_config : mapping, optional
-        Force configuration for :func:`leopod.dynamics.force_model.build_force_model`
+        Force configuration for :func:`leopod.dynamics.force_config.build_force_model`
         (arc = first to last valid epoch); not needed if ``force_model`` is given.
     frame : {"itrf", "gcrf"}
         Frame of ``pos_m`` (and ``vel_m_s``).

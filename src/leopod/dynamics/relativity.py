@@ -11,15 +11,22 @@ IERS Conventions 2010, eq. (10.12), with the PPN parameters β = γ = 1:
 For a LEO the Schwarzschild term is ~1e-8 m/s² (a few cm over a day), the others ~1e-10.
 The partial derivatives with respect to position and velocity are neglected (relative size
 < 1e-9 of the gravity gradient), as is usual in POD (Montenbruck & Gill 2000, sec. 3.7.3).
+
+:class:`Relativity` is the force of the orbit integrator (compiled kernel, Sun interpolated
+on the grid of :class:`leopod.dynamics.environment.ArcEnvironment`).
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, EARTH_ANGULAR_MOMENTUM_M2_S, GM_EARTH_M3_S2, GM_SUN_M3_S2
+from leopod.dynamics.environment import ArcEnvironment
+from leopod.dynamics.forces import Force
+from leopod.numerics.interpolate import lagrange_equidistant
 
-__all__ = ["relativistic_acceleration", "EARTH_ANGULAR_MOMENTUM_M2_S"]
+__all__ = ["Relativity", "relativistic_acceleration", "EARTH_ANGULAR_MOMENTUM_M2_S"]
 
 
 
@@ -63,3 +70,56 @@ def relativistic_acceleration(pos_m, vel_m_s, sun_m=None, sun_vel_m_s=None, *,
         omega = -gms / (c2 * rn_s**3) * np.cross(big_v, big_r)
         acc = acc + 3.0 * np.cross(omega, v)
     return acc
+
+
+@numba.njit(cache=True)
+def _cross(a, b):  # pragma: no cover - numba
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
+@numba.njit(cache=True)
+def _relativity_kernel(t, pos, vel, body_grid, lense_thirring, de_sitter):  # pragma: no cover
+    """IERS Conventions 2010 eq. (10.12), β = γ = 1 (see the module docstring)."""
+    c2 = C_LIGHT_M_S * C_LIGHT_M_S
+    gm = GM_EARTH_M3_S2
+    r = np.sqrt(pos[0] ** 2 + pos[1] ** 2 + pos[2] ** 2)
+    rv = pos[0] * vel[0] + pos[1] * vel[1] + pos[2] * vel[2]
+    vv = vel[0] ** 2 + vel[1] ** 2 + vel[2] ** 2
+    k = gm / (c2 * r**3)
+    acc = k * ((4.0 * gm / r - vv) * pos + 4.0 * rv * vel)
+    if lense_thirring:
+        j = np.array([0.0, 0.0, EARTH_ANGULAR_MOMENTUM_M2_S])
+        acc += 2.0 * k * (3.0 / r**2 * pos[2] * j[2] * _cross(pos, vel) + _cross(vel, j))
+    if de_sitter:
+        bodies = np.empty(9)
+        lagrange_equidistant(t, body_grid[0], body_grid[1], body_grid[2], body_grid[3], bodies)
+        big_r = -bodies[0:3]                                   # Earth w.r.t. the Sun
+        big_v = -bodies[3:6]
+        nr = np.sqrt(big_r[0] ** 2 + big_r[1] ** 2 + big_r[2] ** 2)
+        omega = -GM_SUN_M3_S2 / (c2 * nr**3) * _cross(big_v, big_r)
+        acc += 3.0 * _cross(omega, vel)
+    return acc
+
+
+class Relativity(Force):
+    """Relativistic corrections of IERS Conventions 2010 eq. (10.12), partials neglected.
+
+    Parameters
+    ----------
+    env : ArcEnvironment
+    lense_thirring, de_sitter : bool
+        Include these terms (Schwarzschild always).
+    """
+
+    def __init__(self, env: ArcEnvironment, lense_thirring: bool = True, de_sitter: bool = True):
+        self.env = env
+        self.lense_thirring, self.de_sitter = bool(lense_thirring), bool(de_sitter)
+        self.parameters = []
+
+    def evaluate(self, t_s, pos_m, vel_m_s, params):
+        self.env.check(t_s)
+        acc = _relativity_kernel(float(t_s), np.ascontiguousarray(pos_m, dtype=float),
+                                 np.ascontiguousarray(vel_m_s, dtype=float),
+                                 self.env.body_grid.args(), self.lense_thirring, self.de_sitter)
+        return acc, np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((3, 0))

@@ -32,6 +32,8 @@ the gravity gradient); ``∂a/∂v = 0``.
 Box-wing solar arrays that rotate about a body axis y to face the Sun have the normal
 ``e_panel = y × (e☉ × y)`` (Jiang et al. 2023, eq. 4), i.e. the Sun direction projected on the plane
 orthogonal to y; see :class:`MacroModel` and :func:`plate_normals`.
+
+:class:`SolarRadiation` is the cannonball force of the orbit integrator, with scale factor(s).
 """
 
 from __future__ import annotations
@@ -42,12 +44,14 @@ import numba
 import numpy as np
 
 from leopod.constants import AU_M, R_EARTH_EQUATOR_M, R_SUN_M, SOLAR_PRESSURE_1AU_N_M2
+from leopod.dynamics.forces import _Scaled
 
 __all__ = [
     "AU_M",
     "R_SUN_M",
     "SOLAR_PRESSURE_1AU_N_M2",
     "MacroModel",
+    "SolarRadiation",
     "plate_normals",
     "shadow_function",
     "srp_cannonball",
@@ -330,3 +334,36 @@ def srp_plates(pos_m, sun_m, normals, model: MacroModel, scale: float = 1.0, *,
                           model.specular, model.diffuse, float(model.mass_kg),
                           float(r_earth_m), shadow)
     return _result(acc0, grad0, scale)
+
+
+class SolarRadiation(_Scaled):
+    """Solar radiation pressure on a cannonball with the conical Earth shadow, scale
+    factor(s) ``srp_scale_k`` (M&G 2000, sec. 3.4; :func:`leopod.dynamics.srp.srp_cannonball`).
+
+    Parameters
+    ----------
+    env : ArcEnvironment
+    cr_area_mass_m2_kg : float
+        C_R A/m [m²/kg].
+    edges_s : array_like, shape (n + 1,)
+        Interval boundaries [s] of the scale factors.
+    shadow : bool
+        Apply the conical shadow.
+    r_earth_m : float
+        Radius of the occulting Earth [m].
+    apriori, estimate, sigma
+        As :class:`leopod.dynamics.drag.Drag` (default: not estimated).
+    """
+
+    def __init__(self, env, cr_area_mass_m2_kg: float, edges_s, *, shadow: bool = True,
+                 r_earth_m: float = R_EARTH_EQUATOR_M, **kwargs):
+        kwargs.setdefault("estimate", False)
+        super().__init__(env, edges_s, "srp_scale", **kwargs)
+        self.cr_area_mass_m2_kg = float(cr_area_mass_m2_kg)
+        self.shadow, self.r_earth_m = bool(shadow), float(r_earth_m)
+
+    def _unscaled(self, t_s, pos, vel, scale):
+        sun = self.env.body_grid(t_s)[0, 0:3]
+        return srp_cannonball(pos, sun, self.cr_area_mass_m2_kg, scale,
+                              r_earth_m=self.r_earth_m, shadow=self.shadow)
+

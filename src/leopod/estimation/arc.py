@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.apply import CodeCorrection, correct_codes
-from leopod.dynamics.force_model import build_force_model
+from leopod.dynamics.force_config import build_force_model
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
 from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna

@@ -1,10 +1,15 @@
 """Float reduced-dynamic POD: iterated batch least squares on undifferenced IF code and phase.
 
+Why one module of about 600 lines: the four dataclasses (settings, observations, start,
+result) are the interface of the one solver below them (_Problem, float_pod) and are imported
+with it by leopod.estimation.arc, .inputs, .outputs and leopod.ambiguity.resolve.
+
 Unknowns (Peng et al. 2021; Wang et al. 2024; Jiang et al. 2023; Jäggi et al. 2006, J. Geod.
-80:47-60): the GCRF initial state, the estimated force-model parameters (drag and SRP scale factors,
-piecewise empirical accelerations, :mod:`leopod.dynamics.force_model`), pseudo-stochastic velocity
-pulses in R, T, N at regular epochs with a-priori zero and a given sigma, optionally the LEO antenna
-PCO Z-component, one float ionosphere-free ambiguity per pass (a new pass at every detected slip,
+80:47-60): the GCRF initial state, the estimated force-model parameters (drag and SRP scale
+factors, piecewise empirical accelerations, :mod:`leopod.dynamics.force_config`),
+pseudo-stochastic velocity pulses in R, T, N at regular epochs with a-priori zero and a given
+sigma, optionally the LEO antenna PCO Z-component, one float ionosphere-free ambiguity per
+pass (a new pass at every detected slip,
 :mod:`leopod.gnss.passes`), and one receiver clock per epoch, pre-eliminated from the normal
 equations epoch by epoch (:mod:`leopod.estimation.normals`).
 
@@ -30,12 +35,13 @@ import numpy as np
 
 from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
-from leopod.dynamics.force_model import (
+from leopod.dynamics.forces import (
+    ForceModel,
+    PseudoStochasticPulses,
     apriori_parameters,
     constraint_sigmas,
     estimated_parameters,
 )
-from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses
 from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, pulse_partials
 from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve

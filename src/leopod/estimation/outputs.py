@@ -235,7 +235,7 @@ def output_epochs(t_start, t_end, step_s: float) -> np.ndarray:
 
 
 def sp3_dataset(orbit: xr.Dataset, sat_id: str) -> xr.Dataset:
-    """The ITRF orbit in the :func:`leopod.io.sp3.write_sp3` schema (one satellite)."""
+    """The ITRF orbit in the :func:`leopod.io.sp3_write.write_sp3` schema (one satellite)."""
     pos = orbit.pos_itrf_m.values[:, None, :]
     vel = orbit.vel_itrf_m_s.values[:, None, :]
     return xr.Dataset({"pos_m": (("time", "sv", "xyz"), pos),

@@ -10,7 +10,7 @@ import numpy as np
 from leopod.estimation.arc import ArcOutputs
 from leopod.estimation.outputs import sp3_dataset
 from leopod.io.netcdf import write_netcdf
-from leopod.io.sp3 import write_sp3
+from leopod.io.sp3_write import write_sp3
 
 __all__ = ["log_arc", "write_arc"]
 

@@ -1,5 +1,8 @@
 """Reader of ANTEX antenna phase-centre files (ANTEX 1.3 and 1.4).
 
+Why one module of 622 lines: one reader and the two classes it returns (AntennaPattern,
+AntexFile), whose fields the parse fills directly (interpolation of the patterns included).
+
 Format: "ANTEX: The Antenna Exchange Format, Version 1.4", M. Rothacher and R. Schmid,
 15 September 2010 (files.igs.org/pub/station/general/antex14.txt); version 1.3 files have the
 same record layout.

@@ -1,12 +1,12 @@
-"""Read and write SP3 precise orbit files (SP3-a, -b, -c and -d).
+"""Reader of SP3 precise orbit files (SP3-a, -b, -c and -d).
 
 Specification: S. Hilla, "The Extended Standard Product 3 Orbit Format (SP3-d)", NGS/NOAA,
 21 February 2016 (files.igs.org/pub/data/format/sp3d.pdf), and its predecessor "SP3-c"
 (Hilla, 17 August 2010), whose fixed columns the reader also accepts. SP3-a numeric satellite
 ids ("  1") are read as GPS ("G01").
 
-Dataset returned by :func:`read_sp3` (and accepted by :func:`write_sp3`)
-------------------------------------------------------------------------
+Dataset returned by :func:`read_sp3` (and accepted by :func:`leopod.io.sp3_write.write_sp3`)
+-------------------------------------------------------------------------------------------
 Coordinates
     ``time``  (time,) datetime64[ns] -- epochs in the file's time system (``attrs["time_system"]``)
     ``sv``    (sv,) str -- satellite ids of the header list, in header order ("G01", "R24", "L47")
@@ -44,8 +44,6 @@ epoch lacks some satellites. More epochs than declared is only logged as a warni
 from __future__ import annotations
 
 import logging
-import math
-from datetime import datetime
 from pathlib import Path
 
 import numpy as np
@@ -58,23 +56,18 @@ from leopod.io._text import (
     parse_floats,
     parse_int,
     read_lines,
-    write_text,
 )
 
-__all__ = ["read_sp3", "write_sp3"]
+__all__ = ["read_sp3"]
 
 logger = logging.getLogger(__name__)
 
-_UNIX0 = datetime(1970, 1, 1)
 _NS = 1_000_000_000
-_GPS0_NS = 315_964_800 * _NS  # 1980-01-06T00:00:00 as ns since 1970-01-01
-_MJD0_NS = -40_587 * 86_400 * _NS  # 1858-11-17T00:00:00 as ns since 1970-01-01
 _BAD_CLOCK = 999_999.0  # "bad or absent" clock values are 999999.999999 (>= this)
 _XYZ = ("x", "y", "z")
 # 0-based [start, stop) columns of a P or V record (SP3-d table "Position and Clock Record")
 _REC_COLS = ((4, 18), (18, 32), (32, 46), (46, 60))
 _EXP_COLS = ((61, 63), (64, 66), (67, 69), (70, 73))
-_IDS_PER_LINE = 17
 
 
 # --------------------------------------------------------------------------------------------
@@ -402,166 +395,3 @@ def read_sp3(path: str | Path) -> xr.Dataset:
     attrs.pop("_n_epochs")
     attrs["filename"] = path.name
     return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-# --------------------------------------------------------------------------------------------
-# writer
-
-
-def _calendar(t_ns: int) -> tuple[int, int, int, int, int, str]:
-    """Split ns since 1970 into year, month, day, hour, minute and an F11.8 seconds text."""
-    ticks = (t_ns + 5) // 10  # 10 ns: the resolution of F11.8 seconds
-    whole, frac = divmod(ticks, 100_000_000)
-    days, sec_of_day = divmod(whole, 86_400)
-    dt = datetime.fromordinal(_UNIX0.toordinal() + days)
-    hour, rest = divmod(sec_of_day, 3600)
-    minute, sec = divmod(rest, 60)
-    return dt.year, dt.month, dt.day, hour, minute, f"{sec:2d}.{frac:08d}"
-
-
-def _fmt(value: float, width: int, decimals: int, what: str) -> str:
-    """Fixed-point field of exactly ``width`` characters, or ValueError if it overflows."""
-    text = f"{value:{width}.{decimals}f}"
-    if len(text) > width:
-        raise ValueError(f"{what} = {value} does not fit the SP3 field F{width}.{decimals}")
-    return text
-
-
-def _fmt_clock(value: float, what: str) -> str:
-    """F14.6 clock or clock-rate field; NaN becomes the "bad or absent" 999999.999999."""
-    if not np.isfinite(value):
-        return " 999999.999999"
-    if abs(value) >= _BAD_CLOCK:
-        raise ValueError(f"{what} = {value} reaches the reserved SP3 bad-clock value 999999")
-    return _fmt(value, 14, 6, what)
-
-
-def _header_lines(ds: xr.Dataset, times: np.ndarray, sats: list[str], pv: str, *, agency: str,
-                  orbit_type: str, coordinate_system: str, data_used: str,
-                  comments: tuple[str, ...]) -> list[str]:
-    """The SP3-d header lines for ``ds``."""
-    t0 = int(times[0])
-    y, mo, d, h, mi, sec = _calendar(t0)
-    interval = float(np.median(np.diff(times))) / 1e9 if times.size > 1 else 0.0
-    week, sow_ns = divmod(t0 - _GPS0_NS, 7 * 86_400 * _NS)
-    mjd, frac_ns = divmod(t0 - _MJD0_NS, 86_400 * _NS)
-    out = [f"#d{pv}{y:4d} {mo:2d} {d:2d} {h:2d} {mi:2d} {sec} {times.size:7d} "
-           f"{data_used:<5s} {coordinate_system:<5s} {orbit_type:<3s} {agency:<4s}",
-           f"## {week:4d} {sow_ns / 1e9:15.8f} {interval:14.8f} {mjd:5d} "
-           f"{frac_ns / (86_400 * _NS):15.13f}"]
-    n_lines = max(5, math.ceil(len(sats) / _IDS_PER_LINE))
-    ids = sats + ["  0"] * (n_lines * _IDS_PER_LINE - len(sats))
-    if "orbit_accuracy_m" in ds:
-        acc_mm = ds["orbit_accuracy_m"].values * 1e3
-        with np.errstate(divide="ignore", invalid="ignore"):
-            exps = np.where(np.isfinite(acc_mm) & (acc_mm > 0),
-                            np.clip(np.round(np.log2(acc_mm)), 1, 99), 0).astype(int)
-    else:
-        exps = np.zeros(len(sats), dtype=int)
-    accs = [f"{e:3d}" for e in exps] + ["  0"] * (n_lines * _IDS_PER_LINE - len(sats))
-    for k in range(n_lines):
-        chunk = slice(k * _IDS_PER_LINE, (k + 1) * _IDS_PER_LINE)
-        lead = f"+  {len(sats):3d}   " if k == 0 else "+        "
-        out.append(lead + "".join(ids[chunk]))
-    for k in range(n_lines):
-        out.append("++       " + "".join(accs[k * _IDS_PER_LINE:(k + 1) * _IDS_PER_LINE]))
-    systems = {sv[0] for sv in sats}
-    file_type = systems.pop() if len(systems) == 1 else "M"
-    time_system = str(ds.attrs.get("time_system", "GPS"))
-    if len(time_system) != 3:
-        raise ValueError(f"time_system '{time_system}' must have 3 characters (e.g. 'GPS')")
-    out += [f"%c {file_type:<2s} cc {time_system} ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc",
-            "%c cc cc ccc ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc",
-            "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000",
-            "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000",
-            "%i    0    0    0    0      0      0      0      0         0",
-            "%i    0    0    0    0      0      0      0      0         0"]
-    texts = ["Written by leopod", *comments]
-    texts += [""] * (4 - len(texts))
-    for text in texts:
-        if len(text) > 77:
-            raise ValueError(f"SP3-d comment longer than 77 characters: '{text}'")
-        out.append(f"/* {text}".rstrip() if text else "/*")
-    return out
-
-
-def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
-              orbit_type: str = "FIT", coordinate_system: str = "ITRF",
-              data_used: str = "u+U", comments: tuple[str, ...] = ()) -> None:
-    """Write an SP3-d orbit file from a Dataset with the :func:`read_sp3` schema.
-
-    Positions are written in km with 6 decimals (1 mm), velocities in dm/s with 6 decimals
-    (1e-7 m/s), clocks in microseconds with 6 decimals (1 ps) and clock rates in 1e-4 µs/s
-    with 6 decimals. NaN positions/velocities are written as the "bad or absent" value
-    0.000000 and NaN clocks/rates as 999999.999999. Standard deviations are not written (the
-    ``%f`` bases are 0); the ``++`` accuracy exponents come from ``orbit_accuracy_m`` when
-    present, else 0 (unknown). A name ending in ``.gz`` is gzip-compressed.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Needs ``pos_m`` (time, sv, xyz) [m]; optional ``clk_s`` (time, sv) [s], ``vel_m_s``
-        (time, sv, xyz) [m s-1] (then V records are written), ``clk_rate_s_s`` (time, sv).
-        ``attrs["time_system"]`` (3 characters, default "GPS") names the time system of ``time``.
-    path : str or Path
-        Output file.
-    agency : str
-        Generating agency, at most 4 characters.
-    orbit_type : str
-        Orbit type ("FIT", "EXT", "BCT", "HLM"), at most 3 characters.
-    coordinate_system : str
-        Reference frame label ("ITRF", "IGS20"), at most 5 characters.
-    data_used : str
-        Data-used descriptor ("u+U": undifferenced phase and code), at most 5 characters.
-    comments : tuple of str
-        Extra ``/*`` comment lines (at most 77 characters each).
-
-    Raises
-    ------
-    ValueError
-        If ``ds`` lacks ``pos_m``, its times are not strictly increasing, a label is too long,
-        a satellite id is not 3 characters, or a value overflows its SP3 field.
-    """
-    for label, value, width in (("agency", agency, 4), ("orbit_type", orbit_type, 3),
-                                ("coordinate_system", coordinate_system, 5),
-                                ("data_used", data_used, 5)):
-        if len(value) > width:
-            raise ValueError(f"{label} '{value}' is longer than {width} characters")
-    if "pos_m" not in ds:
-        raise ValueError("the Dataset has no 'pos_m' variable")
-    pos = ds["pos_m"].transpose("time", "sv", "xyz").sel(xyz=list(_XYZ)).values / 1e3
-    n_time, n_sat = pos.shape[:2]
-    times = ds["time"].values.astype("datetime64[ns]").astype(np.int64)
-    if n_time == 0 or (np.diff(times) <= 0).any():
-        raise ValueError("'time' must be non-empty and strictly increasing")
-    sats = [str(s) for s in ds["sv"].values]
-    if any(len(s) != 3 for s in sats):
-        raise ValueError(f"satellite ids must have 3 characters, got {sats}")
-    clk = (ds["clk_s"].transpose("time", "sv").values * 1e6 if "clk_s" in ds
-           else np.full((n_time, n_sat), np.nan))
-    has_vel = "vel_m_s" in ds
-    if has_vel:
-        vel = ds["vel_m_s"].transpose("time", "sv", "xyz").sel(xyz=list(_XYZ)).values * 10.0
-        rate = (ds["clk_rate_s_s"].transpose("time", "sv").values * 1e10
-                if "clk_rate_s_s" in ds else np.full((n_time, n_sat), np.nan))
-
-    out = _header_lines(ds, times, sats, "V" if has_vel else "P", agency=agency,
-                        orbit_type=orbit_type, coordinate_system=coordinate_system,
-                        data_used=data_used, comments=comments)
-    for i in range(n_time):
-        y, mo, d, h, mi, sec = _calendar(int(times[i]))
-        out.append(f"*  {y:4d} {mo:2d} {d:2d} {h:2d} {mi:2d} {sec}")
-        for k, sv in enumerate(sats):
-            where = f"{sv} at epoch {i}"
-            xyz = pos[i, k] if np.isfinite(pos[i, k]).all() else np.zeros(3)
-            c = _fmt_clock(clk[i, k], f"clock of {where}")
-            out.append(f"P{sv}" + "".join(_fmt(v, 14, 6, f"position of {where}") for v in xyz)
-                       + c)
-            if has_vel:
-                v3 = vel[i, k] if np.isfinite(vel[i, k]).all() else np.zeros(3)
-                r = _fmt_clock(rate[i, k], f"clock rate of {where}")
-                out.append(f"V{sv}" + "".join(_fmt(v, 14, 6, f"velocity of {where}")
-                                              for v in v3) + r)
-    out.append("EOF")
-    text = "\n".join(out) + "\n"
-    write_text(path, text)

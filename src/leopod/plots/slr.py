@@ -27,7 +27,7 @@ import xarray as xr
 
 from leopod.plots import by_solution, save_figure
 from leopod.plots.pod import _heading
-from leopod.validation.slr import elevation_statistics, station_statistics
+from leopod.validation.slr_statistics import elevation_statistics, station_statistics
 
 __all__ = ["plot_slr_elevation", "plot_slr_residuals_time", "plot_slr_stations"]
 
@@ -152,7 +152,7 @@ def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, tit
     Figs. 17–18).
 
     Upper panel: used residuals of each solution; lower panel: their STD (solid) and mean
-    (dashed) per ``bin_deg`` bin (:func:`leopod.validation.slr.elevation_statistics`).
+    (dashed) per ``bin_deg`` bin (:func:`leopod.validation.slr_statistics.elevation_statistics`).
 
     Parameters
     ----------

@@ -161,7 +161,7 @@ def plot_daily_statistics(stats: xr.Dataset | Mapping[str, xr.Dataset], path,
     Parameters
     ----------
     stats : xarray.Dataset or Mapping[str, xarray.Dataset]
-        :func:`leopod.validation.compare.orbit_statistics` result(s): ``rms_m``, ``mean_m``
+        :func:`leopod.validation.orbit_statistics.orbit_statistics` result(s): ``rms_m``, ``mean_m``
         (period, component) [m] with day periods and a ``"total"`` row (shown in the legend).
     path : str or path-like
         PNG to write.

@@ -1,5 +1,9 @@
 """Simulated GNSS code and phase biases, and the ambiguity-resolution products made from them.
 
+Why one module of 561 lines: the simulated biases and the products made from them (OSB, WL
+records, integer-recovery clock) follow the one set of sign conventions stated below; a split
+would separate the conventions from half of the code they govern.
+
 Observation model of the simulator (metres; ``s`` satellite, ``r`` receiver, ``i`` signal,
 ``λ_i`` wavelength, ``I`` slant ionosphere on frequency 1, ``γ_i = (f_1/f_i)²``)::
 
@@ -9,7 +13,7 @@ Observation model of the simulator (metres; ``s`` satellite, ``r`` receiver, ``i
 ``d`` are code biases [m], ``β`` phase biases [cycles] (any real; only their fractional part is
 separable from the integer ``N_i``). Sign conventions of the products made here:
 
-Bias-SINEX OSB (:func:`leopod.io.bias_sinex.write_bias_sinex`)
+Bias-SINEX OSB (:func:`leopod.io.bias_sinex_write.write_bias_sinex`)
     "observation corrected = observation − OSB" (Bias-SINEX 1.00): code OSB = ``d^s_i``,
     phase OSB = ``λ_i β^s_i``. The satellite clock ``dt^s`` refers to the ionosphere-free
     combination of the clock-reference codes :data:`CLOCK_REFERENCE_CODES` (GPS C1W/C2W, BDS-3
@@ -22,7 +26,7 @@ Wide-lane satellite bias ``w^s`` [WL cycles] (HMW convention)
     ``w = β1 − β2 − (f1 d1 + f2 d2)/((f1 + f2) λ_WL)`` for the satellite and the receiver
     (geometry, clocks and ionosphere cancel). The codes are the clock-reference pair.
     (Peng et al. 2021 write the satellite biases with the opposite sign, ``λ (N + B_r − B^s)``.)
-CNES/CLS ``WL`` record (:func:`leopod.io.wlbias.write_wl_bias`)
+CNES/CLS ``WL`` record (:func:`leopod.io.wlbias_write.write_wl_bias`)
     The file holds ``μ^s = −w^s``, i.e. ``HMW/λ_WL = N_WL + w_r − μ^s``: the sign that the
     public converter of the CNES/CLS (GRG) products (github.com/YuanxinPan/clkcomb,
     ``AnalyseCenter::read_grg_bias`` and ``utils/grg2snx.cpp``) assumes, as it negates the
@@ -382,7 +386,7 @@ def integer_clock_s(clk_s: xr.DataArray, biases: SimulatedBiases) -> xr.DataArra
 
     ``dt^s_int = dt^s − (f1 β^s_1(t) − f2 β^s_2(t))/(f1² − f2²)`` (module docstring), with the
     clock-reference frequencies of each satellite's system (taken from its id, so no system
-    argument is needed). Write the result with :func:`leopod.io.clock.write_rinex_clock`.
+    argument is needed). Write the result with :func:`leopod.io.clock_write.write_rinex_clock`.
 
     Parameters
     ----------
@@ -457,9 +461,9 @@ class ArProducts(NamedTuple):
     """Datasets of the simulated ambiguity-resolution products of one day."""
 
     osb: xr.Dataset
-    """Input of :func:`leopod.io.bias_sinex.write_bias_sinex` (satellite OSBs)."""
+    """Input of :func:`leopod.io.bias_sinex_write.write_bias_sinex` (satellite OSBs)."""
     wl: xr.Dataset
-    """Input of :func:`leopod.io.wlbias.write_wl_bias` (CNES sign, ``−w^s``)."""
+    """Input of :func:`leopod.io.wlbias_write.write_wl_bias` (CNES sign, ``−w^s``)."""
     truth: xr.Dataset
     """:func:`truth_dataset`."""
 

@@ -43,12 +43,12 @@ import xarray as xr
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.io.antex import read_antex
-from leopod.io.bias_sinex import write_bias_sinex
-from leopod.io.clock import write_rinex_clock
+from leopod.io.bias_sinex_write import write_bias_sinex
+from leopod.io.clock_write import write_rinex_clock
 from leopod.io.netcdf import write_netcdf
-from leopod.io.rinex_obs import write_rinex_obs
-from leopod.io.sp3 import write_sp3
-from leopod.io.wlbias import wl_bias_records, write_wl_bias
+from leopod.io.rinex_obs_write import write_rinex_obs
+from leopod.io.sp3_write import write_sp3
+from leopod.io.wlbias_write import wl_bias_records, write_wl_bias
 from leopod.simulate.biases import (
     SimulatedBiases,
     ar_products,

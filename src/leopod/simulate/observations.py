@@ -1,5 +1,9 @@
 """Onboard GNSS code and phase of a simulated LEO, with their truth (closed-loop simulator).
 
+Why one module of 522 lines: one public function, simulate_observations, with its two input
+types (ObservationSettings, GnssWorld) and the private geometry only it uses (light time,
+antenna angles, patterns); a split would only export private helpers.
+
 For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS satellite
 ``s`` the generator works in the GCRF (the inertial frame of
 :meth:`leopod.simulate.world.CircularOrbit.inertial` *is* the GCRF of this world):

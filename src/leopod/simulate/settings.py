@@ -18,7 +18,7 @@ from leopod.simulate.biases import BiasSettings
 from leopod.simulate.observations import ObservationSettings
 from leopod.simulate.product_world import ProductSet
 from leopod.simulate.slr import DEFAULT_STATIONS, SlrSettings
-from leopod.simulate.truth_orbit import TruthDynamics
+from leopod.simulate.truth_forces import TruthDynamics
 
 __all__ = ["DEFAULT_PCO_BODY_M", "ClockSettings", "OrbitSettings", "ProductSettings",
            "SimulationSettings", "SlrSimulation"]

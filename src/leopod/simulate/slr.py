@@ -39,9 +39,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S, WGS84_A_M, WGS84_INV_F
-from leopod.io.crd import write_crd
-from leopod.io.sinex import write_sinex_stations
-from leopod.io.sinex_ecc import write_sinex_eccentricities
+from leopod.io.crd_write import write_crd
+from leopod.io.sinex_write import write_sinex_eccentricities, write_sinex_stations
 from leopod.time.eop import EarthOrientation
 from leopod.time.scales import gps_to_utc, utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, elevation_rad, slr_range
@@ -269,7 +268,7 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
     -------
     xarray.Dataset
         Dimension ``point`` ordered by pass and time, in the schema of
-        :func:`leopod.io.crd.write_crd` (coordinate ``time`` = UTC transmit epoch, ``tof_s``,
+        :func:`leopod.io.crd_write.write_crd` (coordinate ``time`` = UTC transmit epoch, ``tof_s``,
         ``pass_id``, ``station``, ``station_name``, ``satellite``, ``ilrs_id``, ``norad_id``,
         ``wavelength_nm``, ``np_window_s``, ``epoch_event``, ``pressure_hpa``,
         ``temperature_k``, ``humidity_pct``) plus the truth: ``time_gps``, ``elevation_deg``,
@@ -479,7 +478,7 @@ def write_station_eccentricities(stations: Sequence[SlrStation],
 
 
 def _stations_dataset(stations: Sequence[SlrStation], ref_epoch) -> xr.Dataset:
-    """Dataset of :func:`leopod.io.sinex.write_sinex_stations` for a station list."""
+    """Dataset of :func:`leopod.io.sinex_write.write_sinex_stations` for a station list."""
     pos = np.array([s.pos_itrf_m for s in stations], dtype=float)
     lon, lat, h = erfa.gc2gde(WGS84_A_M, 1.0 / WGS84_INV_F, pos)
     n = len(stations)

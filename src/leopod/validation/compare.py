@@ -11,19 +11,17 @@ External-orbit comparison (:func:`compare_orbits`)
     2. The reference is interpolated onto the orbit's epochs (:func:`interpolate_orbit`,
        Lagrange, Montenbruck & Gill 2000 sec. 4.1) without crossing data gaps.
     3. Optionally a 3-, 6- or 7-parameter Helmert transformation from the reference to the
-       orbit is estimated and removed (:func:`fit_helmert`, IERS Conventions 2010 eq. 4.4).
+       orbit is estimated and removed (:func:`leopod.validation.helmert.fit_helmert`, IERS
+       Conventions 2010 eq. 4.4).
     4. The differences ``orbit − reference`` are rotated into the RTN axes (radial,
        along-track, cross-track) of the reference's *inertial* state (:func:`rtn_axes`): the
        along-track axis follows the inertial velocity, i.e. the orbital motion, as in
        Wang et al. (2024) sec. 3.4.3 (RTN built in the J2000 frame). Earth-fixed velocities would
        tilt the T/N axes by up to ``ω r / v`` ≈ 3.7° for a LEO.
-    5. :func:`orbit_statistics` gives mean, STD and RMS of R, T, N and 3D per GPS day and in
-       total (Wang et al. 2024, Table 4; Jiang et al. 2023, Fig. 18); :func:`statistics_table`
-       flattens them for CSV.
-
-Statistics convention: for R, T and N the mean, the (population) STD and the RMS of the
-component; for "3D" those of the distance ``|d|``, so ``RMS² = mean² + STD²`` holds for every
-component and the 3D RMS equals ``sqrt(RMS_R² + RMS_T² + RMS_N²)``.
+    5. :func:`leopod.validation.orbit_statistics.orbit_statistics` gives mean, STD and RMS of
+       R, T, N and 3D per GPS day and in total (Wang et al. 2024, Table 4; Jiang et al. 2023,
+       Fig. 18); :func:`leopod.validation.orbit_statistics.statistics_table` flattens them
+       for CSV.
 
 :func:`difference_rtn` and :func:`rms_rtn` are the simple forms used by the workflow tests:
 common epochs only, RTN axes of the reference in the frame of the compared variables.
@@ -32,7 +30,6 @@ common epochs only, RTN axes of the reference in the frame of the compared varia
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 import xarray as xr
 
 from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
@@ -40,32 +37,23 @@ from leopod.frames.rtn import rtn_axes, rtn_matrix
 from leopod.numerics.interpolate import interpolate_table
 from leopod.time.calendar import seconds_since
 from leopod.time.scales import utc_to_gps
+from leopod.validation.helmert import (
+    _HELMERT_UNITS,
+    HELMERT_PARAMETERS,
+    fit_helmert,
+    helmert_displacement,
+)
 
 __all__ = [
-    "COMPONENTS",
-    "HELMERT_PARAMETERS",
     "compare_orbits",
-    "component_statistics",
     "difference_rtn",
-    "fit_helmert",
     "fit_time_offset",
-    "helmert_displacement",
     "interpolate_orbit",
     "orbit_from_sp3",
-    "orbit_statistics",
     "rms_rtn",
-    "statistics_table",
     "to_gps_time",
 ]
 
-#: Components of the statistics: radial, along-track, cross-track and the 3D distance.
-COMPONENTS = ("R", "T", "N", "3D")
-#: Helmert parameters, IERS Conventions 2010 eq. (4.4): translations [m], scale D [1],
-#: rotations [rad].
-HELMERT_PARAMETERS = ("tx_m", "ty_m", "tz_m", "scale", "rx_rad", "ry_rad", "rz_rad")
-_HELMERT_UNITS = ("m", "m", "m", "1", "rad", "rad", "rad")
-#: Parameters estimated for each allowed ``helmert`` value (indices into HELMERT_PARAMETERS).
-_HELMERT_SETS = {3: (0, 1, 2), 6: (0, 1, 2, 4, 5, 6), 7: (0, 1, 2, 3, 4, 5, 6)}
 #: Label of the time system minus GPS time [s] for the scales with a constant offset.
 _SYSTEM_MINUS_GPS_S = {"GPS": 0.0, "TAI": -GPST_MINUS_TAI_S,
                        "TT": TT_MINUS_TAI_S - GPST_MINUS_TAI_S}
@@ -247,85 +235,6 @@ def interpolate_orbit(orbit: xr.Dataset, times, *, pos: str = "pos_itrf_m",
                "velocity_source": "tabulated" if has_vel else "position polynomial"})
 
 
-def helmert_displacement(params, pos_m) -> np.ndarray:
-    """``T + D r + R × r`` of the 7-parameter Helmert transformation, IERS 2010 eq. (4.4).
-
-    ``x_s = x + T1 + D x − R3 y + R2 z``, ``y_s = y + T2 + R3 x + D y − R1 z``,
-    ``z_s = z + T3 − R2 x + R1 y + D z``.
-
-    Parameters
-    ----------
-    params : array_like, shape (7,)
-        Values in the order of :data:`HELMERT_PARAMETERS` [m, m, m, 1, rad, rad, rad].
-    pos_m : array_like, shape (n, 3)
-        Positions ``x`` [m].
-
-    Returns
-    -------
-    ndarray, shape (n, 3)
-        ``x_s − x`` [m].
-    """
-    p = np.asarray(params, dtype=float)
-    r = np.asarray(pos_m, dtype=float)
-    return p[:3] + p[3] * r + np.cross(p[4:7], r)
-
-
-def _helmert_design(pos_m: np.ndarray) -> np.ndarray:
-    """Partials of eq. (4.4) with respect to all 7 parameters, shape (3n, 7)."""
-    x, y, z = pos_m.T
-    n = x.size
-    a = np.zeros((n, 3, 7))
-    a[:, 0, 0] = a[:, 1, 1] = a[:, 2, 2] = 1.0
-    a[:, :, 3] = pos_m
-    a[:, 0, 5], a[:, 0, 6] = z, -y
-    a[:, 1, 4], a[:, 1, 6] = -z, x
-    a[:, 2, 4], a[:, 2, 5] = y, -x
-    return a.reshape(3 * n, 7)
-
-
-def fit_helmert(pos_m, ref_pos_m, n_parameters: int = 7) -> tuple[np.ndarray, np.ndarray]:
-    """Least-squares Helmert transformation from reference positions to positions.
-
-    Solves ``pos − ref = T + D ref + R × ref`` (IERS Conventions 2010 eq. 4.4, linearised
-    small-angle form) with equal weights, by ``numpy.linalg.lstsq`` on column-scaled partials.
-
-    Parameters
-    ----------
-    pos_m, ref_pos_m : array_like, shape (n, 3)
-        Positions and reference positions at the same epochs, finite [m].
-    n_parameters : {3, 6, 7}
-        Translations only; translations and rotations; or all seven (with scale).
-
-    Returns
-    -------
-    estimate : ndarray, shape (7,)
-        In the order of :data:`HELMERT_PARAMETERS` (0 for parameters not estimated).
-    sigma : ndarray, shape (7,)
-        Formal standard deviations from the a-posteriori unit weight (NaN for parameters not
-        estimated). Epoch-to-epoch correlation of orbit errors is ignored, so they are
-        optimistic.
-    """
-    if n_parameters not in _HELMERT_SETS:
-        raise ValueError(f"n_parameters must be one of {sorted(_HELMERT_SETS)}")
-    pos = np.asarray(pos_m, dtype=float)
-    ref = np.asarray(ref_pos_m, dtype=float)
-    cols = list(_HELMERT_SETS[n_parameters])
-    a = _helmert_design(ref)[:, cols]
-    b = (pos - ref).reshape(-1)
-    if b.size <= len(cols):
-        raise ValueError(f"{pos.shape[0]} epochs cannot determine {len(cols)} Helmert parameters")
-    scale = np.linalg.norm(a, axis=0)
-    x, *_ = np.linalg.lstsq(a / scale, b, rcond=None)
-    res = b - (a / scale) @ x
-    s0_sq = float(res @ res) / (b.size - len(cols))
-    cov = np.linalg.inv((a / scale).T @ (a / scale)) * s0_sq
-    estimate = np.zeros(7)
-    sigma = np.full(7, np.nan)
-    estimate[cols] = x / scale
-    sigma[cols] = np.sqrt(np.diag(cov)) / scale
-    return estimate, sigma
-
-
 # --------------------------------------------------------------------------- comparison
 def _window(times: np.ndarray, start, end) -> np.ndarray:
     keep = np.ones(times.size, dtype=bool)
@@ -477,93 +386,3 @@ def compare_orbits(orbit: xr.Dataset, reference: xr.Dataset, *, frame: str = "it
         "reference_time_system": system, "time_offset_s": float(time_offset_s),
         "interpolation_order": order, "max_gap_s": float(r.attrs["max_gap_s"]),
         "helmert_parameters": int(helmert or 0), "n_epochs_without_reference": int((~ok).sum())})
-
-
-# --------------------------------------------------------------------------- statistics
-def component_statistics(diff_rtn_m) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Mean, STD, RMS of R, T, N and 3D distance over the finite rows of RTN differences.
-
-    Parameters
-    ----------
-    diff_rtn_m : array_like, shape (n, 3)
-        Differences [m]; rows with any non-finite value are skipped.
-
-    Returns
-    -------
-    mean, std, rms : ndarray, shape (4,)
-        Per :data:`COMPONENTS` [m] (population STD, ``rms² = mean² + std²``); NaN if no row.
-    n : int
-        Number of rows used.
-    """
-    d = np.asarray(diff_rtn_m, dtype=float).reshape(-1, 3)
-    d = d[np.isfinite(d).all(axis=1)]
-    if d.shape[0] == 0:
-        nan = np.full(len(COMPONENTS), np.nan)
-        return nan, nan.copy(), nan.copy(), 0
-    x = np.column_stack([d, np.linalg.norm(d, axis=1)])
-    return x.mean(axis=0), x.std(axis=0), np.sqrt(np.mean(x * x, axis=0)), int(d.shape[0])
-
-
-def _stats_variables(rows: list[tuple], dim: str) -> dict:
-    mean, std, rms, n = (np.array(v) for v in zip(*rows, strict=True))
-    what = {"mean_m": ("mean", mean), "std_m": ("standard deviation", std),
-            "rms_m": ("root mean square", rms)}
-    out = {name: ((dim, "component"), values,
-                  {"units": "m", "long_name": f"{label} of the differences (3D: of the distance)"})
-           for name, (label, values) in what.items()}
-    out["n_epochs"] = (dim, n.astype(np.int64), {"units": "1", "long_name": "epochs used"})
-    return out
-
-
-def orbit_statistics(diff: xr.Dataset, *, daily: bool = True) -> xr.Dataset:
-    """Mean, STD and RMS of R, T, N and 3D per GPS day and in total.
-
-    Parameters
-    ----------
-    diff : xarray.Dataset
-        ``diff_rtn_m`` (time, rtn) [m], e.g. from :func:`compare_orbits` (several arcs may be
-        concatenated along ``time``).
-    daily : bool
-        Include one row per GPS day (00:00–24:00 of the time labels) before ``"total"``.
-
-    Returns
-    -------
-    xarray.Dataset
-        Dims ``period`` (str: ``"YYYY-MM-DD"`` days and ``"total"``) and ``component``
-        (R, T, N, 3D): ``mean_m``, ``std_m``, ``rms_m`` [m], ``n_epochs`` (period).
-    """
-    d = diff.diff_rtn_m.transpose("time", "rtn").values
-    days = diff.time.values.astype("datetime64[D]")
-    labels, rows = [], []
-    if daily:
-        for day in np.unique(days):
-            labels.append(str(day))
-            rows.append(component_statistics(d[days == day]))
-    labels.append("total")
-    rows.append(component_statistics(d))
-    return xr.Dataset(_stats_variables(rows, "period"),
-                      coords={"period": labels, "component": list(COMPONENTS)})
-
-
-def statistics_table(stats: xr.Dataset) -> pd.DataFrame:
-    """Flat table (one row per period or pair) of :func:`orbit_statistics` or overlap summaries.
-
-    Columns ``mean_<c>_m``, ``std_<c>_m``, ``rms_<c>_m`` for c in R, T, N, 3D and ``n_epochs``.
-    A summary with ``campaign_rms_mean_m``/``campaign_rms_std_m`` (:mod:`.overlap`) gets two
-    more rows, ``"campaign mean"`` and ``"campaign std"``, holding those values in the
-    ``rms_*`` columns (other columns NaN).
-    """
-    dim = stats.mean_m.dims[0]
-    columns = {}
-    for comp in stats.component.values:
-        for name in ("mean", "std", "rms"):
-            columns[f"{name}_{comp}_m"] = stats[f"{name}_m"].sel(component=comp).values
-    columns["n_epochs"] = pd.array(stats.n_epochs.values, dtype="Int64")
-    table = pd.DataFrame(columns, index=pd.Index([str(v) for v in stats[dim].values], name=dim))
-    if "campaign_rms_mean_m" in stats:
-        for label, name in (("campaign mean", "campaign_rms_mean_m"),
-                            ("campaign std", "campaign_rms_std_m")):
-            row = {f"rms_{c}_m": float(stats[name].sel(component=c))
-                   for c in stats.component.values}
-            table.loc[label] = pd.Series(row)
-    return table

@@ -25,7 +25,7 @@ Schema of :func:`overlap` (one pair; netCDF with :func:`leopod.io.netcdf.write_n
     ``arc_b_start``, ``arc_b_end``, ``span_start``, ``span_end`` (ISO strings), ``trim_s``,
     ``frame``, ``difference``, ``rtn_axes``.
 Schema of :func:`overlap_summary` (campaign; CSV through
-:func:`leopod.validation.compare.statistics_table`)
+:func:`leopod.validation.orbit_statistics.statistics_table`)
     dims ``pair`` (str label) and ``component``: ``mean_m``, ``std_m``, ``rms_m`` [m],
     ``n_epochs`` (pair), ``span_start`` (pair); ``campaign_rms_mean_m``, ``campaign_rms_std_m``
     (component): mean and population STD over the pairs of the per-pair RMS [m].
@@ -39,7 +39,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.frames.rtn import rtn_axes
-from leopod.validation.compare import COMPONENTS, component_statistics, interpolate_orbit
+from leopod.validation.compare import interpolate_orbit
+from leopod.validation.orbit_statistics import COMPONENTS, component_statistics
 
 __all__ = ["overlap", "overlap_summary"]
 

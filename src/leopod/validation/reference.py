@@ -18,7 +18,8 @@ from leopod.io.grace_orbit_csv import read_grace_orbit_csv
 from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
 from leopod.time.calendar import parse_date_id
-from leopod.validation.compare import compare_orbits, orbit_from_sp3, orbit_statistics
+from leopod.validation.compare import compare_orbits, orbit_from_sp3
+from leopod.validation.orbit_statistics import orbit_statistics
 
 __all__ = ["compare_day", "read_reference_orbit"]
 

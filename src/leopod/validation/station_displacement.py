@@ -1,5 +1,9 @@
 """Station displacements: solid Earth tide, pole tide, ocean loading (IERS Conventions 2010 ch. 7).
 
+Why one module of 518 lines: the three displacements of IERS Conventions 2010 ch. 7 (solid Earth
+tide, pole tide, ocean loading, 100-150 lines each) share the local axes and the Doodson
+arguments, and station_displacements sums them for its callers.
+
 All functions return Earth-fixed (ITRF) displacement vectors [m], vectorised over n epochs
 (one station position per epoch, so points of several stations can be mixed). Local axes are
 the geocentric (spherical) unit vectors ``r̂`` (radial), ``ê`` (east) and ``n̂`` (north) at
