@@ -51,6 +51,14 @@ def test_lint_is_clean():
     assert "good condition" in proc.stdout + proc.stderr
 
 
+def test_the_rules_never_modify_the_config():
+    # config holds the campaign as given (plus the schema defaults of validate()); what the
+    # rules derive from it lives in names of its own (common.smk: INPUTS, LOCATED, ...)
+    changes = re.compile(r"\bconfig\b(\[[^]]*\])*(\s*=[^=]|\.(update|setdefault|pop|clear)\()")
+    for smk in [REPO / "Snakefile", *sorted((REPO / "workflow/rules").glob("*.smk"))]:
+        assert not changes.search(smk.read_text()), smk.name
+
+
 @pytest.mark.shared
 def test_grace_dry_run_lists_the_jobs(shared):
     proc = _run(["-n", "-F", "--configfile", "config/grace-a-2007.yaml"], check=True)

@@ -5,9 +5,6 @@
 
 # Two consecutive arcs over their common span (30-h arcs: 6 h), RTN and 3D.
 rule overlap:
-    params:
-        trim_s=config["validation"]["overlap_trim_s"],
-        title=lambda w: f"{sat_name(w)} {w.solution} {w.date}",
     input:
         unpack(overlap_inputs),
         code=library_code("overlap"),
@@ -17,23 +14,23 @@ rule overlap:
         "logs/overlap/{sat}/{solution}/{date}.log",
     benchmark:
         "benchmarks/overlap/{sat}/{solution}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=500,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        trim_s=config["validation"]["overlap_trim_s"],
+        title=solution_title,
     script:
         "../../scripts/overlap.py"
 
 
 # Campaign overlap statistics per arc pair and mean +- STD, float and fixed (seed 002 Fig. 13).
 rule overlap_summary:
-    params:
-        solutions=solutions(),
-        title=sat_name,
     input:
-        unpack(per_day_validation("results/overlap/{sat}/{solution}/{date}.nc")),
+        unpack(per_day_validation(rules.overlap.output.nc, days=DAYS[:-1])),
         code=library_code("overlap_summary"),
     output:
         nc="results/overlap/{sat}/summary.nc",
@@ -53,25 +50,23 @@ rule overlap_summary:
         "logs/overlap_summary/{sat}.log",
     benchmark:
         "benchmarks/overlap_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=500,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        solutions=solutions(),
+        title=sat_name,
     script:
         "../../scripts/overlap_summary.py"
 
 
 # A POD arc minus the reference orbit over its day (simulated campaigns: the truth).
 rule reference_orbit:
-    params:
-        reference_id=lambda w: sat_config(w).get("reference_id"),
-        time_system=lambda w: sat_config(w).get("reference_time_system"),
-        solution=lambda w: w.solution,
-        title=lambda w: f"{sat_name(w)} {w.date}",
     input:
-        orbit="results/{solution}/{sat}/{date}_orbit.nc",
+        orbit=pod_orbit,
         reference=reference_files,
         code=library_code("reference_orbit"),
     output:
@@ -80,23 +75,25 @@ rule reference_orbit:
         "logs/reference_orbit/{sat}/{solution}/{date}.log",
     benchmark:
         "benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        reference_id=sat_reference_id,
+        time_system=sat_reference_time_system,
+        solution=solution_name,
+        title=sat_title,
     script:
         "../../scripts/reference_orbit.py"
 
 
 # Daily and campaign statistics of the reference-orbit differences (seed 001 Table 4).
 rule reference_summary:
-    params:
-        solutions=solutions(),
-        title=sat_name,
     input:
-        unpack(per_day_validation("results/reference_orbit/{sat}/{solution}/{date}.nc")),
+        unpack(per_day_validation(rules.reference_orbit.output.nc)),
         code=library_code("reference_summary"),
     output:
         nc="results/reference_orbit/{sat}/summary.nc",
@@ -122,12 +119,15 @@ rule reference_summary:
         "logs/reference_summary/{sat}.log",
     benchmark:
         "benchmarks/reference_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        solutions=solutions(),
+        title=sat_name,
     script:
         "../../scripts/reference_summary.py"
 
@@ -135,11 +135,6 @@ rule reference_summary:
 # Laser ranging residuals of one arc's day (station motion, eccentricities, light time,
 # troposphere, relativity; screening).
 rule slr:
-    params:
-        settings=config["validation"]["slr"],
-        retro_offset_body_m=retro_offset,
-        solution=lambda w: w.solution,
-        title=lambda w: f"{sat_name(w)} {w.date}",
     input:
         unpack(slr_inputs),
         code=library_code("slr"),
@@ -149,24 +144,25 @@ rule slr:
         "logs/slr/{sat}/{solution}/{date}.log",
     benchmark:
         "benchmarks/slr/{sat}/{solution}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["validation"]["slr"],
+        retro_offset_body_m=retro_offset,
+        solution=solution_name,
+        title=sat_title,
     script:
         "../../scripts/slr.py"
 
 
 # SLR statistics per station, per elevation bin and projected on R/T/N, float and fixed.
 rule slr_summary:
-    params:
-        settings=config["validation"]["slr"],
-        solutions=solutions(),
-        title=sat_name,
     input:
-        unpack(per_day_validation("results/slr/{sat}/{solution}/{date}.nc")),
+        unpack(per_day_validation(rules.slr.output.nc)),
         code=library_code("slr_summary"),
     output:
         nc="results/slr/{sat}/summary.nc",
@@ -199,12 +195,16 @@ rule slr_summary:
         "logs/slr_summary/{sat}.log",
     benchmark:
         "benchmarks/slr_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["validation"]["slr"],
+        solutions=solutions(),
+        title=sat_name,
     script:
         "../../scripts/slr_summary.py"
 
@@ -212,11 +212,6 @@ rule slr_summary:
 # Campaign summary: per day and solution the residual RMS, fixing rates, overlap, reference
 # orbit and SLR statistics (the tables of the seeds), as netCDF, CSV and an HTML table.
 rule campaign_summary:
-    params:
-        solutions=solutions(),
-        days=DAYS,
-        files=lambda w: summary_files(w.sat),
-        title=sat_name,
     input:
         summary_inputs,
         code=library_code("campaign_summary"),
@@ -233,11 +228,16 @@ rule campaign_summary:
         "logs/campaign_summary/{sat}.log",
     benchmark:
         "benchmarks/campaign_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        solutions=solutions(),
+        days=DAYS,
+        files=campaign_summary_files,
+        title=sat_name,
     script:
         "../../scripts/campaign_summary.py"
