@@ -29,7 +29,7 @@ rule code_bias:
     log:
         "logs/code_bias/{sat}/{period}.log",
     benchmark:
-        "benchmarks/code_bias/{sat}/{period}.tsv"
+        "logs/benchmarks/code_bias/{sat}/{period}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -66,7 +66,7 @@ rule code_bias_stack:
     log:
         "logs/code_bias/{sat}/stack.log",
     benchmark:
-        "benchmarks/code_bias/{sat}/stack.tsv"
+        "logs/benchmarks/code_bias/{sat}/stack.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -11,7 +11,7 @@ rule ingest:
     log:
         "logs/ingest/{sat}/{date}.log",
     benchmark:
-        "benchmarks/ingest/{sat}/{date}.tsv"
+        "logs/benchmarks/ingest/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -37,7 +37,7 @@ rule float_pod:
     log:
         "logs/float_pod/{sat}/{date}.log",
     benchmark:
-        "benchmarks/float_pod/{sat}/{date}.tsv"
+        "logs/benchmarks/float_pod/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -76,7 +76,7 @@ rule ambiguity:
     log:
         "logs/ambiguity/{sat}/{date}.log",
     benchmark:
-        "benchmarks/ambiguity/{sat}/{date}.tsv"
+        "logs/benchmarks/ambiguity/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -140,7 +140,7 @@ rule fixed_pod:
     log:
         "logs/fixed_pod/{sat}/{date}.log",
     benchmark:
-        "benchmarks/fixed_pod/{sat}/{date}.tsv"
+        "logs/benchmarks/fixed_pod/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -41,7 +41,7 @@ rule quality:
     log:
         "logs/quality/{sat}/{date}.log",
     benchmark:
-        "benchmarks/quality/{sat}/{date}.tsv"
+        "logs/benchmarks/quality/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -13,7 +13,7 @@ rule simulate_truth:
     log:
         "logs/simulate_truth/{sat}.log",
     benchmark:
-        "benchmarks/simulate_truth/{sat}.tsv"
+        "logs/benchmarks/simulate_truth/{sat}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -41,7 +41,7 @@ rule simulate_world:
     log:
         "logs/simulate_world/simulate_world.log",
     benchmark:
-        "benchmarks/simulate_world/simulate_world.tsv"
+        "logs/benchmarks/simulate_world/simulate_world.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -72,7 +72,7 @@ rule simulate_gnss:
     log:
         "logs/simulate_gnss/{date}.log",
     benchmark:
-        "benchmarks/simulate_gnss/{date}.tsv"
+        "logs/benchmarks/simulate_gnss/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -103,7 +103,7 @@ rule simulate:
     log:
         "logs/simulate/{sat}/{date}.log",
     benchmark:
-        "benchmarks/simulate/{sat}/{date}.tsv"
+        "logs/benchmarks/simulate/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -13,7 +13,7 @@ rule overlap:
     log:
         "logs/overlap/{sat}/{solution}/{date}.log",
     benchmark:
-        "benchmarks/overlap/{sat}/{solution}/{date}.tsv"
+        "logs/benchmarks/overlap/{sat}/{solution}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -49,7 +49,7 @@ rule overlap_summary:
     log:
         "logs/overlap_summary/{sat}.log",
     benchmark:
-        "benchmarks/overlap_summary/{sat}.tsv"
+        "logs/benchmarks/overlap_summary/{sat}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -74,7 +74,7 @@ rule reference_orbit:
     log:
         "logs/reference_orbit/{sat}/{solution}/{date}.log",
     benchmark:
-        "benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
+        "logs/benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -118,7 +118,7 @@ rule reference_summary:
     log:
         "logs/reference_summary/{sat}.log",
     benchmark:
-        "benchmarks/reference_summary/{sat}.tsv"
+        "logs/benchmarks/reference_summary/{sat}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -143,7 +143,7 @@ rule slr:
     log:
         "logs/slr/{sat}/{solution}/{date}.log",
     benchmark:
-        "benchmarks/slr/{sat}/{solution}/{date}.tsv"
+        "logs/benchmarks/slr/{sat}/{solution}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -194,7 +194,7 @@ rule slr_summary:
     log:
         "logs/slr_summary/{sat}.log",
     benchmark:
-        "benchmarks/slr_summary/{sat}.tsv"
+        "logs/benchmarks/slr_summary/{sat}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -227,7 +227,7 @@ rule campaign_summary:
     log:
         "logs/campaign_summary/{sat}.log",
     benchmark:
-        "benchmarks/campaign_summary/{sat}.tsv"
+        "logs/benchmarks/campaign_summary/{sat}.tsv"
     conda:
         "../../envs/leopod.yaml"
     threads: 1
