@@ -34,4 +34,4 @@ bench: setup
 	$(BIN)/python benchmarks/ingest_quality.py
 
 clean:
-	rm -rf results resources logs benchmarks/*/ .snakemake
+	rm -rf results resources logs .snakemake

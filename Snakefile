@@ -1,7 +1,7 @@
 # leopod: precise orbit determination of LEO satellites from onboard GNSS.
 #   snakemake --cores 2                                   # default campaign (config/config.yaml)
 #   snakemake --cores 2 --configfile config/<campaign>.yaml
-# Results: results/<step>/<sat>/<YYYY-DDD>.*, logs/<step>/..., benchmarks/<step>/...
+# Results: results/<step>/<sat>/<YYYY-DDD>.*, logs/<step>/..., logs/benchmarks/<step>/...
 from snakemake.utils import min_version
 
 min_version("8.20")
@@ -28,6 +28,6 @@ include: "workflow/rules/validation.smk"
 
 
 rule all:
+    default_target: True
     input:
         all_targets(),
-    default_target: True

@@ -1,15 +1,15 @@
 """Ambiguity resolution and fixed POD of the simulated default campaign against its truth (issue 7).
 
 Run ``make run`` first (or ``snakemake --cores 2``). For every day this prints the fixing
-rates (Jiang et al. 2023: fixed independent / all independent) and the share of fixed pairs,
-the wrong fixes counted against the simulated integers, float and fixed RMS errors (R/T/N/3D over
-the day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
-from Snakemake's benchmark files. With ``--codes`` it re-solves the arc of one day in-process
-with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W) instead, and prints the
-same figures for each (issue 6 and 7: the effect of the map on the fixing rates). With
-``--wrong K`` it re-solves the fixed POD of one day with K of its constraints deliberately
-wrong by one narrow-lane cycle and reports whether the residual screening of the fixed POD
-(:mod:`leopod.ambiguity.screening`) finds the passes involved.
+rates (Jiang et al. 2023: fixed independent / all independent) and the share of fixed
+pairs, the wrong fixes counted against the simulated integers, float and fixed RMS errors
+(R/T/N/3D over the day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
+from Snakemake's benchmark files (logs/benchmarks/). With ``--codes`` it re-solves the arc of
+one day in-process with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W)
+instead, and prints the same figures for each (issue 6 and 7: the effect of the map on the
+fixing rates). With ``--wrong K`` it re-solves the fixed POD of one day with K of its
+constraints deliberately wrong by one narrow-lane cycle and reports whether the residual
+screening of the fixed POD (:mod:`leopod.ambiguity.screening`) finds the passes involved.
 
     .venv/bin/python benchmarks/ambiguity.py [--codes [--day 2019-002]]
 
@@ -71,7 +71,7 @@ def _summary(label, table, residuals, truth_days) -> None:
 
 
 def _seconds(workdir: Path, step: str, date: str) -> float:
-    path = workdir / "benchmarks" / step / SAT / f"{date}.tsv"
+    path = workdir / "logs" / "benchmarks" / step / SAT / f"{date}.tsv"
     return float(path.read_text().splitlines()[1].split("\t")[0]) if path.exists() else np.nan
 
 

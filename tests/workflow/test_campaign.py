@@ -12,6 +12,8 @@ import leopod
 from leopod.time.calendar import days_between, gps_week_dow, parse_date_id
 from leopod.workflow.campaign import (
     expand_template,
+    input_templates,
+    library_root,
     locate_inputs,
     located_source,
     script_library_files,
@@ -56,6 +58,27 @@ def test_script_library_files_follow_imports_transitively(tmp_path):
     assert not any(f.startswith("dynamics/") for f in files)
 
 
+def test_script_library_files_follow_a_copy_of_the_sources(tmp_path):
+    # a workflow run from another checkout (or a copy of one) tracks that checkout's sources
+    # (leopod.workflow.campaign.library_root), not those of the imported package
+    package = tmp_path / "src/leopod"
+    (package / "ambiguity").mkdir(parents=True)
+    for name in ("__init__.py", "ambiguity/__init__.py"):
+        (package / name).write_text("")
+    (package / "ambiguity/screening.py").write_text("from leopod.io import sp3\n")
+    script = tmp_path / "scripts/step.py"
+    script.parent.mkdir()
+    script.write_text("from leopod.ambiguity.screening import degraded_passes\n")
+    assert library_root(tmp_path) == tmp_path / "src"
+    files = script_library_files(script, library_root(tmp_path))
+    # leopod/io/sp3.py is not in the copy: only files that exist below the root are listed
+    assert files == [str(package.resolve() / name) for name in
+                     ("__init__.py", "ambiguity/__init__.py", "ambiguity/screening.py")]
+    assert library_root(tmp_path / "scripts") is None
+    with pytest.raises(ValueError, match="holds no leopod package"):
+        script_library_files(script, tmp_path / "scripts")
+
+
 def test_locate_inputs_round_trip():
     # Authority: the file-name conventions of the templates (GPS week 1419 day 3 = 2007-080,
     # MANIFEST.md); inputs written by rules (resources/simulate, resources/download) stay.
@@ -80,3 +103,12 @@ def test_locate_inputs_round_trip():
     assert located_source(located, "products.antex", "igs05_1402.atx") == "/data/igs05_1402.atx"
     assert located_source(located, "satellites.grace-a.observations",
                           "2007-080/2007-080.rnx") == "/obs/grace-a/2007-080.rnx"
+    # the templates the rules read, by config entry; unset entries are left out
+    assert input_templates(new) == {
+        "products.gnss_orbit": new["products"]["gnss_orbit"],
+        "products.antex": new["products"]["antex"],
+        "products.wl_bias": "resources/download/cnes_wl/{date}.wsb",
+        "satellites.grace-a.observations":
+            "resources/locate/satellites.grace-a.observations/{date}/{date}.rnx",
+        "satellites.sim.observations": "resources/simulate/{sat}/{date}.rnx",
+    }

@@ -51,6 +51,14 @@ def test_lint_is_clean():
     assert "good condition" in proc.stdout + proc.stderr
 
 
+def test_the_rules_never_modify_the_config():
+    # config holds the campaign as given (plus the schema defaults of validate()); what the
+    # rules derive from it lives in names of its own (common.smk: INPUTS, LOCATED, ...)
+    changes = re.compile(r"\bconfig\b(\[[^]]*\])*(\s*=[^=]|\.(update|setdefault|pop|clear)\()")
+    for smk in [REPO / "Snakefile", *sorted((REPO / "workflow/rules").glob("*.smk"))]:
+        assert not changes.search(smk.read_text()), smk.name
+
+
 @pytest.mark.shared
 def test_grace_dry_run_lists_the_jobs(shared):
     proc = _run(["-n", "-F", "--configfile", "config/grace-a-2007.yaml"], check=True)
@@ -66,6 +74,9 @@ def test_default_dry_run_has_three_days(tmp_path):
     out = proc.stdout + proc.stderr
     for day in ("2019-001", "2019-002", "2019-003"):
         assert f"results/quality/hy2b-sim/{day}.nc" in out
+    # Snakemake's benchmark files go beside the logs, apart from the scripts of benchmarks/
+    benchmarks = re.findall(r"^\s*benchmark: (\S+)$", out, flags=re.M)
+    assert benchmarks and all(b.startswith("logs/benchmarks/") for b in benchmarks)
 
 
 @pytest.mark.shared
@@ -137,6 +148,8 @@ def test_one_simulated_day_end_to_end(tmp_path):
     for name in ("summary.html", "mp_elevation.png", "skyplot.png", "code_noise.png", "visibility.png"):
         assert (tmp_path / f"results/quality/hy2b-sim/2019-001_{name}").stat().st_size > 1000
     assert (tmp_path / "logs/quality/hy2b-sim/2019-001.log").read_text().count("quality G") == 1
+    assert (tmp_path / "logs/benchmarks/quality/hy2b-sim/2019-001.tsv").stat().st_size > 0
+    assert not (tmp_path / "benchmarks").exists()
     # closed loop: the float POD of the simulated day against the simulation's truth orbit.
     # Authority: the truth itself (the simulator integrates a different force model: gravity
     # to degree 150, MSIS drag with a varying coefficient, stochastic accelerations); the best

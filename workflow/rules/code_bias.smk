@@ -2,10 +2,6 @@
 # satellite and period from the multipath series of the quality step; code_bias_stack: the maps of
 # all periods stacked, with the differences between consecutive periods (map stability).
 rule code_bias:
-    params:
-        settings=config["code_bias"],
-        yaw_flips=sat_yaw_flips,
-        title=lambda wildcards: f"{sat_config(wildcards).get('name', wildcards.sat)} {wildcards.period}",
     input:
         unpack(code_bias_inputs),
         code=library_code("code_bias"),
@@ -33,22 +29,24 @@ rule code_bias:
     log:
         "logs/code_bias/{sat}/{period}.log",
     benchmark:
-        "benchmarks/code_bias/{sat}/{period}.tsv"
+        "logs/benchmarks/code_bias/{sat}/{period}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=4000,
         runtime=30,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
+        title=period_title,
     script:
         "../../scripts/code_bias.py"
 
 
 rule code_bias_stack:
-    params:
-        title=lambda wildcards: sat_config(wildcards).get("name", wildcards.sat),
     input:
-        maps=expand("results/code_bias/{{sat}}/{period}.nc", period=PERIODS),
+        maps=expand(rules.code_bias.output.nc, period=PERIODS, allow_missing=True),
         code=library_code("code_bias_stack"),
     output:
         nc="results/code_bias/{sat}/stack.nc",
@@ -68,12 +66,14 @@ rule code_bias_stack:
     log:
         "logs/code_bias/{sat}/stack.log",
     benchmark:
-        "benchmarks/code_bias/{sat}/stack.tsv"
+        "logs/benchmarks/code_bias/{sat}/stack.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=2000,
         runtime=10,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        title=sat_name,
     script:
         "../../scripts/code_bias_stack.py"

@@ -1,32 +1,63 @@
-# Configuration check and small input helpers; the logic lives in leopod.workflow.campaign (tested).
+# Helpers of workflow/rules/*.smk. The configuration check, names derived from the config,
+# and the named input, params and resources functions (with docstrings, no lambdas in the
+# rules). The logic lives in leopod.workflow.campaign (unit-tested). `config` is read here and
+# never modified, apart from the schema defaults that validate() fills in. Upstream files are
+# named by the rules that write them (rules.<name>.output.<key>).
 import re
 from pathlib import Path
 
 from snakemake.utils import validate
 
-from leopod.workflow.downloads import (destination_template, load_catalogue, resolve_downloads,
-    uses_downloads)
 from leopod.simulate.product_world import ProductSet
+from leopod.workflow.campaign import (
+    applied_code_bias_period,
+    arc_days,
+    campaign_days,
+    code_bias_periods,
+    expand_template,
+    input_templates,
+    library_root,
+    locate_inputs,
+    located_source,
+    period_days,
+    satellite_ids,
+    script_library_files,
+)
+from leopod.workflow.downloads import (
+    destination_template,
+    load_catalogue,
+    resolve_downloads,
+    uses_downloads,
+)
 
-from leopod.workflow.campaign import (applied_code_bias_period, arc_days, campaign_days,
-    code_bias_periods, expand_template, locate_inputs, located_source, period_days, satellite_ids,
-    script_library_files)
-
-
+# The schema defaults go into `config` itself (Snakemake's validate idiom): the settings of
+# scripts/download.py come from snakemake.config["download"], not from params, on purpose
+# (download.smk), and need them.
 validate(config, "../schemas/config.schema.yaml", set_default=True)
 
+#: The product catalogue of the download rules (download.catalogue, else this one), if used.
 DEFAULT_CATALOGUE = f"{workflow.basedir}/config/catalogue.yaml"
-if uses_downloads(config):
-    CATALOGUE = load_catalogue(config["download"], DEFAULT_CATALOGUE)
-    _resolved, DOWNLOADS = resolve_downloads(config, CATALOGUE)
-    config.update(_resolved)
-else:
-    CATALOGUE, DOWNLOADS = None, []
-_resolved, LOCATED = locate_inputs(config)
-config.update(_resolved)
+CATALOGUE = (
+    load_catalogue(config["download"], DEFAULT_CATALOGUE) if uses_downloads(config) else None
+)
+# Inputs given as "download:<family>" are the files of the download rules (DOWNLOADS, the
+# families); every other path template is routed through the locate step (LOCATED = {entry:
+# template of the config}). INPUTS: {entry: template the rules read}, e.g.
+# INPUTS["products.gnss_orbit"] = "resources/locate/products.gnss_orbit/{date}/cod...sp3.gz".
+_downloaded, DOWNLOADS = (
+    resolve_downloads(config, CATALOGUE) if CATALOGUE is not None else (config, [])
+)
+_located, LOCATED = locate_inputs(_downloaded)
+INPUTS = input_templates(_located)
 
 DAYS = campaign_days(config)
 SATS = satellite_ids(config)
+#: Satellites whose files the simulate rules write.
+SIMULATED_SATS = [s for s in SATS if config["satellites"][s].get("source") == "simulate"]
+PERIODS = code_bias_periods(config)
+#: Folder of the leopod sources the rules depend on: src/ of the checkout beside the
+#: Snakefile (None: the imported package).
+LIBRARY_ROOT = library_root(workflow.basedir)
 
 
 wildcard_constraints:
@@ -37,10 +68,91 @@ wildcard_constraints:
     solution="float_pod|fixed_pod",
 
 
+# --- configuration and file names ----------------------------------------------------------
+
+
 def library_code(script):
     """leopod source files that scripts/<script>.py imports; as inputs of a step they make a
     library change rerun exactly the steps that run the changed code."""
-    return script_library_files(f"{workflow.basedir}/scripts/{script}.py")
+    return script_library_files(f"{workflow.basedir}/scripts/{script}.py", LIBRARY_ROOT)
+
+
+def product_file(key):
+    """Path template of the input products.<key> as the rules read it (a download or locate
+    output), or None."""
+    return INPUTS.get(f"products.{key}")
+
+
+def sat_file(sat, key):
+    """Path template of the input satellites.<sat>.<key> as the rules read it, or None."""
+    return INPUTS.get(f"satellites.{sat}.{key}")
+
+
+def download_log(family):
+    """Log file (template) of a download_<family> job, beside its destination's name."""
+    name = Path(destination_template(CATALOGUE.family(family))).name
+    return f"logs/download/{family}/{name}.log"
+
+
+def sat_config(wildcards):
+    """The config block of the satellite of a job."""
+    return config["satellites"][wildcards.sat]
+
+
+def is_simulated(sat):
+    """True if the satellite's files are written by the simulate rules."""
+    return sat in SIMULATED_SATS
+
+
+def solutions():
+    """POD solutions of the campaign: float, and fixed when ambiguities are resolved."""
+    if not product_file("gnss_clock"):
+        return []
+    return ["float_pod"] + (["fixed_pod"] if config["ambiguity"]["enabled"] else [])
+
+
+# --- upstream outputs ----------------------------------------------------------------------
+
+
+def fill(pattern, **wildcards):
+    """An output pattern (rules.<rule>.output.<name>) with its wildcards filled in: a plain
+    path, without the pattern's flags (report())."""
+    return str(pattern).format(**wildcards)
+
+
+def pod_output(solution, name):
+    """Output pattern ``name`` of the POD rule of a solution (float_pod or fixed_pod)."""
+    return getattr(getattr(rules, solution).output, name)
+
+
+def reference_template(sat):
+    """Path template of the satellite's reference orbit (simulated: the truth), or None."""
+    if sat_file(sat, "reference_orbit"):
+        return sat_file(sat, "reference_orbit")
+    if is_simulated(sat):
+        return str(rules.simulate.output.truth_sp3)
+    return None
+
+
+def slr_template(sat):
+    """Path template of the satellite's CRD normal points (simulated: written beside the
+    observations), or None."""
+    if sat_file(sat, "slr_normal_points"):
+        return sat_file(sat, "slr_normal_points")
+    if is_simulated(sat):
+        return str(rules.simulate.output.crd)
+    return None
+
+
+def applied_code_bias_map(wildcards):
+    """{"code_bias": map file} of the period whose map corrects the day's codes, or {}."""
+    period = applied_code_bias_period(config, wildcards.date)
+    if period is None:
+        return {}
+    return {"code_bias": fill(rules.code_bias.output.nc, sat=wildcards.sat, period=period)}
+
+
+# --- input functions -----------------------------------------------------------------------
 
 
 def locate_source(wildcards):
@@ -55,78 +167,83 @@ def existing_locate_source(wildcards):
     return [source] if Path(source).is_file() else []
 
 
-def download_log(family):
-    """Log file (template) of a download_<family> job, beside its destination's name."""
-    name = Path(destination_template(CATALOGUE.family(family))).name
-    return f"logs/download/{family}/{name}.log"
-
-
-def sat_simulation(wildcards):
-    """The simulate block with the satellite's own orbit keys (satellites.<sat>.simulate_orbit)."""
-    block = dict(config.get("simulate") or {})
-    block["orbit"] = {**block.get("orbit", {}), **sat_config(wildcards).get("simulate_orbit", {})}
-    return block
-
-
-def sat_config(wildcards):
-    """The config block of the satellite of a job."""
-    return config["satellites"][wildcards.sat]
-
-
-def ingest_inputs(wildcards):
-    """Observation, GNSS product and optional a-priori orbit files of one satellite-day."""
-    sat = sat_config(wildcards)
-    files = {
-        "obs": expand_template(sat["observations"], wildcards.date, wildcards.sat),
-        "orbit": expand_template(config["products"]["gnss_orbit"], wildcards.date, wildcards.sat),
-    }
-    if config["products"].get("gnss_clock"):
-        files["clock"] = expand_template(
-            config["products"]["gnss_clock"], wildcards.date, wildcards.sat
-        )
-    if sat.get("apriori_orbit"):
-        files["apriori"] = expand_template(sat["apriori_orbit"], wildcards.date, wildcards.sat)
-    if config["products"].get("antex"):
-        files["antex"] = expand_template(config["products"]["antex"], wildcards.date, wildcards.sat)
-    return files
-
-
-def simulated(wildcards):
-    """True if the satellite's files are written by the simulate rule."""
-    return sat_config(wildcards).get("source", "files") == "simulate"
-
-
-PERIODS = code_bias_periods(config)
-
-
 def simulation_product_files(wildcards):
     """The real GNSS product set the simulator uses (simulate.gnss_products), if any."""
     products = ProductSet.from_config(config.get("simulate", {}).get("gnss_products"))
     return [] if products is None else products.files
 
 
-def solutions():
-    """POD solutions of the campaign: float, and fixed when ambiguities are resolved."""
-    if not config["products"].get("gnss_clock"):
-        return []
-    return ["float_pod"] + (["fixed_pod"] if config["ambiguity"]["enabled"] else [])
+def ingest_inputs(wildcards):
+    """Observation, GNSS product and optional a-priori orbit files of one satellite-day."""
+    sat, date = wildcards.sat, wildcards.date
+    files = {
+        "obs": expand_template(sat_file(sat, "observations"), date, sat),
+        "orbit": expand_template(product_file("gnss_orbit"), date, sat),
+    }
+    if product_file("gnss_clock"):
+        files["clock"] = expand_template(product_file("gnss_clock"), date, sat)
+    if sat_file(sat, "apriori_orbit"):
+        files["apriori"] = expand_template(sat_file(sat, "apriori_orbit"), date, sat)
+    if product_file("antex"):
+        files["antex"] = expand_template(product_file("antex"), date, sat)
+    return files
+
+
+def code_bias_inputs(wildcards):
+    """Quality outputs of the days of a code-bias period."""
+    days = period_days(config, wildcards.period)
+    if not days:
+        raise ValueError(f"code-bias period {wildcards.period} has no campaign day")
+    return {"quality": expand(rules.quality.output.nc, sat=wildcards.sat, date=days)}
+
+
+def float_pod_inputs(wildcards):
+    """Ingest/quality outputs and GNSS products of the days of the arc of a satellite-day."""
+    if not product_file("gnss_clock"):
+        raise ValueError("float_pod needs a GNSS clock product (products.gnss_clock)")
+    days = arc_days(config, wildcards.date)
+    sat = wildcards.sat
+    files = {
+        "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
+        "leo": expand(rules.ingest.output.leo, sat=sat, date=days),
+        "quality": expand(rules.quality.output.nc, sat=sat, date=days),
+        "orbit": [expand_template(product_file("gnss_orbit"), d, sat) for d in days],
+        "clock": [expand_template(product_file("gnss_clock"), d, sat) for d in days],
+    }
+    if product_file("antex"):
+        files["antex"] = expand_template(product_file("antex"), wildcards.date, sat)
+    files.update(applied_code_bias_map(wildcards))
+    return files
+
+
+def ambiguity_inputs(wildcards):
+    """Observations and quality of the arc's days, the code-bias map and the AR product."""
+    days = arc_days(config, wildcards.date)
+    sat = wildcards.sat
+    files = {
+        "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
+        "quality": expand(rules.quality.output.nc, sat=sat, date=days),
+    }
+    files.update(applied_code_bias_map(wildcards))
+    for key in ("wl_bias", "osb"):
+        if product_file(key):
+            files[key] = expand_template(product_file(key), wildcards.date, sat)
+    return files
+
+
+def pod_orbit(wildcards):
+    """The orbit of the POD solution (float_pod or fixed_pod) of a satellite-day."""
+    return fill(pod_output(wildcards.solution, "orbit"), sat=wildcards.sat, date=wildcards.date)
 
 
 def overlap_inputs(wildcards):
     """The arcs of a day and of the next campaign day."""
     later = DAYS[DAYS.index(wildcards.date) + 1]
-    base = f"results/{wildcards.solution}/{wildcards.sat}"
-    return {"a": f"{base}/{wildcards.date}_orbit.nc", "b": f"{base}/{later}_orbit.nc"}
-
-
-def reference_template(sat):
-    """Path template of the satellite's reference orbit (simulated: the truth), or None."""
-    block = config["satellites"][sat]
-    if block.get("reference_orbit"):
-        return block["reference_orbit"]
-    if block.get("source") == "simulate":
-        return "resources/simulate/{sat}/{date}_truth.sp3"
-    return None
+    orbit = pod_output(wildcards.solution, "orbit")
+    return {
+        "a": fill(orbit, sat=wildcards.sat, date=wildcards.date),
+        "b": fill(orbit, sat=wildcards.sat, date=later),
+    }
 
 
 def reference_files(wildcards):
@@ -134,59 +251,37 @@ def reference_files(wildcards):
     return [expand_template(reference_template(wildcards.sat), wildcards.date, wildcards.sat)]
 
 
-def slr_template(sat):
-    """Path template of the satellite's CRD normal points (simulated: written beside the
-    observations), or None."""
-    block = config["satellites"][sat]
-    if block.get("slr_normal_points"):
-        return block["slr_normal_points"]
-    if block.get("source") == "simulate":
-        return "resources/simulate/{sat}/{date}.crd"
-    return None
-
-
 def slr_inputs(wildcards):
     """Orbit, normal points, station coordinates and eccentricities of an SLR validation."""
-    sat = wildcards.sat
-    simulated = config["satellites"][sat].get("source") == "simulate"
+    sat, date = wildcards.sat, wildcards.date
     files = {
-        "orbit": f"results/{wildcards.solution}/{sat}/{wildcards.date}_orbit.nc",
-        "normal_points": expand_template(slr_template(sat), wildcards.date, sat),
+        "orbit": pod_orbit(wildcards),
+        "normal_points": expand_template(slr_template(sat), date, sat),
     }
-    products = config["products"]
-    stations = products.get("slr_stations") or (
-        "resources/simulate/slr_stations.snx" if simulated else None
-    )
+    world = rules.simulate_world.output
+    stations = product_file("slr_stations") or (str(world.stations) if is_simulated(sat) else None)
     if stations is None:
         raise ValueError("SLR validation needs products.slr_stations (SINEX)")
-    files["stations"] = expand_template(stations, wildcards.date, sat)
-    ecc = products.get("slr_eccentricities") or (
-        "resources/simulate/slr_eccentricities.snx" if simulated else None
+    files["stations"] = expand_template(stations, date, sat)
+    ecc = product_file("slr_eccentricities") or (
+        str(world.eccentricities) if is_simulated(sat) else None
     )
     if ecc:
-        files["eccentricities"] = expand_template(ecc, wildcards.date, sat)
+        files["eccentricities"] = expand_template(ecc, date, sat)
     if config["validation"]["slr"].get("ocean_loading_blq"):
         files["ocean_loading"] = config["validation"]["slr"]["ocean_loading_blq"]
     return files
 
 
-def retro_offset(wildcards):
-    """Retro-reflector offset from the centre of mass in the body frame [m]."""
-    block = sat_config(wildcards)
-    if block.get("retro_offset_body_m") is not None:
-        return block["retro_offset_body_m"]
-    from leopod.simulate.settings import SimulationSettings
-
-    return list(SimulationSettings.from_config(config.get("simulate")).slr.retro_offset_body_m)
-
-
-def per_day_validation(pattern):
-    """``{solution: [files of every day]}`` of a per-day validation product of a satellite."""
+def per_day_validation(pattern, days=None):
+    """Input function: ``{solution: [files of every day]}`` of a per-day validation product
+    (output pattern with {sat}, {solution} and {date}) of a satellite; ``days`` default to the
+    campaign's."""
+    days = DAYS if days is None else days
 
     def inputs(wildcards):
-        days = DAYS[:-1] if "overlap" in pattern else DAYS
         return {
-            s: expand(pattern, sat=wildcards.sat, solution=s, date=days) for s in solutions()
+            s: expand(str(pattern), sat=wildcards.sat, solution=s, date=days) for s in solutions()
         }
 
     return inputs
@@ -196,14 +291,22 @@ def summary_files(sat):
     """``{solution: {product: {date: file}}}`` of the campaign summary of a satellite."""
     files = {}
     for solution in solutions():
-        f = {"residuals": {d: f"results/{solution}/{sat}/{d}_residuals.nc" for d in DAYS}}
+        residuals = pod_output(solution, "residuals")
+        f = {"residuals": {d: fill(residuals, sat=sat, date=d) for d in DAYS}}
         if config["ambiguity"]["enabled"]:
-            f["ambiguity"] = {d: f"results/ambiguity/{sat}/{d}.nc" for d in DAYS}
-        f["overlap"] = {d: f"results/overlap/{sat}/{solution}/{d}.nc" for d in DAYS[:-1]}
+            f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
+        f["overlap"] = {
+            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in DAYS[:-1]
+        }
         if reference_template(sat):
-            f["reference"] = {d: f"results/reference_orbit/{sat}/{solution}/{d}.nc" for d in DAYS}
+            f["reference"] = {
+                d: fill(rules.reference_orbit.output.nc, sat=sat, solution=solution, date=d)
+                for d in DAYS
+            }
         if slr_template(sat):
-            f["slr"] = {d: f"results/slr/{sat}/{solution}/{d}.nc" for d in DAYS}
+            f["slr"] = {
+                d: fill(rules.slr.output.nc, sat=sat, solution=solution, date=d) for d in DAYS
+            }
         files[solution] = f
     return files
 
@@ -220,34 +323,66 @@ def summary_inputs(wildcards):
     )
 
 
+def all_targets():
+    """Final products of every satellite-day and code-bias period of the campaign."""
+    per_day = [rules.quality.output.nc, rules.quality.output.summary]
+    if product_file("gnss_clock"):  # POD needs a clock product (schema)
+        per_day.append(rules.float_pod.output.sp3)
+        if config["ambiguity"]["enabled"]:
+            per_day += [rules.ambiguity.output.table, rules.fixed_pod.output.sp3]
+    targets = expand([str(p) for p in per_day], sat=SATS, date=DAYS)
+    targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
+    if len(PERIODS) > 1:
+        targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
+    if solutions():
+        if len(DAYS) > 1:
+            targets += expand(rules.overlap_summary.output.nc, sat=SATS)
+        targets += expand(
+            rules.reference_summary.output.nc, sat=[s for s in SATS if reference_template(s)]
+        )
+        targets += expand(rules.slr_summary.output.nc, sat=[s for s in SATS if slr_template(s)])
+        targets += expand(rules.campaign_summary.output.nc, sat=SATS)
+    return targets
+
+
+# --- params functions ----------------------------------------------------------------------
+
+
+def sat_simulation(wildcards):
+    """The simulate block with the satellite's own orbit keys (satellites.<sat>.simulate_orbit)."""
+    block = dict(config.get("simulate") or {})
+    block["orbit"] = {**block.get("orbit", {}), **sat_config(wildcards).get("simulate_orbit", {})}
+    return block
+
+
 def sat_name(wildcards):
     """Full name of the satellite, for titles."""
     return sat_config(wildcards).get("name", wildcards.sat)
 
 
-def all_targets():
-    """Final products of every satellite-day and code-bias period of the campaign."""
-    per_day = ["results/quality/{sat}/{date}.nc", "results/quality/{sat}/{date}_summary.html"]
-    if config["products"].get("gnss_clock"):  # POD needs a clock product (schema)
-        per_day.append("results/float_pod/{sat}/{date}.sp3")
-        if config["ambiguity"]["enabled"]:
-            per_day += ["results/ambiguity/{sat}/{date}.nc", "results/fixed_pod/{sat}/{date}.sp3"]
-    targets = expand(per_day, sat=SATS, date=DAYS)
-    targets += expand("results/code_bias/{sat}/{period}.nc", sat=SATS, period=PERIODS)
-    if len(PERIODS) > 1:
-        targets += expand("results/code_bias/{sat}/stack.nc", sat=SATS)
-    if solutions():
-        if len(DAYS) > 1:
-            targets += expand("results/overlap/{sat}/summary.nc", sat=SATS)
-        targets += expand(
-            "results/reference_orbit/{sat}/summary.nc",
-            sat=[s for s in SATS if reference_template(s)],
-        )
-        targets += expand(
-            "results/slr/{sat}/summary.nc", sat=[s for s in SATS if slr_template(s)]
-        )
-        targets += expand("results/summary/{sat}.nc", sat=SATS)
-    return targets
+def sat_title(wildcards):
+    """Title of a satellite-day for figures."""
+    return f"{sat_name(wildcards)} {wildcards.date}"
+
+
+def period_title(wildcards):
+    """Title of a satellite's code-bias period for figures."""
+    return f"{sat_name(wildcards)} {wildcards.period}"
+
+
+def solution_title(wildcards):
+    """Title of a satellite-day of one POD solution for figures."""
+    return f"{sat_name(wildcards)} {wildcards.solution} {wildcards.date}"
+
+
+def solution_name(wildcards):
+    """The POD solution of a validation job (float_pod or fixed_pod)."""
+    return wildcards.solution
+
+
+def campaign_summary_files(wildcards):
+    """``{solution: {product: {date: file}}}`` the campaign summary of a satellite reads."""
+    return summary_files(wildcards.sat)
 
 
 def sat_pco(wildcards):
@@ -260,59 +395,9 @@ def sat_sp3_id(wildcards):
     return sat_config(wildcards).get("sp3_id")
 
 
-def sat_title(wildcards):
-    """Title of a satellite-day for figures."""
-    return f"{sat_config(wildcards).get('name', wildcards.sat)} {wildcards.date}"
-
-
-def float_pod_inputs(wildcards):
-    """Ingest/quality outputs and GNSS products of the days of the arc of a satellite-day."""
-    if not config["products"].get("gnss_clock"):
-        raise ValueError("float_pod needs a GNSS clock product (products.gnss_clock)")
-    days = arc_days(config, wildcards.date)
-    sat = wildcards.sat
-    files = {
-        "obs": [f"results/ingest/{sat}/{d}_obs.nc" for d in days],
-        "leo": [f"results/ingest/{sat}/{d}_leo.nc" for d in days],
-        "quality": [f"results/quality/{sat}/{d}.nc" for d in days],
-        "orbit": [expand_template(config["products"]["gnss_orbit"], d, sat) for d in days],
-        "clock": [expand_template(config["products"]["gnss_clock"], d, sat) for d in days],
-    }
-    if config["products"].get("antex"):
-        files["antex"] = expand_template(config["products"]["antex"], wildcards.date, sat)
-    files.update(applied_code_bias_map(wildcards))
-    return files
-
-
-def applied_code_bias_map(wildcards):
-    """{"code_bias": map file} of the period whose map corrects the day's codes, or {}."""
-    period = applied_code_bias_period(config, wildcards.date)
-    if period is None:
-        return {}
-    return {"code_bias": f"results/code_bias/{wildcards.sat}/{period}.nc"}
-
-
-def ambiguity_inputs(wildcards):
-    """Observations and quality of the arc's days, the code-bias map and the AR product."""
-    days = arc_days(config, wildcards.date)
-    sat = wildcards.sat
-    files = {
-        "obs": [f"results/ingest/{sat}/{d}_obs.nc" for d in days],
-        "quality": [f"results/quality/{sat}/{d}.nc" for d in days],
-    }
-    files.update(applied_code_bias_map(wildcards))
-    for key in ("wl_bias", "osb"):
-        if config["products"].get(key):
-            files[key] = expand_template(config["products"][key], wildcards.date, sat)
-    return files
-
-
-def code_bias_inputs(wildcards):
-    """Quality outputs of the days of a code-bias period."""
-    days = period_days(config, wildcards.period)
-    if not days:
-        raise ValueError(f"code-bias period {wildcards.period} has no campaign day")
-    return {"quality": [f"results/quality/{wildcards.sat}/{d}.nc" for d in days]}
+def sat_pod_sp3_id(wildcards):
+    """Satellite id written into the float-POD SP3 file."""
+    return sat_config(wildcards).get("pod_sp3_id", "L01")
 
 
 def sat_yaw_flips(wildcards):
@@ -322,6 +407,31 @@ def sat_yaw_flips(wildcards):
     return sat_config(wildcards).get("yaw_flips") or None
 
 
-def sat_pod_sp3_id(wildcards):
-    """Satellite id written into the float-POD SP3 file."""
-    return sat_config(wildcards).get("pod_sp3_id", "L01")
+def sat_reference_id(wildcards):
+    """Id of the satellite inside its SP3 reference orbit (None: the only one)."""
+    return sat_config(wildcards).get("reference_id")
+
+
+def sat_reference_time_system(wildcards):
+    """Time system of the epochs of the satellite's reference orbit (None: from the file)."""
+    return sat_config(wildcards).get("reference_time_system")
+
+
+def retro_offset(wildcards):
+    """Retro-reflector offset from the centre of mass in the body frame [m]."""
+    block = sat_config(wildcards)
+    if block.get("retro_offset_body_m") is not None:
+        return block["retro_offset_body_m"]
+    from leopod.simulate.settings import SimulationSettings
+
+    return list(SimulationSettings.from_config(config.get("simulate")).slr.retro_offset_body_m)
+
+
+# --- resources functions -------------------------------------------------------------------
+
+
+def pod_mem_mb(wildcards, attempt):
+    """Memory of a POD job [MB]: 3 GB (measured peak RSS 1.0-1.6 GB for 30-h arcs at 30 s,
+    benchmarks/campaign.py), twice as much for each retry of a job killed for memory
+    (profiles/slurm: retries)."""
+    return 3000 * attempt

@@ -9,17 +9,17 @@ for family in DOWNLOADS:
     rule:
         name:
             f"download_{family}"
-        localrule: True
-        params:
-            family=family,
-            default_catalogue=DEFAULT_CATALOGUE,
         output:
             destination_template(CATALOGUE.family(family)),
         log:
             download_log(family),
-        resources:
-            downloads=1,
+        localrule: True
         conda:
             "../../envs/leopod.yaml"
+        resources:
+            downloads=1,
+        params:
+            family=family,
+            default_catalogue=DEFAULT_CATALOGUE,
         script:
             "../../scripts/download.py"

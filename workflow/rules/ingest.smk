@@ -1,10 +1,6 @@
 # ingest: raw RINEX + GNSS products -> canonical observations, GNSS orbits/clocks at the
 # observation epochs, and the a-priori LEO orbit (netCDF).
 rule ingest:
-    params:
-        signals=config["signals"],
-        pco_body_m=sat_pco,
-        sp3_id=sat_sp3_id,
     input:
         unpack(ingest_inputs),
         code=library_code("ingest"),
@@ -15,12 +11,16 @@ rule ingest:
     log:
         "logs/ingest/{sat}/{date}.log",
     benchmark:
-        "benchmarks/ingest/{sat}/{date}.tsv"
+        "logs/benchmarks/ingest/{sat}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=3000,
         runtime=15,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        signals=config["signals"],
+        pco_body_m=sat_pco,
+        sp3_id=sat_sp3_id,
     script:
         "../../scripts/ingest.py"

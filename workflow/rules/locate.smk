@@ -3,16 +3,16 @@
 # job, with a message naming the file and the config entry, instead of stopping the whole
 # campaign before any job runs; the days that have their files go on (--keep-going).
 rule locate:
-    localrule: True
-    params:
-        source=locate_source,
     input:
         existing_locate_source,
     output:
         "resources/locate/{entry}/{path}",
     log:
         "logs/locate/{entry}/{path}.log",
+    localrule: True
     conda:
         "../../envs/leopod.yaml"
+    params:
+        source=locate_source,
     script:
         "../../scripts/locate.py"

@@ -1,14 +1,6 @@
 # float_pod: reduced-dynamic orbit from ionosphere-free code and phase with float ambiguities
 # (30-h arcs centred on the day by default, using the neighbouring days when they exist).
 rule float_pod:
-    params:
-        signals=config["signals"],
-        pod=config["pod"],
-        pco_body_m=sat_pco,
-        title=sat_title,
-        sp3_id=sat_pod_sp3_id,
-        code_bias=config["code_bias"],
-        yaw_flips=sat_yaw_flips,
     input:
         unpack(float_pod_inputs),
         code=library_code("float_pod"),
@@ -45,15 +37,21 @@ rule float_pod:
     log:
         "logs/float_pod/{sat}/{date}.log",
     benchmark:
-        "benchmarks/float_pod/{sat}/{date}.tsv"
-    threads: 1
-    resources:
-        # peak RSS 1.0-1.6 GB for 30-h arcs at 30 s (benchmarks/campaign.py); a job killed
-        # for memory is retried (profiles/slurm: retries) with twice as much
-        mem_mb=lambda wildcards, attempt: 3000 * attempt,
-        runtime=30,
+        "logs/benchmarks/float_pod/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=pod_mem_mb,
+        runtime=30,
+    params:
+        signals=config["signals"],
+        pod=config["pod"],
+        pco_body_m=sat_pco,
+        title=sat_title,
+        sp3_id=sat_pod_sp3_id,
+        code_bias=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
     script:
         "../../scripts/float_pod.py"
 
@@ -63,13 +61,6 @@ rule float_pod:
 # biases + integer clocks, or Bias-SINEX OSB); without a product nothing is fixed and the table
 # says so.
 rule ambiguity:
-    params:
-        signals=config["signals"],
-        pod=config["pod"],
-        settings=config["ambiguity"],
-        code_bias=config["code_bias"],
-        yaw_flips=sat_yaw_flips,
-        title=sat_title,
     input:
         unpack(ambiguity_inputs),
         ambiguities=rules.float_pod.output.ambiguities,
@@ -86,28 +77,29 @@ rule ambiguity:
     log:
         "logs/ambiguity/{sat}/{date}.log",
     benchmark:
-        "benchmarks/ambiguity/{sat}/{date}.tsv"
+        "logs/benchmarks/ambiguity/{sat}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=3000,
         runtime=10,
-    conda:
-        "../../envs/leopod.yaml"
-    script:
-        "../../scripts/ambiguity.py"
-
-
-# fixed_pod: the float POD re-solved with the fixed single differences as tight constraints.
-rule fixed_pod:
     params:
         signals=config["signals"],
         pod=config["pod"],
         settings=config["ambiguity"],
-        pco_body_m=sat_pco,
-        title=sat_title,
-        sp3_id=sat_pod_sp3_id,
         code_bias=config["code_bias"],
         yaw_flips=sat_yaw_flips,
+        title=sat_title,
+    script:
+        "../../scripts/ambiguity.py"
+
+
+# fixed_pod: the float POD re-solved with the fixed single differences as tight constraints:
+# float_pod's inputs plus the float solution and the ambiguity table, its params plus the
+# ambiguity settings, its environment and resources. (Not "use rule float_pod as fixed_pod
+# with:", which cannot replace the script.)
+rule fixed_pod:
     input:
         unpack(float_pod_inputs),
         table=rules.ambiguity.output.table,
@@ -149,14 +141,21 @@ rule fixed_pod:
     log:
         "logs/fixed_pod/{sat}/{date}.log",
     benchmark:
-        "benchmarks/fixed_pod/{sat}/{date}.tsv"
-    threads: 1
-    resources:
-        # peak RSS 1.0-1.6 GB for 30-h arcs at 30 s (benchmarks/campaign.py); a job killed
-        # for memory is retried (profiles/slurm: retries) with twice as much
-        mem_mb=lambda wildcards, attempt: 3000 * attempt,
-        runtime=30,
+        "logs/benchmarks/fixed_pod/{sat}/{date}.tsv"
     conda:
         "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=pod_mem_mb,
+        runtime=30,
+    params:
+        signals=config["signals"],
+        pod=config["pod"],
+        settings=config["ambiguity"],
+        pco_body_m=sat_pco,
+        title=sat_title,
+        sp3_id=sat_pod_sp3_id,
+        code_bias=config["code_bias"],
+        yaw_flips=sat_yaw_flips,
     script:
         "../../scripts/fixed_pod.py"

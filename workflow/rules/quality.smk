@@ -2,10 +2,6 @@
 # Peng et al. 2021, sec. II-B), with the antenna-frame geometry of every observation and figures
 # for the report.
 rule quality:
-    params:
-        signals=config["signals"],
-        settings=config["quality"],
-        title=sat_title,
     input:
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,
@@ -46,12 +42,16 @@ rule quality:
     log:
         "logs/quality/{sat}/{date}.log",
     benchmark:
-        "benchmarks/quality/{sat}/{date}.tsv"
+        "logs/benchmarks/quality/{sat}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=3000,
         runtime=15,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        signals=config["signals"],
+        settings=config["quality"],
+        title=sat_title,
     script:
         "../../scripts/quality.py"

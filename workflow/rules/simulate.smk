@@ -5,10 +5,6 @@
 
 # The truth orbit of one satellite over the whole campaign, and its code-bias map(s).
 rule simulate_truth:
-    params:
-        settings=sat_simulation,
-        world_start=config["start_date"],
-        world_end=config["end_date"],
     input:
         code=library_code("simulate_truth"),
     output:
@@ -17,13 +13,17 @@ rule simulate_truth:
     log:
         "logs/simulate_truth/{sat}.log",
     benchmark:
-        "benchmarks/simulate_truth/{sat}.tsv"
+        "logs/benchmarks/simulate_truth/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=2000,
         runtime=20,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=sat_simulation,
+        world_start=config["start_date"],
+        world_end=config["end_date"],
     script:
         "../../scripts/simulate_truth.py"
 
@@ -31,12 +31,6 @@ rule simulate_truth:
 # The campaign's true code/phase biases (GNSS satellites, every simulated receiver) and the
 # SLR station coordinates.
 rule simulate_world:
-    params:
-        settings=config["simulate"],
-        world_start=config["start_date"],
-        world_end=config["end_date"],
-        # the satellites whose files the simulate rules write
-        sats=[s for s in SATS if config["satellites"][s].get("source") == "simulate"],
     input:
         gnss_products=simulation_product_files,
         code=library_code("simulate_world"),
@@ -47,23 +41,25 @@ rule simulate_world:
     log:
         "logs/simulate_world/simulate_world.log",
     benchmark:
-        "benchmarks/simulate_world/simulate_world.tsv"
+        "logs/benchmarks/simulate_world/simulate_world.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
+        # the satellites whose files the simulate rules write
+        sats=SIMULATED_SATS,
     script:
         "../../scripts/simulate_world.py"
 
 
 # GNSS orbits, clocks and ambiguity-resolution products of one day.
 rule simulate_gnss:
-    params:
-        settings=config["simulate"],
-        world_start=config["start_date"],
-        world_end=config["end_date"],
     input:
         biases=rules.simulate_world.output.biases,
         code=library_code("simulate_gnss"),
@@ -76,24 +72,23 @@ rule simulate_gnss:
     log:
         "logs/simulate_gnss/{date}.log",
     benchmark:
-        "benchmarks/simulate_gnss/{date}.tsv"
+        "logs/benchmarks/simulate_gnss/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=10,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
     script:
         "../../scripts/simulate_gnss.py"
 
 
 # Onboard observations, the day's truth and the SLR normal points of one satellite-day.
 rule simulate:
-    params:
-        settings=config["simulate"],
-        world_start=config["start_date"],
-        world_end=config["end_date"],
-        pco_body_m=sat_pco,
     input:
         truth=rules.simulate_truth.output.truth,
         biases=rules.simulate_world.output.biases,
@@ -108,12 +103,17 @@ rule simulate:
     log:
         "logs/simulate/{sat}/{date}.log",
     benchmark:
-        "benchmarks/simulate/{sat}/{date}.tsv"
+        "logs/benchmarks/simulate/{sat}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=2000,
         runtime=10,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["simulate"],
+        world_start=config["start_date"],
+        world_end=config["end_date"],
+        pco_body_m=sat_pco,
     script:
         "../../scripts/simulate.py"

@@ -5,9 +5,6 @@
 
 # Two consecutive arcs over their common span (30-h arcs: 6 h), RTN and 3D.
 rule overlap:
-    params:
-        trim_s=config["validation"]["overlap_trim_s"],
-        title=lambda w: f"{sat_name(w)} {w.solution} {w.date}",
     input:
         unpack(overlap_inputs),
         code=library_code("overlap"),
@@ -16,13 +13,16 @@ rule overlap:
     log:
         "logs/overlap/{sat}/{solution}/{date}.log",
     benchmark:
-        "benchmarks/overlap/{sat}/{solution}/{date}.tsv"
+        "logs/benchmarks/overlap/{sat}/{solution}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=500,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        trim_s=config["validation"]["overlap_trim_s"],
+        title=solution_title,
     script:
         "../../scripts/overlap.py"
 
@@ -30,11 +30,8 @@ rule overlap:
 # Campaign overlap statistics per arc pair and mean +- STD, float and fixed (Jiang et al. 2023,
 # Fig. 13).
 rule overlap_summary:
-    params:
-        solutions=solutions(),
-        title=sat_name,
     input:
-        unpack(per_day_validation("results/overlap/{sat}/{solution}/{date}.nc")),
+        unpack(per_day_validation(rules.overlap.output.nc, days=DAYS[:-1])),
         code=library_code("overlap_summary"),
     output:
         nc="results/overlap/{sat}/summary.nc",
@@ -53,26 +50,24 @@ rule overlap_summary:
     log:
         "logs/overlap_summary/{sat}.log",
     benchmark:
-        "benchmarks/overlap_summary/{sat}.tsv"
+        "logs/benchmarks/overlap_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=500,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        solutions=solutions(),
+        title=sat_name,
     script:
         "../../scripts/overlap_summary.py"
 
 
 # A POD arc minus the reference orbit over its day (simulated campaigns: the truth).
 rule reference_orbit:
-    params:
-        reference_id=lambda w: sat_config(w).get("reference_id"),
-        time_system=lambda w: sat_config(w).get("reference_time_system"),
-        solution=lambda w: w.solution,
-        title=lambda w: f"{sat_name(w)} {w.date}",
     input:
-        orbit="results/{solution}/{sat}/{date}_orbit.nc",
+        orbit=pod_orbit,
         reference=reference_files,
         code=library_code("reference_orbit"),
     output:
@@ -80,24 +75,26 @@ rule reference_orbit:
     log:
         "logs/reference_orbit/{sat}/{solution}/{date}.log",
     benchmark:
-        "benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
+        "logs/benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        reference_id=sat_reference_id,
+        time_system=sat_reference_time_system,
+        solution=solution_name,
+        title=sat_title,
     script:
         "../../scripts/reference_orbit.py"
 
 
 # Daily and campaign statistics of the reference-orbit differences (Wang et al. 2024, Table 4).
 rule reference_summary:
-    params:
-        solutions=solutions(),
-        title=sat_name,
     input:
-        unpack(per_day_validation("results/reference_orbit/{sat}/{solution}/{date}.nc")),
+        unpack(per_day_validation(rules.reference_orbit.output.nc)),
         code=library_code("reference_summary"),
     output:
         nc="results/reference_orbit/{sat}/summary.nc",
@@ -122,13 +119,16 @@ rule reference_summary:
     log:
         "logs/reference_summary/{sat}.log",
     benchmark:
-        "benchmarks/reference_summary/{sat}.tsv"
+        "logs/benchmarks/reference_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        solutions=solutions(),
+        title=sat_name,
     script:
         "../../scripts/reference_summary.py"
 
@@ -136,11 +136,6 @@ rule reference_summary:
 # Laser ranging residuals of one arc's day (station motion, eccentricities, light time,
 # troposphere, relativity; screening).
 rule slr:
-    params:
-        settings=config["validation"]["slr"],
-        retro_offset_body_m=retro_offset,
-        solution=lambda w: w.solution,
-        title=lambda w: f"{sat_name(w)} {w.date}",
     input:
         unpack(slr_inputs),
         code=library_code("slr"),
@@ -149,25 +144,26 @@ rule slr:
     log:
         "logs/slr/{sat}/{solution}/{date}.log",
     benchmark:
-        "benchmarks/slr/{sat}/{solution}/{date}.tsv"
+        "logs/benchmarks/slr/{sat}/{solution}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["validation"]["slr"],
+        retro_offset_body_m=retro_offset,
+        solution=solution_name,
+        title=sat_title,
     script:
         "../../scripts/slr.py"
 
 
 # SLR statistics per station, per elevation bin and projected on R/T/N, float and fixed.
 rule slr_summary:
-    params:
-        settings=config["validation"]["slr"],
-        solutions=solutions(),
-        title=sat_name,
     input:
-        unpack(per_day_validation("results/slr/{sat}/{solution}/{date}.nc")),
+        unpack(per_day_validation(rules.slr.output.nc)),
         code=library_code("slr_summary"),
     output:
         nc="results/slr/{sat}/summary.nc",
@@ -199,13 +195,17 @@ rule slr_summary:
     log:
         "logs/slr_summary/{sat}.log",
     benchmark:
-        "benchmarks/slr_summary/{sat}.tsv"
+        "logs/benchmarks/slr_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        settings=config["validation"]["slr"],
+        solutions=solutions(),
+        title=sat_name,
     script:
         "../../scripts/slr_summary.py"
 
@@ -213,11 +213,6 @@ rule slr_summary:
 # Campaign summary: per day and solution the residual RMS, fixing rates, overlap, reference
 # orbit and SLR statistics (the tables of the source papers), as netCDF, CSV and an HTML table.
 rule campaign_summary:
-    params:
-        solutions=solutions(),
-        days=DAYS,
-        files=lambda w: summary_files(w.sat),
-        title=sat_name,
     input:
         summary_inputs,
         code=library_code("campaign_summary"),
@@ -233,12 +228,17 @@ rule campaign_summary:
     log:
         "logs/campaign_summary/{sat}.log",
     benchmark:
-        "benchmarks/campaign_summary/{sat}.tsv"
+        "logs/benchmarks/campaign_summary/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=5,
-    conda:
-        "../../envs/leopod.yaml"
+    params:
+        solutions=solutions(),
+        days=DAYS,
+        files=campaign_summary_files,
+        title=sat_name,
     script:
         "../../scripts/campaign_summary.py"

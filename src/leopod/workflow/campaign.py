@@ -15,10 +15,11 @@ from pathlib import Path
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
 __all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input_references",
-           "is_daily_template", "locate_inputs", "located_source",
-           "satellite_ids", "script_library_files"]
+           "input_templates", "is_daily_template", "library_root", "locate_inputs",
+           "located_source", "satellite_ids", "script_library_files"]
 
-_PACKAGE = Path(__file__).resolve().parents[1]   # src/leopod
+#: Folder that holds the imported ``leopod`` package (``src`` of a checkout, or site-packages).
+_ROOT = Path(__file__).resolve().parents[2]
 
 
 def campaign_days(config: dict) -> list[str]:
@@ -126,6 +127,17 @@ def locate_inputs(config: dict) -> tuple[dict, dict[str, str]]:
     return config, located
 
 
+def input_templates(config: dict) -> dict[str, str]:
+    """``{entry: path template}`` of every input file the config names (unset entries left out).
+
+    ``entry`` is the dotted config path of :func:`input_references` (``products.gnss_orbit``,
+    ``satellites.grace-a.observations``). Applied to the config returned by
+    :func:`locate_inputs`, the templates are those the rules read.
+    """
+    return {entry: container[key] for entry, container, key in input_references(config)
+            if container.get(key)}
+
+
 def located_source(located: dict[str, str], entry: str, path: str) -> str:
     """The file a located input stands for.
 
@@ -146,12 +158,13 @@ def located_source(located: dict[str, str], entry: str, path: str) -> str:
     return template.replace("{sat}", sat) if sat else template
 
 
-def _module_file(name: str) -> Path | None:
-    """Source file of the leopod module ``name`` (dotted), or None if it is not one."""
+def _module_file(name: str, root: Path) -> Path | None:
+    """Source file of the leopod module ``name`` (dotted) below ``root``, or None if it is
+    not one."""
     parts = name.split(".")
     if parts[0] != "leopod":
         return None
-    base = _PACKAGE.joinpath(*parts[1:])
+    base = root.joinpath(*parts)
     for path in (base.with_suffix(".py"), base / "__init__.py"):
         if path.is_file():
             return path
@@ -177,7 +190,20 @@ def _imported_modules(path: Path) -> frozenset[str]:
     return frozenset(names)
 
 
-def script_library_files(script: str | Path) -> list[str]:
+def library_root(basedir: str | Path) -> Path | None:
+    """Folder of the leopod sources that belong to a workflow: ``<basedir>/src`` when it holds
+    the ``leopod`` package (a checkout), else None (the imported package).
+
+    Parameters
+    ----------
+    basedir : str or Path
+        Folder of the Snakefile (``workflow.basedir``).
+    """
+    src = Path(basedir) / "src"
+    return src if (src / "leopod" / "__init__.py").is_file() else None
+
+
+def script_library_files(script: str | Path, root: str | Path | None = None) -> list[str]:
     """Every leopod source file a workflow script imports, directly or transitively.
 
     Used as rule inputs, so that a change in any library code a step runs makes Snakemake
@@ -187,17 +213,29 @@ def script_library_files(script: str | Path) -> list[str]:
     ----------
     script : str or Path
         The rule's script (``scripts/<rule>.py``).
+    root : str or Path, optional
+        Folder that holds the ``leopod`` package whose files are listed (the ``src`` folder of
+        the checkout the workflow runs from, :func:`library_root`); default: the folder of the
+        imported package.
 
     Returns
     -------
     list of str
         Sorted absolute paths of the ``.py`` files, ``leopod/__init__.py`` included.
+
+    Raises
+    ------
+    ValueError
+        If ``root`` holds no ``leopod`` package.
     """
+    root = _ROOT if root is None else Path(root).resolve()
+    if not (root / "leopod" / "__init__.py").is_file():
+        raise ValueError(f"{root} holds no leopod package (leopod/__init__.py)")
     seen: set[Path] = set()
     todo = [Path(script)]
     while todo:
         for name in _imported_modules(todo.pop()):
-            path = _module_file(name)
+            path = _module_file(name, root)
             if path is not None and path not in seen:
                 seen.add(path)
                 todo.append(path)
