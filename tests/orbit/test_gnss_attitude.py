@@ -28,7 +28,7 @@ def test_axes_point_as_the_convention_says():
     ([0.0, 0.0, 1.5e11], [0, 0, 1], [0, 1, 0]),
 ])
 def test_yaw_steering_axes_hand_geometry(sun, ex, ey):
-    """Montenbruck et al. (2015, Adv. Space Res. 56:1015, sec. 4 / Fig. 3), Kouba (2009, GPS
+    """Montenbruck et al. (2015, Adv. Space Res. 56:1015), Kouba (2009, GPS
     Solut. 13:1): e_Z = −r/|r|, e_Y = e_Z × e_sun / |e_Z × e_sun|, e_X = e_Y × e_Z; with the
     satellite on +x̂ the axes follow by hand (cross products worked in the parameter comments),
     exact because the Sun direction seen from the satellite stays in the plane ⟂ to the result."""
