@@ -41,7 +41,6 @@ ARC_S = 6 * 3600.0
 #: A Swarm-A state of 2023-01-01 00:00 GPST (GCRF, from its ESA SP3 orbit) [m, m/s].
 POS = np.array([6131381.0, -3041979.0, 96752.65])
 VEL = np.array([258.5907, 255.4880, -7623.774])
-RNG = np.random.default_rng(20230101)
 
 
 def egm2008_degree4(tide_system: str = "tide_free") -> xr.Dataset:
@@ -66,8 +65,14 @@ def env():
     return ArcEnvironment(T_REF, 0.0, ARC_S)
 
 
-def _times(n=200):
-    return np.sort(RNG.uniform(0.0, ARC_S, n))
+@pytest.fixture
+def rng():
+    """A generator of its own for each test (same seed): results do not depend on test order."""
+    return np.random.default_rng(20230101)
+
+
+def _times(rng, n=200):
+    return np.sort(rng.uniform(0.0, ARC_S, n))
 
 
 def _build(config, env=None):
@@ -77,16 +82,16 @@ def _build(config, env=None):
 # ------------------------------------------------------------------------ environment
 
 
-def test_rotation_interpolation_matches_direct_computation(env):
-    t = _times(500)
+def test_rotation_interpolation_matches_direct_computation(env, rng):
+    t = _times(rng, 500)
     # authority: gcrf_from_itrf_matrices at each epoch. Its own floor is ~1e-13 (epochs are
     # rounded to 1 ns = 7e-14 rad of Earth rotation; erfa.era00 resolves ~3e-14 rad).
     err = np.abs(env.rotation(t) - env.rotation_direct(t)[0]).max()
     assert err < 2e-13
 
 
-def test_sun_moon_interpolation_matches_de421(env):
-    t = _times()
+def test_sun_moon_interpolation_matches_de421(env, rng):
+    t = _times(rng)
     eph = Ephemeris()
     tt = env.tt_j2000_s(t)
     # authority: DE421 evaluated directly at each epoch (jplephem)
@@ -113,10 +118,10 @@ def test_epoch_outside_arc_raises(env):
 # ----------------------------------------------------------------------------- gravity
 
 
-def test_earth_gravity_matches_field_in_itrf(env):
+def test_earth_gravity_matches_field_in_itrf(env, rng):
     field = GravityField(egm2008_degree4(), 4)
     force = EarthGravity(field, env)
-    for t in _times(5):
+    for t in _times(rng, 5):
         acc, grad, da_dv, da_dp = force.evaluate(t, POS, VEL, np.empty(0))
         rot = env.rotation_direct([t])[0][0]
         # authority: GravityField in the ITRF with the directly computed rotation
@@ -199,10 +204,10 @@ def test_tides_need_a_known_tide_system(env):
 # ------------------------------------------------------------ third bodies, relativity
 
 
-def test_third_bodies_match_reference(env):
+def test_third_bodies_match_reference(env, rng):
     force = ThirdBodies(env)
     eph = Ephemeris()
-    for t in _times(3):
+    for t in _times(rng, 3):
         acc, grad = force.evaluate(t, POS, VEL, np.empty(0))[:2]
         tt = env.tt_j2000_s(t)
         ref_a = np.zeros(3)
@@ -276,12 +281,12 @@ def test_srp_matches_reference(env):
     np.testing.assert_allclose(da_dp, ref[3], rtol=1e-9)
 
 
-def test_empirical_force(env):
+def test_empirical_force(env, rng):
     force = _build({"gravity": None, "empirical": {"interval_s": 7200.0}}, env).forces[1]
     assert force.parameters[:6] == ["emp_const_T_0", "emp_cos_T_0", "emp_sin_T_0",
                                     "emp_const_N_0", "emp_cos_N_0", "emp_sin_N_0"]
     np.testing.assert_array_equal(force.breakpoints_s, [7200.0, 14400.0])
-    p = RNG.normal(0.0, 1e-8, len(force.parameters))
+    p = rng.normal(0.0, 1e-8, len(force.parameters))
     got = force.evaluate(9000.0, POS, VEL, p)
     ref = empirical_acceleration(9000.0, POS, VEL, p, force.model)
     for a, b in zip(got, ref):

@@ -3,7 +3,7 @@
 Authorities: astronomical events and constants (total lunar eclipse of 2007-03-03, greatest
 eclipse 23:21 UT, NASA eclipse catalogue: Sun and Moon in opposition; Earth's perihelion /
 aphelion distances 0.983 / 1.017 AU), an independent low-precision Sun series
-(Montenbruck & Gill 2000 sec. 3.3.2, in leopod.gnss.attitude), analytic special cases
+(the Astronomical Almanac's, in leopod.astro.sun), analytic special cases
 and finite differences.
 """
 
@@ -39,7 +39,7 @@ def test_sun_distance_and_direction_against_low_precision_series():
     assert np.linalg.norm(eph.sun_m(_t("2007-01-04T00:00:00"))[0]) / AU == pytest.approx(0.9833, abs=2e-4)
     assert np.linalg.norm(eph.sun_m(_t("2007-07-07T00:00:00"))[0]) / AU == pytest.approx(1.0167, abs=2e-4)
     # the declination (frame-independent between GCRF and Earth-fixed up to polar motion and
-    # precession since J2000, < 0.2°) agrees with Montenbruck & Gill's series
+    # precession since J2000, < 0.2°) agrees with the Astronomical Almanac's formula
     times = np.arange(0, 365) * 86400.0 + _t("2007-01-01T12:00:00")
     de = eph.sun_m(times)
     lp = sun_position_ef(J2000 + (times * 1e9).astype("timedelta64[ns]") - np.timedelta64(64184, "ms"))

@@ -125,14 +125,19 @@ def test_float_pod_three_hour_arc(three_hour_arc):
     assert r.converged
     phase_rms = np.sqrt(np.nanmean(r.phase_residual_m**2))
     code_rms = np.sqrt(np.nanmean(r.code_residual_m**2))
-    assert 0.003 < phase_rms < 0.010
-    assert 0.5 < code_rms < 2.0
-    assert r.phase_rejected.mean() < 0.03 and r.code_rejected.mean() < 0.06
+    # Bounds from the values measured on 2026-11-25: phase RMS 6.35 mm
+    # (upper bound +0.45 mm: with the wind-up sign flipped it is 7.26 mm, so this real-data
+    # test is also a witness of that sign), code RMS 1.553 m (+0.2 m), rejected phase 0.0 %
+    # and code 3.4 % (+1 point), formal sigma median 5.7 mm (+30 %).
+    assert 0.003 < phase_rms < 0.0068
+    assert 0.5 < code_rms < 1.75
+    assert r.phase_rejected.mean() < 0.01 and r.code_rejected.mean() < 0.045
     # the code-only a-priori orbit scatters by metres around the float orbit, not more
+    # (measured RMS R/T/N 4.04 / 0.87 / 1.18 m)
     diff = arc.orbit.apriori_diff_rtn_m.values
     assert np.all(np.sqrt(np.nanmean(diff**2, axis=0)) < 5.0)
-    # formal sigmas: mm to cm level
-    assert 1e-4 < float(arc.orbit.sigma_rtn_m.median()) < 0.05
+    # formal sigmas: mm level
+    assert 1e-3 < float(arc.orbit.sigma_rtn_m.median()) < 0.0075
 
 
 def test_warm_start_reproduces_a_converged_solution(three_hour_arc):

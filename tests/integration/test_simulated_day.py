@@ -98,14 +98,16 @@ def test_apriori_orbit_against_truth(day, world):
     radial, err = _radial_and_3d_errors(leo, truth)
     ok = np.isfinite(err)
     assert ok.mean() > 0.99
-    assert np.sqrt(np.mean(err[ok] ** 2)) < 0.5
-    assert np.max(err[ok]) < 5.0
+    # measured 2026-11-25: 3D RMS 0.244 m, max 1.06 m, clock STD 0.227 m; bounds +20-25 %
+    assert np.sqrt(np.mean(err[ok] ** 2)) < 0.30
+    assert np.max(err[ok]) < 1.3
     clk_true = truth.clk_rx_true_s.sel(obs_time=leo.time).values * 299_792_458.0
-    assert np.nanstd(leo.clk_rx_m.values - clk_true) < 0.5
+    assert np.nanstd(leo.clk_rx_m.values - clk_true) < 0.28
     # With the map (2.55 x 0.5-3 m in the ionosphere-free code, larger at low elevation) the
     # code-only orbit moves radially by metres: the effect Peng et al. (2021) corrects with the map.
     radial_map, _ = _radial_and_3d_errors(day["leo"], truth)
-    assert abs(np.nanmean(radial_map)) > 1.0 + abs(np.nanmean(radial[ok]))
+    # (measured 2026-11-25: mean radial 3.81 m with the map, −0.002 m without; bound −20 %)
+    assert abs(np.nanmean(radial_map)) > 3.0 + abs(np.nanmean(radial[ok]))
 
 
 def _quality(obs, gnss, leo):

