@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
@@ -66,7 +66,7 @@ def initial_state() -> tuple[np.datetime64, np.ndarray]:
 def run(config: dict, t_ref, state0, repeat: int) -> dict:
     """Build the model, integrate the arc ``repeat`` times; timings [s]."""
     t0 = time.perf_counter()
-    model = build_force_model(config, t_ref, 0.0, ARC_S)
+    model = build_force_model(ForceModelSettings.from_config(config), t_ref, 0.0, ARC_S)
     build_s = time.perf_counter() - t0
     params = apriori_parameters(model)
     t_out = np.arange(0.0, ARC_S + 1.0, OUTPUT_STEP_S)

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.dynamics.orbit_fit import fit_orbit
@@ -102,7 +102,8 @@ def orbit_effect(config: dict, reference: dict) -> float:
     """3D RMS [m] of the change of the all-forces orbit when integrated with ``config``
     (same initial state, same values of the parameters both models have; no refit)."""
     t_s = reference["t_s"]
-    model = build_force_model(config, reference["t_ref"], t_s[0], t_s[-1])
+    model = build_force_model(ForceModelSettings.from_config(config), reference["t_ref"],
+                              t_s[0], t_s[-1])
     params = apriori_parameters(model)
     for i, name in enumerate(model.parameters):
         params[i] = reference["params"].get(name, params[i])
@@ -116,7 +117,7 @@ def fit_row(label: str, config: dict, data: tuple, reference: dict | None = None
     reference solution) the size of the configuration's change on the orbit before refit."""
     times, pos, vel = data
     t0 = time.perf_counter()
-    result = fit_orbit(times, pos, config, vel_m_s=vel)
+    result = fit_orbit(times, pos, ForceModelSettings.from_config(config), vel_m_s=vel)
     row = {"label": label, "rms": result.rms_rtn_m, "rms_3d": result.rms_3d_m,
            "iterations": result.iterations, "converged": result.converged,
            "time_s": time.perf_counter() - t0, "n_obs": result.t_s.size, "sigma0": result.sigma0,

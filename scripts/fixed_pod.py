@@ -6,6 +6,7 @@ import xarray as xr
 
 from leopod.ambiguity.resolve import ArSettings
 from leopod.codebias.apply import CodeCorrection
+from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings
 from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
 from leopod.estimation.float_pod import PodSettings
@@ -22,7 +23,8 @@ FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
 def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
-         arc: ArcSettings, pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None,
+         arc: ArcSettings, pod: PodSettings, forces: ForceModelSettings,
+         pco_body_m: Mapping | None,
          code_correction: CodeCorrection | None, yaw_flips, ambiguity: ArSettings,
          title: str, sp3_id: str) -> None:
     """Ambiguity-fixed POD of the arc of ``date`` from ``inputs`` into ``outputs``.

@@ -3,6 +3,7 @@
 from collections.abc import Mapping
 
 from leopod.codebias.apply import CodeCorrection
+from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings, run_arc
 from leopod.estimation.float_pod import PodSettings
 from leopod.estimation.write import log_arc, write_arc
@@ -18,7 +19,8 @@ FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
 def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
-         arc: ArcSettings, pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None,
+         arc: ArcSettings, pod: PodSettings, forces: ForceModelSettings,
+         pco_body_m: Mapping | None,
          code_correction: CodeCorrection | None, yaw_flips, title: str, sp3_id: str) -> None:
     """Float POD of the arc of ``date`` from the files ``inputs`` into the files ``outputs``.
 

@@ -3,20 +3,66 @@
 Every tunable of the library is a field of a frozen dataclass that derives from
 :class:`Settings` and lives beside the code it tunes (``PodSettings`` in
 :mod:`leopod.estimation.float_pod`, ``ArSettings`` in :mod:`leopod.ambiguity.resolve`, …).
-The fields carry no defaults: the campaign schema (``workflow/schemas/config.schema.yaml``) is
-the single source of them. :meth:`Settings.from_config` takes a section of a *validated*
-configuration (defaults filled in by the schema, :func:`leopod.workflow.config.validated`)
-and keeps the keys that are its fields; the other keys of the section belong to other
-settings or to the workflow (e.g. ``ambiguity.enabled``).
+The fields carry no defaults: the campaign schema (``workflow/schemas/config.schema.yaml`` of
+the repository) is the single source of them. :meth:`Settings.from_config` takes a section of
+the configuration, fills the keys it lacks from the schema definition the class names in
+``SCHEMA_DEF`` (a validated configuration has them all already), and keeps the keys that are
+its fields; the other keys of the section belong to other settings or to the workflow (e.g.
+``ambiguity.enabled``). ``tests/test_settings.py`` checks that every field has its key in the
+schema.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
+import functools
 from collections.abc import Mapping
-from typing import Any, Self
+from pathlib import Path
+from typing import Any, ClassVar, Self
 
-__all__ = ["Settings", "frozen_value"]
+import yaml
+
+__all__ = ["SCHEMA", "Settings", "frozen_value", "schema_defaults"]
+
+#: The campaign schema of the repository checkout (leopod runs from its checkout).
+SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
+
+
+@functools.lru_cache(maxsize=4)
+def _schema(path: str) -> dict:
+    return yaml.safe_load(Path(path).read_text())
+
+
+def schema_defaults(name: str, schema: str | Path = SCHEMA) -> dict:
+    """Defaults of the schema definition ``$defs/<name>`` (nested object defaults included).
+
+    Parameters
+    ----------
+    name : str
+        A definition of the schema: ``pod``, ``quality``, ``ambiguity``, ``code_bias``,
+        ``slr_validation``, ``force_drag``, …
+
+    Raises
+    ------
+    KeyError
+        If the schema has no such definition.
+    """
+    full = _schema(str(schema))
+    return _defaults(full["$defs"][name], full)
+
+
+def _defaults(node: Mapping, full: Mapping) -> dict:
+    if "$ref" in node:
+        node = full["$defs"][node["$ref"].rsplit("/", 1)[-1]]
+    out = {}
+    for key, prop in node.get("properties", {}).items():
+        if "$ref" in prop or prop.get("type") == "object":
+            if "default" in prop:
+                out[key] = {**copy.deepcopy(prop["default"]), **_defaults(prop, full)}
+        elif "default" in prop:
+            out[key] = copy.deepcopy(prop["default"])
+    return out
 
 
 def frozen_value(value: Any) -> Any:
@@ -27,27 +73,33 @@ def frozen_value(value: Any) -> Any:
 
 
 class Settings:
-    """Base of the settings dataclasses (decorate subclasses with ``dataclass(frozen=True)``)."""
+    """Base of the settings dataclasses (decorate subclasses with ``dataclass(frozen=True)``).
+
+    Subclasses name the schema definition that holds their keys and defaults in
+    ``SCHEMA_DEF`` (None: the section must hold every field, e.g. ``signals.<system>``).
+    """
+
+    SCHEMA_DEF: ClassVar[str | None] = None
 
     @classmethod
     def from_config(cls, section: Mapping[str, Any]) -> Self:
-        """Settings from a validated configuration section.
+        """Settings from a configuration section, schema defaults for the keys it lacks.
 
         Parameters
         ----------
         section : mapping
-            The section with every field of ``cls`` present (schema defaults applied).
+            The section (validated or partial).
 
         Raises
         ------
-        KeyError
-            When a field is missing: the section was not validated against the schema, or
-            the schema lacks the key.
+        ValueError
+            When a field is neither in the section nor a default of the schema definition.
         """
+        values = {**(schema_defaults(cls.SCHEMA_DEF) if cls.SCHEMA_DEF else {}), **section}
         names = [f.name for f in dataclasses.fields(cls)]
-        missing = [n for n in names if n not in section]
+        missing = [n for n in names if n not in values]
         if missing:
-            raise KeyError(f"{cls.__name__}: the configuration section has no "
-                           f"{', '.join(missing)} (validate it against the campaign schema, "
-                           "which holds the defaults)")
-        return cls(**{n: frozen_value(section[n]) for n in names})
+            raise ValueError(f"{cls.__name__}: the configuration section has no "
+                           f"{', '.join(missing)} and the campaign schema "
+                           f"({cls.SCHEMA_DEF or 'no definition'}) gives no default")
+        return cls(**{n: frozen_value(values[n]) for n in names})

@@ -21,7 +21,10 @@ from leopod.constants import GM_MOON_M3_S2, GM_SUN_M3_S2, OMEGA_EARTH_RAD_S
 from leopod.dynamics.drag import Drag, HarrisPriesterDensity, drag_cannonball
 from leopod.dynamics.empirical import Empirical, empirical_acceleration
 from leopod.dynamics.environment import ArcEnvironment
-from leopod.dynamics.force_config import DEFAULT_DRAG_COEFFICIENT, build_force_model
+from leopod.dynamics.force_config import (
+    ForceModelSettings,
+    build_force_model,
+)
 from leopod.dynamics.forces import (
     PointMassGravity,
     apriori_parameters,
@@ -35,6 +38,7 @@ from leopod.dynamics.solid_tides import permanent_tide_c20
 from leopod.dynamics.srp import SolarRadiation, srp_cannonball
 from leopod.dynamics.third_body import ThirdBodies, third_body_acceleration
 from leopod.dynamics.tides import TideModel
+from leopod.settings import schema_defaults
 
 T_REF = np.datetime64("2023-01-01T00:00:00", "ns")
 ARC_S = 6 * 3600.0
@@ -76,7 +80,7 @@ def _times(rng, n=200):
 
 
 def _build(config, env=None):
-    return build_force_model(config, T_REF, 0.0, ARC_S, environment=env)
+    return build_force_model(ForceModelSettings.from_config(config), T_REF, 0.0, ARC_S, environment=env)
 
 
 # ------------------------------------------------------------------------ environment
@@ -322,7 +326,7 @@ def test_build_every_force_switchable(env):
 def test_build_parameters_and_ratios(env):
     model = _build(FULL, env)
     drag = model.forces[3]
-    assert drag.cd_area_mass_m2_kg == pytest.approx(DEFAULT_DRAG_COEFFICIENT / 470.0)
+    assert drag.cd_area_mass_m2_kg == pytest.approx(schema_defaults("force_drag")["drag_coefficient"] / 470.0)
     ap = apriori_parameters(model)
     est = estimated_parameters(model)
     sig = constraint_sigmas(model)
@@ -383,4 +387,4 @@ def test_egm2008_fes2004_model(shared):
 
 
 def _build_short(cfg, env):
-    return build_force_model(cfg, T_REF, 0.0, 3600.0, environment=env).forces[0]
+    return build_force_model(ForceModelSettings.from_config(cfg), T_REF, 0.0, 3600.0, environment=env).forces[0]

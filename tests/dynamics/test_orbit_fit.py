@@ -15,7 +15,7 @@ import pytest
 from test_force_model import POS, VEL, egm2008_degree4
 
 from leopod.constants import GM_EARTH_M3_S2
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import apriori_parameters, estimated_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.dynamics.orbit_fit import STATE_NAMES, _solve, fit_orbit, initial_state
@@ -30,13 +30,14 @@ CONFIG = {"gravity": {"field": egm2008_degree4()}, "third_body": True, "relativi
           "srp": {"area_m2": 1.0, "mass_kg": 470.0},
           "empirical": {"interval_s": 5400.0}}
 SWARM_SP3 = "SW_OPER_SP3ACOM_2__20221231T235942_20230101T235942_0201.sp3"
+FORCES = ForceModelSettings.from_config(CONFIG)
 
 
 @pytest.fixture(scope="module")
 def simulation():
     """Truth: parameters, initial state and ITRF positions every 60 s over 3 h."""
     t_s = np.arange(0.0, ARC_S + 1.0, SAMPLING_S)
-    model = build_force_model(CONFIG, T_REF, t_s[0], t_s[-1])
+    model = build_force_model(FORCES, T_REF, t_s[0], t_s[-1])
     rng = np.random.default_rng(7)
     params = apriori_parameters(model)
     names = model.parameters
@@ -81,7 +82,7 @@ def test_solve_matches_svd_least_squares():
 def test_fit_recovers_noise_free_truth(simulation):
     times, pos_itrf, state0, params, model = simulation
     start = state0 + np.array([30.0, -20.0, 10.0, 0.02, -0.01, 0.03])
-    result = fit_orbit(times, pos_itrf, CONFIG, state0_gcrf=start)
+    result = fit_orbit(times, pos_itrf, FORCES, state0_gcrf=start)
     assert result.converged and result.iterations <= 4
     assert result.parameter_names[:6] == list(STATE_NAMES)
     truth = _truth_vector(model, state0, params)
@@ -98,7 +99,7 @@ def test_state_refers_to_t_ref_when_the_first_epochs_are_missing(simulation):
     times, pos_itrf, state0, _, _ = simulation
     pos = pos_itrf.copy()
     pos[:5] = np.nan
-    result = fit_orbit(times, pos, CONFIG, t_ref=times[0])
+    result = fit_orbit(times, pos, FORCES, t_ref=times[0])
     assert result.converged
     assert np.max(np.abs(result.state0_gcrf[:3] - state0[:3])) < 1e-3      # m
     assert np.max(np.abs(result.state0_gcrf[3:] - state0[3:])) < 1e-6      # m/s
@@ -108,7 +109,7 @@ def test_fit_with_noise_within_three_sigma(simulation):
     times, pos_itrf, state0, params, model = simulation
     sigma_m = 0.02
     noisy = pos_itrf + np.random.default_rng(11).normal(0.0, sigma_m, pos_itrf.shape)
-    result = fit_orbit(times, noisy, CONFIG, sigma_obs_m=sigma_m)
+    result = fit_orbit(times, noisy, FORCES, sigma_obs_m=sigma_m)
     truth = _truth_vector(model, state0, params)
     normalised = (result.estimates - truth) / result.sigmas
     assert np.all(np.abs(normalised) < 3.0)
@@ -125,7 +126,7 @@ def test_constrained_parameter_stays_near_apriori(simulation):
     times, pos_itrf, *_ = simulation
     config = {**CONFIG, "srp": {"area_m2": 1.0, "mass_kg": 470.0, "estimate": True,
                                 "apriori": 1.5, "sigma": 1e-6}}
-    result = fit_orbit(times, pos_itrf, config)
+    result = fit_orbit(times, pos_itrf, ForceModelSettings.from_config(config))
     value, sigma = result.estimate("srp_scale_0")
     assert value == pytest.approx(1.5, abs=1e-5) and sigma <= 1e-6
 
@@ -133,11 +134,11 @@ def test_constrained_parameter_stays_near_apriori(simulation):
 def test_fit_input_errors(simulation):
     times, pos_itrf, *_ = simulation
     with pytest.raises(ValueError, match="increasing"):
-        fit_orbit(times[::-1], pos_itrf[::-1], CONFIG)
+        fit_orbit(times[::-1], pos_itrf[::-1], FORCES)
     with pytest.raises(ValueError, match="frame"):
-        fit_orbit(times, pos_itrf, CONFIG, frame="ecef")
+        fit_orbit(times, pos_itrf, FORCES, frame="ecef")
     with pytest.raises(ValueError, match="shape"):
-        fit_orbit(times, pos_itrf[:, :2], CONFIG)
+        fit_orbit(times, pos_itrf[:, :2], FORCES)
 
 
 @pytest.mark.shared
@@ -159,7 +160,7 @@ def test_swarm_a_dynamic_fit_few_centimetres(shared_data, shared):
               "srp": {"area_m2": 1.0, "mass_kg": 470.0},
               "empirical": {"interval_s": 10800.0}}
     sel = slice(0, 6 * 360 + 1, 3)
-    result = fit_orbit(ds.time.values[sel], ds.pos_m.values[sel, 0], config,
+    result = fit_orbit(ds.time.values[sel], ds.pos_m.values[sel, 0], ForceModelSettings.from_config(config),
                        vel_m_s=ds.vel_m_s.values[sel, 0])
     assert result.converged
     # measured: R 1.8, T 2.0, N 0.9 cm, 3D 2.8 cm; a force-model error (e.g. no Sun and

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings, run_arc
 from leopod.estimation.float_pod import PodSettings
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
@@ -107,7 +108,7 @@ def three_hour_arc(day, shared_data):
                    clock=read_rinex_clock(d / "cod14193.clk.gz"),
                    antex=read_antex(d / "igs05_1402.atx.gz"))
     args = ("2007-080", data, SIGNALS["G"], ArcSettings.from_config(pod),
-            PodSettings.from_config(pod), forces, PCO)
+            PodSettings.from_config(pod), ForceModelSettings.from_config(forces), PCO)
     limits = (t0, t0 + np.timedelta64(3, "h"))
     return run_arc(*args, limits=limits), args, limits
 

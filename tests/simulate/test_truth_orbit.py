@@ -28,7 +28,7 @@ from leopod.constants import (
 )
 from leopod.dynamics.drag import Drag
 from leopod.dynamics.empirical import Empirical
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import apriori_parameters
 from leopod.dynamics.integrator import integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
@@ -65,8 +65,8 @@ def truth() -> xr.Dataset:
 @pytest.fixture(scope="module")
 def one_day():
     """The HY-2B initial state integrated for one day in ITU_GRACE16 to degree 8 (60-s outputs)."""
-    model = build_force_model({"gravity": {"field": default_models()["gravity_field"],
-                                           "max_degree": 8}}, T0, 0.0, DAY_S)
+    model = build_force_model(ForceModelSettings.from_config({"gravity": {"field": default_models()["gravity_field"],
+                                           "max_degree": 8}}), T0, 0.0, DAY_S)
     state0 = initial_state_sun_synchronous(T0)
     return integrate(model, 0.0, state0, apriori_parameters(model),
                      np.arange(0.0, DAY_S + 1.0, 60.0), step_s=30.0, with_partials=False)
@@ -133,8 +133,8 @@ def test_local_time_of_ascending_node(ltan_h, sign):
 
 @pytest.mark.parametrize("ltan_h", [18.0, 12.0, 3.0])
 def test_integrated_node_rate_is_sun_synchronous(ltan_h):
-    model = build_force_model({"gravity": {"field": default_models()["gravity_field"],
-                                           "max_degree": 8}}, T0, 0.0, DAY_S)
+    model = build_force_model(ForceModelSettings.from_config({"gravity": {"field": default_models()["gravity_field"],
+                                           "max_degree": 8}}), T0, 0.0, DAY_S)
     traj = integrate(model, 0.0, initial_state_sun_synchronous(T0, ltan_h=ltan_h),
                      apriori_parameters(model), np.arange(0.0, DAY_S + 1.0, 60.0), step_s=30.0,
                      with_partials=False)
@@ -194,7 +194,7 @@ def test_drag_scale_follows_its_model():
 
 def test_truth_parameters_reach_the_force_model(truth):
     forces = truth_force_config(ARC_S, seed=SEED, dynamics=LOW)
-    model = build_force_model(forces.config, T0, 0.0, ARC_S)
+    model = build_force_model(ForceModelSettings.from_config(forces.config), T0, 0.0, ARC_S)
     params = forces.parameter_vector(model)
     # the Dataset documents the values used
     assert np.array_equal(truth.stochastic_acc_rtn_m_s2.values, forces.stochastic_acc_rtn_m_s2)
@@ -220,7 +220,7 @@ def test_truth_parameters_reach_the_force_model(truth):
 
 def test_parameter_vector_needs_a_matching_arc():
     forces = truth_force_config(2 * ARC_S, seed=SEED, dynamics=LOW)
-    model = build_force_model(forces.config, T0, 0.0, ARC_S)
+    model = build_force_model(ForceModelSettings.from_config(forces.config), T0, 0.0, ARC_S)
     # authority: the 2-h truth has intervals the 1-h force model does not have
     with pytest.raises(ValueError, match="not in the force model"):
         forces.parameter_vector(model)

@@ -45,6 +45,8 @@ log = logging.getLogger(__name__)
 class ArSettings(Settings):
     """Tunables of the ambiguity resolution (config ``ambiguity``; units in the names)."""
 
+    SCHEMA_DEF = "ambiguity"
+
     min_common_s: float
     decision: str
     wl_max_dev_cyc: float

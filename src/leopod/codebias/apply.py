@@ -41,6 +41,8 @@ class CodeCorrection(Settings):
         Policy for codes whose cell touches an empty node (:data:`EMPTY_CELL_POLICIES`).
     """
 
+    SCHEMA_DEF = "code_bias"
+
     apply: tuple[str, ...]
     empty_cells: str
 

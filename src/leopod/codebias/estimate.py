@@ -64,6 +64,8 @@ class MapSettings(Settings):
         Width of the elevation bands of the weights and the statistics [deg].
     """
 
+    SCHEMA_DEF = "code_bias"
+
     az_step_deg: float
     el_step_deg: float
     min_count: int

@@ -1,4 +1,4 @@
-"""Configurable force model in the GCRF for one orbit arc, built from a plain dict.
+"""Configurable force model in the GCRF for one orbit arc, built from typed settings.
 
 Forces (each a :class:`leopod.dynamics.forces.Force`, defined beside its physics; time ``t_s`` =
 TT seconds since the reference epoch ``t_ref`` of the arc, a GPS-time datetime64 label; since
@@ -26,43 +26,34 @@ time grids of :class:`leopod.dynamics.environment.ArcEnvironment`. Per call (Swa
 with its gradient): gravity ~40 µs, MSIS drag ~50 µs (Harris–Priester ~30 µs), the others
 ~2-7 µs each (benchmarks/dynamics_full.py).
 
-Configuration (:func:`build_force_model`): a dict with one section per force; a force is off
-when its section is absent, ``None``, ``False`` or has ``enabled: False``. Keys (defaults)::
-
-    environment: rotation_step_s (60), ephemeris_step_s (600), ephemeris (None: DE421 of
-                skyfield-data) -- grids shared by the forces (not a force)
-    gravity:    field (ICGEM path or xarray Dataset from read_icgem), max_degree (120 or the
-                field's degree if lower), gradient_degree (None: full degree; lower is
-                faster, partials approximate)         -- off: point mass GM_E (IERS 2010)
-    tides:      solid (True), ocean (FES2004 path or None), ocean_max_degree (30),
-                solid_pole (True), ocean_pole (True), step_s (300)  -- applied to gravity
-    third_body: sun (True), moon (True)
-    relativity: lense_thirring (True), de_sitter (True)
-    drag:       cd_area_mass_m2_kg, or drag_coefficient (2.3) with area_m2 and mass_kg;
-                density ("msis" if space_weather is given, else "harris_priester"),
-                space_weather (CelesTrak CSV),
-                msis_version (0), hp_exponent (6), interval_s (None: one scale for the arc)
-    srp:        cr_area_mass_m2_kg, or reflectivity_coefficient (1.3) with area_m2, mass_kg;
-                shadow (True), r_earth_m (R_E), interval_s (None)
-    empirical:  interval_s (10800), directions (["T", "N"]), terms (["const", "cos", "sin"])
-
-and, in the drag, srp and empirical sections, ``apriori`` (scale 1, empirical 0), ``estimate``
-(drag and empirical True, srp False) and ``sigma`` (a priori constraint, None = free), read by
-:func:`leopod.dynamics.forces.apriori_parameters`, :func:`~leopod.dynamics.forces.estimated_parameters`
-and :func:`~leopod.dynamics.forces.constraint_sigmas`.
+Configuration: :class:`ForceModelSettings`, one typed section per force
+(:class:`GravitySettings`, :class:`TideSettings`, :class:`ThirdBodySettings`,
+:class:`RelativitySettings`, :class:`DragSettings`, :class:`SrpSettings`,
+:class:`EmpiricalSettings`) and the grids of :class:`EnvironmentSettings`, built with
+:meth:`ForceModelSettings.from_config` from the ``pod.forces`` section of a campaign (or any
+mapping of that shape). A force is off when its section is absent, ``None``, ``False`` or has
+``enabled: False``; the keys of a section present default to the campaign schema's
+(``$defs/force_*``). Model files are paths (``satkit:`` names are resolved before, at the
+script boundary, :func:`leopod.dynamics.model_files.resolve_model_paths`); the gravity field
+may also be an xarray Dataset of :func:`leopod.io.icgem.read_icgem`. In the drag, srp and
+empirical sections ``apriori``, ``estimate`` and ``sigma`` (a-priori constraint, None = free)
+are read by :func:`leopod.dynamics.forces.apriori_parameters`,
+:func:`~leopod.dynamics.forces.estimated_parameters` and
+:func:`~leopod.dynamics.forces.constraint_sigmas`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import logging
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import xarray as xr
 
 from leopod.astro.ephemeris import Ephemeris
-from leopod.constants import R_EARTH_EQUATOR_M
 from leopod.dynamics.drag import Drag, HarrisPriesterDensity, MsisDensity
 from leopod.dynamics.empirical import Empirical, EmpiricalModel
 from leopod.dynamics.environment import ArcEnvironment
@@ -75,52 +66,183 @@ from leopod.dynamics.third_body import ThirdBodies
 from leopod.dynamics.tides import TideModel
 from leopod.io.icgem import read_icgem
 from leopod.io.space_weather import read_space_weather
+from leopod.settings import Settings, schema_defaults
 from leopod.time.eop import EarthOrientation
 
-__all__ = ["build_force_model"]
+__all__ = ["DragSettings", "EmpiricalSettings", "EnvironmentSettings", "ForceModelSettings",
+           "GravitySettings", "RelativitySettings", "SrpSettings", "ThirdBodySettings",
+           "TideSettings", "build_force_model"]
 
 logger = logging.getLogger(__name__)
 
-#: Default drag coefficient C_D of a compact LEO (M&G 2000, sec. 3.5.1: 2.0-2.3 typical) [1].
-DEFAULT_DRAG_COEFFICIENT = 2.3
-#: Default radiation pressure coefficient C_R = 1 + ε of a cannonball (M&G 2000, sec. 3.4.1) [1].
-DEFAULT_REFLECTIVITY_COEFFICIENT = 1.3
+# ---------------------------------------------------------------------------------- settings
+@dataclass(frozen=True)
+class EnvironmentSettings(Settings):
+    """Grids of Earth rotation [s] and Sun/Moon positions [s], ephemeris file (None: DE421)."""
+
+    SCHEMA_DEF = "force_environment"
+
+    rotation_step_s: float
+    ephemeris_step_s: float
+    ephemeris: str | None
 
 
-# ---------------------------------------------------------------------------------- builder
+@dataclass(frozen=True)
+class GravitySettings(Settings):
+    """Static field: ICGEM path or Dataset, degree (None: 120 or the field's), gradient
+    degree (None: full)."""
 
-_SECTIONS = {
-    "environment": {"rotation_step_s", "ephemeris_step_s", "ephemeris"},
-    "gravity": {"enabled", "field", "max_degree", "gradient_degree"},
-    "tides": {"enabled", "solid", "ocean", "ocean_max_degree", "solid_pole", "ocean_pole",
-              "step_s"},
-    "third_body": {"enabled", "sun", "moon"},
-    "relativity": {"enabled", "lense_thirring", "de_sitter"},
-    "drag": {"enabled", "cd_area_mass_m2_kg", "drag_coefficient", "area_m2", "mass_kg",
-             "density", "space_weather", "msis_version", "hp_exponent", "interval_s",
-             "apriori", "estimate", "sigma"},
-    "srp": {"enabled", "cr_area_mass_m2_kg", "reflectivity_coefficient", "area_m2", "mass_kg",
-            "shadow", "r_earth_m", "interval_s", "apriori", "estimate", "sigma"},
-    "empirical": {"enabled", "interval_s", "directions", "terms", "apriori", "estimate",
-                  "sigma"},
-}
+    SCHEMA_DEF = "force_gravity"
+
+    field: object
+    max_degree: int | None
+    gradient_degree: int | None
 
 
-def _section(config: Mapping, name: str) -> dict | None:
-    """The settings of one force, or None if it is switched off."""
-    value = config.get(name)
+@dataclass(frozen=True)
+class TideSettings(Settings):
+    """Tidal corrections: solid, ocean (FES2004 path or None) to ``ocean_max_degree``, solid
+    and ocean pole tides, step of their table [s]."""
+
+    SCHEMA_DEF = "force_tides"
+
+    solid: bool
+    ocean: str | None
+    ocean_max_degree: int
+    solid_pole: bool
+    ocean_pole: bool
+    step_s: float
+
+
+@dataclass(frozen=True)
+class ThirdBodySettings(Settings):
+    """Sun and Moon point masses."""
+
+    SCHEMA_DEF = "force_third_body"
+
+    sun: bool
+    moon: bool
+
+
+@dataclass(frozen=True)
+class RelativitySettings(Settings):
+    """Lense-Thirring and de Sitter terms besides the Schwarzschild term."""
+
+    SCHEMA_DEF = "force_relativity"
+
+    lense_thirring: bool
+    de_sitter: bool
+
+
+@dataclass(frozen=True)
+class DragSettings(Settings):
+    """Cannonball drag (C_D A/m or coefficient × area / mass), density model, scale factors."""
+
+    SCHEMA_DEF = "force_drag"
+
+    cd_area_mass_m2_kg: float | None
+    drag_coefficient: float
+    area_m2: float | None
+    mass_kg: float | None
+    density: str | None
+    space_weather: str | None
+    msis_version: float
+    hp_exponent: float
+    interval_s: float | None
+    apriori: float
+    estimate: bool
+    sigma: float | None
+
+
+@dataclass(frozen=True)
+class SrpSettings(Settings):
+    """Cannonball SRP (C_R A/m or coefficient × area / mass), shadow, scale factors."""
+
+    SCHEMA_DEF = "force_srp"
+
+    cr_area_mass_m2_kg: float | None
+    reflectivity_coefficient: float
+    area_m2: float | None
+    mass_kg: float | None
+    shadow: bool
+    r_earth_m: float
+    interval_s: float | None
+    apriori: float
+    estimate: bool
+    sigma: float | None
+
+
+@dataclass(frozen=True)
+class EmpiricalSettings(Settings):
+    """Piecewise empirical accelerations: interval [s], directions, terms, parameters."""
+
+    SCHEMA_DEF = "force_empirical"
+
+    interval_s: float
+    directions: tuple[str, ...]
+    terms: tuple[str, ...]
+    apriori: float
+    estimate: bool
+    sigma: float | None
+
+
+_SECTIONS = {"gravity": GravitySettings, "tides": TideSettings,
+             "third_body": ThirdBodySettings, "relativity": RelativitySettings,
+             "drag": DragSettings, "srp": SrpSettings, "empirical": EmpiricalSettings}
+
+
+@dataclass(frozen=True)
+class ForceModelSettings:
+    """The force model of an arc: one section per force (None: off) and the environment."""
+
+    environment: EnvironmentSettings
+    gravity: GravitySettings | None
+    tides: TideSettings | None
+    third_body: ThirdBodySettings | None
+    relativity: RelativitySettings | None
+    drag: DragSettings | None
+    srp: SrpSettings | None
+    empirical: EmpiricalSettings | None
+
+    @classmethod
+    def from_config(cls, section: Mapping) -> ForceModelSettings:
+        """Settings from a ``pod.forces``-shaped mapping (module docstring).
+
+        Raises
+        ------
+        ValueError
+            Naming an unknown section or key.
+        TypeError
+            If a section is not a mapping, True/False or None.
+        """
+        unknown = sorted(set(section) - {*_SECTIONS, "environment"})
+        if unknown:
+            raise ValueError(f"force config: unknown sections {unknown} "
+                             f"(known: {sorted([*_SECTIONS, 'environment'])})")
+        return cls(environment=_typed("environment", section.get("environment") or {},
+                                      EnvironmentSettings),
+                   **{name: _typed(name, section.get(name), kind)
+                      for name, kind in _SECTIONS.items()})
+
+
+def _typed(name: str, value, kind: type[Settings]):
+    """The settings of one section, or None if it is switched off."""
     if value is None or value is False:
         return None
     if value is True:
-        return {}
+        value = {}
     if not isinstance(value, Mapping):
         raise TypeError(f"force config '{name}' must be a mapping, True/False or None")
-    unknown = sorted(set(value) - _SECTIONS[name])
+    fields = {f.name for f in dataclasses.fields(kind)}
+    unknown = sorted(set(value) - fields - {"enabled"})
     if unknown:
         raise ValueError(f"force config '{name}': unknown keys {unknown}")
-    return None if not value.get("enabled", True) else dict(value)
+    if not value.get("enabled", True):
+        return None
+    return kind.from_config({k: v for k, v in value.items() if k != "enabled"})
 
 
+# ---------------------------------------------------------------------------------- builder
 @functools.lru_cache(maxsize=4)
 def _read_icgem(path: str) -> xr.Dataset:
     return read_icgem(path)
@@ -136,95 +258,90 @@ def _space_weather(path: str) -> xr.Dataset:
     return read_space_weather(path)
 
 
-def _area_mass(cfg: dict, key: str, coefficient_key: str, default: float) -> float:
-    """C A/m [m²/kg] from ``key`` or from coefficient × area_m2 / mass_kg."""
-    if key in cfg:
-        return float(cfg[key])
-    if "area_m2" not in cfg or "mass_kg" not in cfg:
-        raise ValueError(f"give {key} or area_m2 and mass_kg")
-    return float(cfg.get(coefficient_key, default)) * float(cfg["area_m2"]) / float(cfg["mass_kg"])
+def _area_mass(name: str, value: float | None, coefficient: float, area_m2: float | None,
+               mass_kg: float | None) -> float:
+    """C A/m [m²/kg] given, or coefficient × area_m2 / mass_kg."""
+    if value is not None:
+        return float(value)
+    if area_m2 is None or mass_kg is None:
+        raise ValueError(f"force config '{name}': give the coefficient times area over mass, "
+                         "or area_m2 and mass_kg")
+    return float(coefficient) * float(area_m2) / float(mass_kg)
 
 
-def _gravity(cfg: dict, tides_cfg: dict | None, env: ArcEnvironment) -> Force:
-    if "field" not in cfg:
+def _gravity(cfg: GravitySettings, tides_cfg: TideSettings | None,
+             env: ArcEnvironment) -> Force:
+    ds = cfg.field
+    if ds is None:
         raise ValueError("force config 'gravity' needs 'field' (ICGEM path or Dataset)")
-    ds = cfg["field"]
     if not isinstance(ds, xr.Dataset):
         ds = _read_icgem(str(Path(ds)))
     epoch = decimal_year(env.t_ref)
     available = int(ds.attrs.get("max_degree", ds.sizes["n"] - 1))
-    field = GravityField(ds, cfg.get("max_degree", min(120, available)), epoch_decimal_year=epoch)
-    gradient_degree = cfg.get("gradient_degree")
+    max_degree = min(120, available) if cfg.max_degree is None else cfg.max_degree
+    field = GravityField(ds, max_degree, epoch_decimal_year=epoch)
     gradient_field = None
-    if gradient_degree is not None and gradient_degree < field.max_degree:
-        gradient_field = GravityField(ds, gradient_degree, epoch_decimal_year=epoch)
+    if cfg.gradient_degree is not None and cfg.gradient_degree < field.max_degree:
+        gradient_field = GravityField(ds, cfg.gradient_degree, epoch_decimal_year=epoch)
     tides = None
     if tides_cfg is not None:
-        ocean = tides_cfg.get("ocean")
+        ocean = tides_cfg.ocean
         if ocean is not None:
-            ocean = _ocean_tides(str(Path(ocean)), int(tides_cfg.get("ocean_max_degree", 30)))
+            ocean = _ocean_tides(str(Path(ocean)), int(tides_cfg.ocean_max_degree))
         try:
-            tides = TideModel(field.tide_system, ocean=ocean, solid=tides_cfg.get("solid", True),
-                              solid_pole=tides_cfg.get("solid_pole", True),
-                              ocean_pole=tides_cfg.get("ocean_pole", True),
+            tides = TideModel(field.tide_system, ocean=ocean, solid=tides_cfg.solid,
+                              solid_pole=tides_cfg.solid_pole, ocean_pole=tides_cfg.ocean_pole,
                               gm_earth_m3_s2=field.gm_m3_s2, radius_m=field.radius_m)
         except ValueError as err:
             raise ValueError(f"tides with the gravity field {field.modelname}: {err}") from None
         if not (tides.solid or tides.solid_pole or tides.ocean_pole or ocean is not None):
             tides = None
+    step_s = schema_defaults("force_tides")["step_s"] if tides_cfg is None else tides_cfg.step_s
     return EarthGravity(field, env, tides, gradient_field=gradient_field,
-                        tide_step_s=float((tides_cfg or {}).get("step_s", 300.0)))
+                        tide_step_s=float(step_s))
 
 
-def _drag(cfg: dict, env: ArcEnvironment) -> Drag:
-    kind = cfg.get("density", "msis" if "space_weather" in cfg else "harris_priester")
+def _drag(cfg: DragSettings, env: ArcEnvironment) -> Drag:
+    kind = cfg.density or ("msis" if cfg.space_weather is not None else "harris_priester")
     if kind == "msis":
-        if "space_weather" not in cfg:
+        if cfg.space_weather is None:
             raise ValueError("force config 'drag': density 'msis' needs 'space_weather'")
-        density = MsisDensity(_space_weather(str(Path(cfg["space_weather"]))),
-                              version=cfg.get("msis_version", 0))
+        density = MsisDensity(_space_weather(str(Path(cfg.space_weather))),
+                              version=cfg.msis_version)
     elif kind == "harris_priester":
-        density = HarrisPriesterDensity(cfg.get("hp_exponent", 6.0))
+        density = HarrisPriesterDensity(cfg.hp_exponent)
     else:
         raise ValueError(f"force config 'drag': unknown density '{kind}' "
                          "(harris_priester or msis)")
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.get("interval_s"))
-    return Drag(env, density, _area_mass(cfg, "cd_area_mass_m2_kg", "drag_coefficient",
-                                         DEFAULT_DRAG_COEFFICIENT), edges,
-                **_parameter_options(cfg, 1.0, True))
+    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+    return Drag(env, density, _area_mass("drag", cfg.cd_area_mass_m2_kg, cfg.drag_coefficient,
+                                         cfg.area_m2, cfg.mass_kg), edges,
+                apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
-def _srp(cfg: dict, env: ArcEnvironment) -> SolarRadiation:
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.get("interval_s"))
-    return SolarRadiation(env, _area_mass(cfg, "cr_area_mass_m2_kg", "reflectivity_coefficient",
-                                          DEFAULT_REFLECTIVITY_COEFFICIENT), edges,
-                          shadow=cfg.get("shadow", True),
-                          r_earth_m=cfg.get("r_earth_m", R_EARTH_EQUATOR_M),
-                          **_parameter_options(cfg, 1.0, False))
+def _srp(cfg: SrpSettings, env: ArcEnvironment) -> SolarRadiation:
+    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+    return SolarRadiation(env, _area_mass("srp", cfg.cr_area_mass_m2_kg,
+                                          cfg.reflectivity_coefficient, cfg.area_m2,
+                                          cfg.mass_kg), edges,
+                          shadow=cfg.shadow, r_earth_m=cfg.r_earth_m, apriori=cfg.apriori,
+                          estimate=cfg.estimate, sigma=cfg.sigma)
 
 
-def _empirical(cfg: dict, env: ArcEnvironment) -> Empirical:
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.get("interval_s", 10800.0))
-    model = EmpiricalModel(edges, directions=tuple(cfg.get("directions", ("T", "N"))),
-                           terms=tuple(cfg.get("terms", ("const", "cos", "sin"))))
-    return Empirical(model, **_parameter_options(cfg, 0.0, True))
+def _empirical(cfg: EmpiricalSettings, env: ArcEnvironment) -> Empirical:
+    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+    model = EmpiricalModel(edges, directions=tuple(cfg.directions), terms=tuple(cfg.terms))
+    return Empirical(model, apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
-def _parameter_options(cfg: dict, apriori: float, estimate: bool) -> dict:
-    return {"apriori": cfg.get("apriori", apriori), "estimate": cfg.get("estimate", estimate),
-            "sigma": cfg.get("sigma")}
-
-
-def build_force_model(config: Mapping, t_ref, t_start_s: float, t_end_s: float, *,
+def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_end_s: float, *,
                       eop: EarthOrientation | None = None,
                       environment: ArcEnvironment | None = None) -> ForceModel:
-    """Force model of an arc from a plain configuration dict (module docstring).
+    """Force model of an arc (module docstring).
 
     Parameters
     ----------
-    config : mapping
-        One section per force (``gravity``, ``tides``, ``third_body``, ``relativity``,
-        ``drag``, ``srp``, ``empirical``) and optional ``environment`` grid settings.
+    settings : ForceModelSettings
     t_ref : datetime64
         Reference epoch (GPS-time label); force times are TT s since it.
     t_start_s, t_end_s : float
@@ -232,37 +349,30 @@ def build_force_model(config: Mapping, t_ref, t_start_s: float, t_end_s: float, 
     eop : EarthOrientation, optional
         EOP (default: installed IERS data).
     environment : ArcEnvironment, optional
-        Grids to reuse (must cover the arc); built from ``config["environment"]`` otherwise.
+        Grids to reuse (must cover the arc); built from ``settings.environment`` otherwise.
 
     Returns
     -------
     ForceModel
         Forces in the order gravity, third bodies, relativity, drag, SRP, empirical.
     """
-    unknown = sorted(set(config) - set(_SECTIONS))
-    if unknown:
-        raise ValueError(f"force config: unknown sections {unknown} (known: {sorted(_SECTIONS)})")
     if environment is None:
-        env_cfg = _section(config, "environment") or {}
-        eph = env_cfg.get("ephemeris")
+        grids = settings.environment
         environment = ArcEnvironment(
             t_ref, t_start_s, t_end_s, eop=eop,
-            ephemeris=None if eph is None else Ephemeris(eph),
-            rotation_step_s=env_cfg.get("rotation_step_s", 60.0),
-            ephemeris_step_s=env_cfg.get("ephemeris_step_s", 600.0))
+            ephemeris=None if grids.ephemeris is None else Ephemeris(grids.ephemeris),
+            rotation_step_s=grids.rotation_step_s, ephemeris_step_s=grids.ephemeris_step_s)
     env = environment
     forces: list[Force] = []
-    gravity = _section(config, "gravity")
-    forces.append(PointMassGravity() if gravity is None
-                  else _gravity(gravity, _section(config, "tides"), env))
-    third = _section(config, "third_body")
-    if third is not None:
-        forces.append(ThirdBodies(env, third.get("sun", True), third.get("moon", True)))
-    rel = _section(config, "relativity")
-    if rel is not None:
-        forces.append(Relativity(env, rel.get("lense_thirring", True), rel.get("de_sitter", True)))
-    for name, make in (("drag", _drag), ("srp", _srp), ("empirical", _empirical)):
-        cfg = _section(config, name)
+    forces.append(PointMassGravity() if settings.gravity is None
+                  else _gravity(settings.gravity, settings.tides, env))
+    if settings.third_body is not None:
+        forces.append(ThirdBodies(env, settings.third_body.sun, settings.third_body.moon))
+    if settings.relativity is not None:
+        forces.append(Relativity(env, settings.relativity.lense_thirring,
+                                 settings.relativity.de_sitter))
+    for cfg, make in ((settings.drag, _drag), (settings.srp, _srp),
+                      (settings.empirical, _empirical)):
         if cfg is not None:
             forces.append(make(cfg, env))
     model = ForceModel(forces)

@@ -20,12 +20,11 @@ Residuals are given in the RTN frame of the fitted orbit (radial, along-track, c
 from __future__ import annotations
 
 import logging
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import (
     ForceModel,
     apriori_parameters,
@@ -175,7 +174,7 @@ def _observations(times, pos_m, vel_m_s, frame: str, eop):
     return times, pos, vel
 
 
-def fit_orbit(times, pos_m, force_config: Mapping | None = None, *, frame: str = "itrf",
+def fit_orbit(times, pos_m, force_settings: ForceModelSettings | None = None, *, frame: str = "itrf",
               vel_m_s=None, state0_gcrf=None, t_ref=None, sigma_obs_m: float = 0.01,
               max_iterations: int = 10, tolerance: float = 0.01,
               eop: EarthOrientation | None = None, step_s: float = DEFAULT_STEP_S,
@@ -189,8 +188,8 @@ def fit_orbit(times, pos_m, force_config: Mapping | None = None, *, frame: str =
         epoch of the estimated initial state.
     pos_m : array_like, shape (n, 3)
         Observed positions [m] in ``frame`` (rows with NaN are skipped).
-    force_config : mapping, optional
-        Force configuration for :func:`leopod.dynamics.force_config.build_force_model`
+    force_settings : ForceModelSettings, optional
+        Force model settings for :func:`leopod.dynamics.force_config.build_force_model`
         (arc = first to last valid epoch); not needed if ``force_model`` is given.
     frame : {"itrf", "gcrf"}
         Frame of ``pos_m`` (and ``vel_m_s``).
@@ -223,10 +222,10 @@ def fit_orbit(times, pos_m, force_config: Mapping | None = None, *, frame: str =
     t_ref = times[0] if t_ref is None else np.datetime64(t_ref, "ns")
     t_s = seconds_since(times, t_ref)
     if force_model is None:
-        if force_config is None:
-            raise ValueError("give force_config or force_model")
+        if force_settings is None:
+            raise ValueError("give force_settings or force_model")
         # from t_ref on: the state is propagated back to it if the first epochs are missing
-        force_model = build_force_model(force_config, t_ref, min(0.0, t_s[0]), t_s[-1],
+        force_model = build_force_model(force_settings, t_ref, min(0.0, t_s[0]), t_s[-1],
                                         eop=eop)
     if state0_gcrf is not None:
         state = np.asarray(state0_gcrf, dtype=float).copy()

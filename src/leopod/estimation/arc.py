@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.apply import CodeCorrection, correct_codes
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
 from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna
@@ -61,6 +61,8 @@ class ArcSettings(Settings):
     apriori_fit_sigma_m : float
         Sigma of the a-priori positions in the initial dynamic fit [m].
     """
+
+    SCHEMA_DEF = "pod"
 
     system: str
     sampling_s: float
@@ -138,7 +140,7 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
 
 
 def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
-            pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None, *,
+            pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None, *,
             code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
             limits=None, ambiguity_constraints=None,
             apriori_orbit: xr.DataArray | None = None,
@@ -156,9 +158,8 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
         Signals of the POD's system (``arc.system``).
     arc : ArcSettings
     pod : PodSettings
-    forces : mapping
-        Force model configuration (:func:`leopod.dynamics.force_model.build_force_model`) with
-        model files already resolved to paths
+    forces : ForceModelSettings
+        The estimator's force model, model files resolved to paths
         (:func:`leopod.dynamics.model_files.resolve_model_paths`).
     pco_body_m : mapping or None
         LEO antenna PCO per band name in the body frame [m].

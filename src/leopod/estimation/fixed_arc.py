@@ -20,6 +20,7 @@ import xarray as xr
 from leopod.ambiguity.resolve import ArSettings
 from leopod.ambiguity.screening import degraded_passes, drop_constraints
 from leopod.codebias.apply import CodeCorrection
+from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, run_arc
 from leopod.estimation.float_pod import PodSettings
 from leopod.signals import SystemSignals
@@ -78,7 +79,7 @@ def constraints_of(table: xr.Dataset, sigma_m: float) -> tuple:
 
 
 def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
-                  pod: PodSettings, forces: Mapping, pco_body_m: Mapping | None,
+                  pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
                   table: xr.Dataset, float_solution: FloatSolution, settings: ArSettings, *,
                   code_correction: CodeCorrection | None = None, yaw_flips=None,
                   eop=None) -> FixedArc:

@@ -94,6 +94,8 @@ class PodSettings(Settings):
         of their epoch by more than this are rejected (gross errors in the data) [m].
     """
 
+    SCHEMA_DEF = "pod"
+
     code_sigma_m: float
     phase_sigma_m: float
     weight_elevation_deg: float

@@ -45,6 +45,8 @@ log = logging.getLogger(__name__)
 class QualitySettings(Settings):
     """Tunables of the quality step (see the config schema for meanings and units)."""
 
+    SCHEMA_DEF = "quality"
+
     elevation_mask_deg: float
     max_gap_s: float
     min_pass_s: float

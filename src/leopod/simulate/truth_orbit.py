@@ -34,7 +34,7 @@ from leopod.constants import (
     SECONDS_PER_DAY,
     TT_MINUS_TAI_S,
 )
-from leopod.dynamics.force_config import build_force_model
+from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
 from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
 from leopod.io.netcdf import write_netcdf
@@ -253,7 +253,7 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
                          f"{step_s})")
     dyn = TruthDynamics() if dynamics is None else dynamics
     forces = truth_force_config(span_s, seed=seed, dynamics=dyn, models=models)
-    model = build_force_model(forces.config, t0, 0.0, span_s, eop=eop)
+    model = build_force_model(ForceModelSettings.from_config(forces.config), t0, 0.0, span_s, eop=eop)
     params = forces.parameter_vector(model)
     state0 = initial_state_sun_synchronous(t0, altitude_m, ltan_h,
                                            inclination_deg=inclination_deg, u0_deg=u0_deg)

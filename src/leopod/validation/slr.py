@@ -128,6 +128,8 @@ class SlrResidualSettings(Settings):
         Lagrange order of the orbit interpolation.
     """
 
+    SCHEMA_DEF = "slr_validation"
+
     elevation_cut_off_deg: float
     hard_limit_m: float
     outlier_k: float

@@ -10,23 +10,15 @@ from a prompt), and :func:`section_defaults` gives the defaults of one section, 
 from __future__ import annotations
 
 import copy
-import functools
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import yaml
 
+from leopod.settings import SCHEMA, schema_defaults
+
 __all__ = ["SCHEMA", "load_campaign", "section_defaults", "validated"]
-
-#: The campaign schema of the repository (the workflow layer lives in the checkout).
-SCHEMA = Path(__file__).resolve().parents[3] / "workflow" / "schemas" / "config.schema.yaml"
-
-
-@functools.lru_cache(maxsize=4)
-def _schema(path: str) -> dict:
-    return yaml.safe_load(Path(path).read_text())
-
 
 def validated(config: Mapping[str, Any], schema: str | Path = SCHEMA) -> dict:
     """A copy of ``config`` checked against the schema, with every default filled in.
@@ -60,31 +52,6 @@ def _merge(base: dict, overlay: Mapping) -> None:
 
 
 def section_defaults(name: str, schema: str | Path = SCHEMA) -> dict:
-    """Defaults of the schema definition ``$defs/<name>`` (nested object defaults included).
-
-    Parameters
-    ----------
-    name : str
-        A section with a definition in the schema: ``pod``, ``quality``, ``ambiguity``,
-        ``code_bias``, ``validation``, ``download``, …
-
-    Raises
-    ------
-    KeyError
-        If the schema has no such definition.
-    """
-    full = _schema(str(schema))
-    return _defaults(full["$defs"][name], full)
-
-
-def _defaults(node: Mapping, full: Mapping) -> dict:
-    if "$ref" in node:
-        node = full["$defs"][node["$ref"].rsplit("/", 1)[-1]]
-    out = {}
-    for key, prop in node.get("properties", {}).items():
-        if "$ref" in prop or prop.get("type") == "object":
-            if "default" in prop or "$ref" in prop:
-                out[key] = {**copy.deepcopy(prop.get("default", {})), **_defaults(prop, full)}
-        elif "default" in prop:
-            out[key] = copy.deepcopy(prop["default"])
-    return out
+    """Defaults of the schema definition ``$defs/<name>`` (see
+    :func:`leopod.settings.schema_defaults`)."""
+    return schema_defaults(name, schema)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from leopod.codebias.apply import CodeCorrection
+from leopod.dynamics.force_config import ForceModelSettings
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.estimation.arc import ArcSettings
 from leopod.estimation.float_pod import PodSettings
@@ -36,5 +37,5 @@ def pod_settings(signals: Mapping, pod: Mapping, code_bias: Mapping) -> dict:
     """
     return {"signals": signal_settings(signals)[pod["system"]],
             "arc": ArcSettings.from_config(pod), "pod": PodSettings.from_config(pod),
-            "forces": resolve_model_paths(pod["forces"]),
+            "forces": ForceModelSettings.from_config(resolve_model_paths(pod["forces"])),
             "code_correction": CodeCorrection.from_config(code_bias)}
