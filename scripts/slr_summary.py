@@ -59,9 +59,8 @@ def main(residual_files: Mapping, outputs: Mapping, *, elevation_bin_deg: float,
                _table(stations, "station", ("n_np", "mean_m", "std_m", "rms_m")))
     write_text(outputs["elevation_csv"], _table(elevation, "elevation_deg",
                                                 ("n_np", "mean_m", "std_m", "rms_m")))
-    plot_slr_stations(residuals, outputs["stations_png"], title=title)
-    plot_slr_elevation(residuals, outputs["elevation_png"], title=title,
-                       bin_deg=elevation_bin_deg)
+    plot_slr_stations(stations, outputs["stations_png"], title=title)
+    plot_slr_elevation(residuals, elevation, outputs["elevation_png"], title=title)
     plot_slr_residuals_time(residuals[solutions[-1]], outputs["time_png"],
                             title=f"{title} {solutions[-1]}")
 

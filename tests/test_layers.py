@@ -4,7 +4,8 @@ Every ``import`` and ``from … import`` of ``leopod`` modules in src/leopod —
 functions — is an edge between top-level packages. A package may import from its own layer or
 below, never from above; the graph of packages has no cycle; and the two consumers of the
 estimator's conventions that must stay independent of it (``validation`` checks it,
-``simulate`` feeds it) do not import ``estimation``.
+``simulate`` feeds it) do not import ``estimation``; figures (``plots``) import no model or
+solution package: they draw the statistics the steps computed.
 """
 
 from __future__ import annotations
@@ -26,8 +27,10 @@ LAYERS = (
     ("application", ("plots", "workflow", "cli")),
 )
 LAYER_OF = {pkg: i for i, (_, pkgs) in enumerate(LAYERS) for pkg in pkgs}
-#: Imports forbidden within a layer: (importer, imported).
-FORBIDDEN = {("validation", "estimation"), ("simulate", "estimation")}
+#: Imports forbidden although downward: (importer, imported). Figures plot the statistics the
+#: steps computed; they compute nothing of the models or solutions themselves.
+FORBIDDEN = {("validation", "estimation"), ("simulate", "estimation"),
+             *(("plots", pkg) for _, pkgs in LAYERS[2:4] for pkg in pkgs)}
 
 
 def _package(module: str) -> str:
@@ -122,6 +125,7 @@ def test_no_package_cycle():
     (("leopod.io.sp3", "leopod.gnss.products", "x.py:1"), "imports upward"),
     (("leopod.time.scales", "leopod.workflow.config", "x.py:1"), "imports upward"),
     (("leopod.validation.reference", "leopod.estimation.arc", "x.py:1"), "forbidden"),
+    (("leopod.plots.slr", "leopod.validation.slr_statistics", "x.py:1"), "forbidden"),
     (("leopod.newpkg.a", "leopod.io.sp3", "x.py:1"), "not in a layer"),
 ])
 def test_the_checks_catch_a_bad_import(edge, expected):

@@ -12,6 +12,7 @@ import xarray as xr
 from matplotlib.container import BarContainer
 
 from leopod.plots import slr as slr_plots
+from leopod.validation.slr_statistics import elevation_statistics, station_statistics
 
 pytestmark = pytest.mark.filterwarnings("error")
 
@@ -52,8 +53,25 @@ def _png_chunk_types(data: bytes) -> list[bytes]:
     return types
 
 
-PLOTS = [slr_plots.plot_slr_residuals_time, slr_plots.plot_slr_stations,
-         slr_plots.plot_slr_elevation]
+def _each(results, statistic):
+    """``statistic`` of one residual Dataset or of each of a mapping of them."""
+    if isinstance(results, dict):
+        return {k: statistic(v) for k, v in results.items()}
+    return statistic(results)
+
+
+def _stations(results, path, **kwargs):
+    """The station figure of the statistics the slr_summary step computes."""
+    slr_plots.plot_slr_stations(_each(results, station_statistics), path, **kwargs)
+
+
+def _elevation(results, path, **kwargs):
+    """The elevation figure with 5° bins, as the slr_summary step draws it by default."""
+    slr_plots.plot_slr_elevation(results, _each(results, lambda r: elevation_statistics(r, 5.0)),
+                                 path, **kwargs)
+
+
+PLOTS = [slr_plots.plot_slr_residuals_time, _stations, _elevation]
 
 
 @pytest.mark.parametrize("plot", PLOTS)
@@ -75,7 +93,7 @@ def test_plots_with_nothing_used(plot, tmp_path):
     assert (tmp_path / "none.png").stat().st_size > 0
 
 
-@pytest.mark.parametrize("plot", [slr_plots.plot_slr_stations, slr_plots.plot_slr_elevation])
+@pytest.mark.parametrize("plot", [_stations, _elevation])
 def test_comparison_of_solutions(plot, tmp_path):
     plot({"float": _residuals(1, 0.5), "fixed": _residuals(2)}, tmp_path / "two.png")
     assert (tmp_path / "two.png").stat().st_size > 1000
@@ -94,7 +112,7 @@ def test_station_bars_are_mean_and_std(monkeypatch):
     # with numpy (definition of Peng et al. 2021, Table IV), last group all stations, in cm.
     figures = _capture(monkeypatch)
     res = _residuals()
-    slr_plots.plot_slr_stations(res, "unused.png")
+    _stations(res, "unused.png")
     ax = figures[0].axes[0]
     heights = [p.get_height() for p in ax.patches]
     used = res["flag"].values == 0
@@ -113,7 +131,7 @@ def test_elevation_std_per_bin(monkeypatch):
     # Lower panel: STD per 5° bin of the used residuals (Peng et al. 2021, Figs. 17-18), in cm.
     figures = _capture(monkeypatch)
     res = _residuals()
-    slr_plots.plot_slr_elevation(res, "unused.png")
+    _elevation(res, "unused.png")
     line = figures[0].axes[1].lines[0]           # STD line (then the mean, the zero line)
     centres, std_cm = line.get_xdata(), line.get_ydata()
     used = res["flag"].values == 0

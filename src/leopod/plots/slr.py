@@ -27,7 +27,6 @@ import xarray as xr
 
 from leopod.plots import by_solution, save_figure
 from leopod.plots.pod import _heading
-from leopod.validation.slr_statistics import elevation_statistics, station_statistics
 
 __all__ = ["plot_slr_elevation", "plot_slr_residuals_time", "plot_slr_stations"]
 
@@ -102,7 +101,7 @@ def plot_slr_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
     save_figure(fig, path)
 
 
-def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
+def plot_slr_stations(statistics: xr.Dataset | Mapping[str, xr.Dataset], path,
                       title: str = "") -> None:
     """Mean ± STD [cm] of the used residuals per station and solution (Peng et al. 2021, Table IV).
 
@@ -111,25 +110,25 @@ def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
 
     Parameters
     ----------
-    results : xarray.Dataset or mapping of str to xarray.Dataset
-        Residuals of one solution, or of several keyed by a label (e.g. "float", "fixed").
+    statistics : xarray.Dataset or mapping of str to xarray.Dataset
+        :func:`leopod.validation.slr_statistics.station_statistics` of one solution, or of
+        several keyed by a label (e.g. "float", "fixed").
     path : str or path-like
         PNG to write.
     title : str
         Prefix of the figure title.
     """
-    sols = by_solution(results)
-    stats = {label: station_statistics(res) for label, res in sols.items()}
+    stats = by_solution(statistics)
     sites = sorted({s for st in stats.values() for s in st["station"].values.tolist()
                     if s != "total"}) + ["total"]
     x = np.arange(len(sites))
-    width = 0.8 / len(sols)
-    fig, ax = plt.subplots(figsize=(max(6.0, 0.6 * len(sites) * max(1, len(sols) / 2)), 4.5))
+    width = 0.8 / len(stats)
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.6 * len(sites) * max(1, len(stats) / 2)), 4.5))
     for k, (label, st) in enumerate(stats.items()):
         st = st.reindex(station=sites)
         mean = st["mean_m"].values * _M_TO_CM
         std = st["std_m"].values * _M_TO_CM
-        ax.bar(x + (k - (len(sols) - 1) / 2) * width, mean, width, yerr=std, capsize=2,
+        ax.bar(x + (k - (len(stats) - 1) / 2) * width, mean, width, yerr=std, capsize=2,
                label=label or None, alpha=0.85)
     first = next(iter(stats.values())).reindex(station=sites)
     for xi, n in zip(x, first["n_np"].fillna(0).values.astype(int)):
@@ -139,33 +138,35 @@ def plot_slr_stations(results: xr.Dataset | Mapping[str, xr.Dataset], path,
     ax.set_xticks(x, sites, rotation=45, fontsize=8)
     ax.set_ylabel("mean ± STD of the residuals [cm]")
     ax.grid(axis="y", alpha=0.3)
-    if len(sols) > 1:
+    if len(stats) > 1:
         ax.legend(fontsize=8)
     fig.suptitle(_heading(title, "SLR residuals per station (numbers: normal points)"))
     fig.tight_layout()
     save_figure(fig, path)
 
 
-def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, title: str = "",
-                       bin_deg: float = 5.0) -> None:
+def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset],
+                       statistics: xr.Dataset | Mapping[str, xr.Dataset], path,
+                       title: str = "") -> None:
     """Residuals [cm] versus elevation, with STD and mean per elevation bin (Peng et al. 2021,
     Figs. 17–18).
 
     Upper panel: used residuals of each solution; lower panel: their STD (solid) and mean
-    (dashed) per ``bin_deg`` bin (:func:`leopod.validation.slr_statistics.elevation_statistics`).
+    (dashed) per elevation bin.
 
     Parameters
     ----------
     results : xarray.Dataset or mapping of str to xarray.Dataset
         Residuals of one solution, or of several keyed by a label.
+    statistics : xarray.Dataset or mapping of str to xarray.Dataset
+        Their :func:`leopod.validation.slr_statistics.elevation_statistics` (same labels).
     path : str or path-like
         PNG to write.
     title : str
         Prefix of the figure title.
-    bin_deg : float
-        Width of the elevation bins [deg].
     """
     sols = by_solution(results)
+    elevation = by_solution(statistics)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
                                       gridspec_kw={"height_ratios": [3, 2]})
     colours = plt.get_cmap("tab10")
@@ -176,7 +177,7 @@ def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, tit
         all_used.append(r_cm)
         top.plot(res["elevation_deg"].values[used], r_cm, ".", ms=3, alpha=0.5,
                  color=colours(k % 10), label=f"{label} {_summary(r_cm)}".strip())
-        el = elevation_statistics(res, bin_deg)
+        el = elevation[label]
         centres = el["elevation_deg"].values
         bottom.plot(centres, el["std_m"].values * _M_TO_CM, "o-", ms=3, color=colours(k % 10),
                     label=f"{label} STD".strip())
@@ -189,7 +190,9 @@ def plot_slr_elevation(results: xr.Dataset | Mapping[str, xr.Dataset], path, tit
     top.legend(fontsize=7, loc="upper right")
     top.grid(alpha=0.3)
     bottom.axhline(0.0, color="k", lw=0.6)
-    bottom.set_ylabel(f"per {bin_deg:g}° bin [cm]")
+    widths = {float(w) for st in elevation.values()
+              for w in st["upper_deg"].values - st["lower_deg"].values}
+    bottom.set_ylabel(f"per {widths.pop():g}° bin [cm]" if len(widths) == 1 else "per bin [cm]")
     bottom.set_xlabel("elevation [deg]")
     bottom.set_xlim(0.0, 90.0)
     bottom.legend(fontsize=7, ncol=2, loc="upper right")
