@@ -430,6 +430,35 @@ def retro_offset(wildcards):
 # --- resources functions -------------------------------------------------------------------
 
 
+def pod_outputs(step, category):
+    """Products and report figures of a POD step (float_pod or fixed_pod), named as
+    scripts/float_pod.py and scripts/fixed_pod.py write them."""
+    figures = {
+        "res_time": ("residuals_time", "pod_residuals_time", "residuals vs time"),
+        "res_elevation": ("residuals_elevation", "pod_residuals_elevation",
+                          "residuals vs elevation"),
+        "res_skymap": ("residual_skymap", "pod_residual_skymap", "phase residual map"),
+        "apriori": ("apriori_rtn", "pod_apriori_rtn", "RTN vs a-priori"),
+    }
+    base = f"results/{step}/{{sat}}/{{date}}"
+    return {
+        "orbit": f"{base}_orbit.nc",
+        "sp3": f"{base}.sp3",
+        "residuals": f"{base}_residuals.nc",
+        "parameters": f"{base}_parameters.nc",
+        "ambiguities": f"{base}_ambiguities.nc",
+        **{
+            key: report(
+                f"{base}_{name}.png",
+                caption=f"../report/{caption}.rst",
+                category=category,
+                labels={"satellite": "{sat}", "day": "{date}", "figure": label},
+            )
+            for key, (name, caption, label) in figures.items()
+        },
+    }
+
+
 def pod_mem_mb(wildcards, attempt):
     """Memory of a POD job [MB]: 3 GB (measured peak RSS 1.0-1.6 GB for 30-h arcs at 30 s,
     benchmarks/campaign.py), twice as much for each retry of a job killed for memory

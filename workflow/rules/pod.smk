@@ -3,37 +3,10 @@
 rule float_pod:
     input:
         unpack(float_pod_inputs),
+        script=f"{workflow.basedir}/scripts/float_pod.py",
         code=library_code("float_pod"),
     output:
-        orbit="results/float_pod/{sat}/{date}_orbit.nc",
-        sp3="results/float_pod/{sat}/{date}.sp3",
-        residuals="results/float_pod/{sat}/{date}_residuals.nc",
-        parameters="results/float_pod/{sat}/{date}_parameters.nc",
-        ambiguities="results/float_pod/{sat}/{date}_ambiguities.nc",
-        res_time=report(
-            "results/float_pod/{sat}/{date}_residuals_time.png",
-            caption="../report/pod_residuals_time.rst",
-            category="Float POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs time"},
-        ),
-        res_elevation=report(
-            "results/float_pod/{sat}/{date}_residuals_elevation.png",
-            caption="../report/pod_residuals_elevation.rst",
-            category="Float POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs elevation"},
-        ),
-        res_skymap=report(
-            "results/float_pod/{sat}/{date}_residual_skymap.png",
-            caption="../report/pod_residual_skymap.rst",
-            category="Float POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "phase residual map"},
-        ),
-        apriori=report(
-            "results/float_pod/{sat}/{date}_apriori_rtn.png",
-            caption="../report/pod_apriori_rtn.rst",
-            category="Float POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "RTN vs a-priori"},
-        ),
+        **pod_outputs("float_pod", "Float POD"),
     log:
         "logs/float_pod/{sat}/{date}.log",
     benchmark:
@@ -45,6 +18,7 @@ rule float_pod:
         mem_mb=pod_mem_mb,
         runtime=30,
     params:
+        step="float_pod",
         signals=config["signals"],
         pod=config["pod"],
         pco_body_m=sat_pco,
@@ -53,7 +27,9 @@ rule float_pod:
         code_bias=config["code_bias"],
         yaw_flips=sat_yaw_flips,
     script:
-        "../../scripts/float_pod.py"
+        # the step's own script (a path with params, so that fixed_pod can reuse this rule);
+        # listed as an input too, since Snakemake sees no change of such a path
+        "../../scripts/{params.step}.py"
 
 
 # ambiguity: wide-lane/narrow-lane fixing of the single-differenced float ambiguities
@@ -96,10 +72,9 @@ rule ambiguity:
 
 
 # fixed_pod: the float POD re-solved with the fixed single differences as tight constraints:
-# float_pod's inputs plus the float solution and the ambiguity table, its params plus the
-# ambiguity settings, its environment and resources. (Not "use rule float_pod as fixed_pod
-# with:", which cannot replace the script.)
-rule fixed_pod:
+# float_pod's rule with the float solution and the ambiguity table as further inputs and the
+# ambiguity settings as a further param.
+use rule float_pod as fixed_pod with:
     input:
         unpack(float_pod_inputs),
         table=rules.ambiguity.output.table,
@@ -107,48 +82,16 @@ rule fixed_pod:
         float_parameters=rules.float_pod.output.parameters,
         float_ambiguities=rules.float_pod.output.ambiguities,
         float_residuals=rules.float_pod.output.residuals,
+        script=f"{workflow.basedir}/scripts/fixed_pod.py",
         code=library_code("fixed_pod"),
     output:
-        orbit="results/fixed_pod/{sat}/{date}_orbit.nc",
-        sp3="results/fixed_pod/{sat}/{date}.sp3",
-        residuals="results/fixed_pod/{sat}/{date}_residuals.nc",
-        parameters="results/fixed_pod/{sat}/{date}_parameters.nc",
-        ambiguities="results/fixed_pod/{sat}/{date}_ambiguities.nc",
-        res_time=report(
-            "results/fixed_pod/{sat}/{date}_residuals_time.png",
-            caption="../report/pod_residuals_time.rst",
-            category="Fixed POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs time"},
-        ),
-        res_elevation=report(
-            "results/fixed_pod/{sat}/{date}_residuals_elevation.png",
-            caption="../report/pod_residuals_elevation.rst",
-            category="Fixed POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "residuals vs elevation"},
-        ),
-        res_skymap=report(
-            "results/fixed_pod/{sat}/{date}_residual_skymap.png",
-            caption="../report/pod_residual_skymap.rst",
-            category="Fixed POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "phase residual map"},
-        ),
-        apriori=report(
-            "results/fixed_pod/{sat}/{date}_apriori_rtn.png",
-            caption="../report/pod_apriori_rtn.rst",
-            category="Fixed POD",
-            labels={"satellite": "{sat}", "day": "{date}", "figure": "RTN vs a-priori"},
-        ),
+        **pod_outputs("fixed_pod", "Fixed POD"),
     log:
         "logs/fixed_pod/{sat}/{date}.log",
     benchmark:
         "logs/benchmarks/fixed_pod/{sat}/{date}.tsv"
-    conda:
-        "../../envs/leopod.yaml"
-    threads: 1
-    resources:
-        mem_mb=pod_mem_mb,
-        runtime=30,
     params:
+        step="fixed_pod",
         signals=config["signals"],
         pod=config["pod"],
         settings=config["ambiguity"],
@@ -157,5 +100,3 @@ rule fixed_pod:
         sp3_id=sat_pod_sp3_id,
         code_bias=config["code_bias"],
         yaw_flips=sat_yaw_flips,
-    script:
-        "../../scripts/fixed_pod.py"
