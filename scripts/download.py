@@ -4,6 +4,7 @@ import logging
 from collections.abc import Mapping
 
 from leopod.download import fetch_product
+from leopod.settings import schema_defaults
 from leopod.workflow.downloads import load_catalogue
 from leopod.workflow.log import configure_logging
 
@@ -23,7 +24,9 @@ def main(family: str, date: str | None, dest, settings: Mapping, default_catalog
 def run(sm) -> None:
     """Call :func:`main` with the job's files and settings."""
     configure_logging(sm)
-    main(sm.params.family, sm.wildcards.get("date"), sm.output[0], sm.config["download"],
+    # not a param on purpose (download.smk): a changed mirror list refetches nothing
+    settings = {**schema_defaults("download"), **sm.config.get("download", {})}
+    main(sm.params.family, sm.wildcards.get("date"), sm.output[0], settings,
          sm.params.default_catalogue)
 
 

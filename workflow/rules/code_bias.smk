@@ -37,7 +37,7 @@ rule code_bias:
         mem_mb=4000,
         runtime=30,
     params:
-        settings=config["code_bias"],
+        settings=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
         title=period_title,
     script:

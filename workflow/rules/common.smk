@@ -1,12 +1,10 @@
 # Helpers of workflow/rules/*.smk. The configuration check, names derived from the config,
 # and the named input, params and resources functions (with docstrings, no lambdas in the
-# rules). The logic lives in leopod.workflow.campaign (unit-tested). `config` is read here and
-# never modified, apart from the schema defaults that validate() fills in. Upstream files are
-# named by the rules that write them (rules.<name>.output.<key>).
+# rules). The logic lives in leopod.workflow.campaign (unit-tested). `config` is never
+# modified: CONFIG is its validated copy with the schema's defaults. Upstream files are named
+# by the rules that write them (rules.<name>.output.<key>).
 import re
 from pathlib import Path
-
-from snakemake.utils import validate
 
 from leopod.simulate.product_world import ProductSet
 from leopod.workflow.campaign import (
@@ -23,6 +21,7 @@ from leopod.workflow.campaign import (
     satellite_ids,
     script_library_files,
 )
+from leopod.workflow.config import validated
 from leopod.workflow.downloads import (
     destination_template,
     load_catalogue,
@@ -30,31 +29,30 @@ from leopod.workflow.downloads import (
     uses_downloads,
 )
 
-# The schema defaults go into `config` itself (Snakemake's validate idiom): the settings of
-# scripts/download.py come from snakemake.config["download"], not from params, on purpose
-# (download.smk), and need them.
-validate(config, "../schemas/config.schema.yaml", set_default=True)
+# CONFIG: the campaign checked against the schema, with its defaults filled in (a copy: the
+# `config` of Snakemake is never modified). Rules and helpers read CONFIG only.
+CONFIG = validated(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml")
 
 #: The product catalogue of the download rules (download.catalogue, else this one), if used.
 DEFAULT_CATALOGUE = f"{workflow.basedir}/config/catalogue.yaml"
 CATALOGUE = (
-    load_catalogue(config["download"], DEFAULT_CATALOGUE) if uses_downloads(config) else None
+    load_catalogue(CONFIG["download"], DEFAULT_CATALOGUE) if uses_downloads(CONFIG) else None
 )
 # Inputs given as "download:<family>" are the files of the download rules (DOWNLOADS, the
 # families); every other path template is routed through the locate step (LOCATED = {entry:
 # template of the config}). INPUTS: {entry: template the rules read}, e.g.
 # INPUTS["products.gnss_orbit"] = "resources/locate/products.gnss_orbit/{date}/cod...sp3.gz".
 _downloaded, DOWNLOADS = (
-    resolve_downloads(config, CATALOGUE) if CATALOGUE is not None else (config, [])
+    resolve_downloads(CONFIG, CATALOGUE) if CATALOGUE is not None else (CONFIG, [])
 )
 _located, LOCATED = locate_inputs(_downloaded)
 INPUTS = input_templates(_located)
 
-DAYS = campaign_days(config)
-SATS = satellite_ids(config)
+DAYS = campaign_days(CONFIG)
+SATS = satellite_ids(CONFIG)
 #: Satellites whose files the simulate rules write.
-SIMULATED_SATS = [s for s in SATS if config["satellites"][s].get("source") == "simulate"]
-PERIODS = code_bias_periods(config)
+SIMULATED_SATS = [s for s in SATS if CONFIG["satellites"][s].get("source") == "simulate"]
+PERIODS = code_bias_periods(CONFIG)
 #: Folder of the leopod sources the rules depend on: src/ of the checkout beside the
 #: Snakefile (None: the imported package).
 LIBRARY_ROOT = library_root(workflow.basedir)
@@ -96,7 +94,7 @@ def download_log(family):
 
 def sat_config(wildcards):
     """The config block of the satellite of a job."""
-    return config["satellites"][wildcards.sat]
+    return CONFIG["satellites"][wildcards.sat]
 
 
 def is_simulated(sat):
@@ -108,7 +106,7 @@ def solutions():
     """POD solutions of the campaign: float, and fixed when ambiguities are resolved."""
     if not product_file("gnss_clock"):
         return []
-    return ["float_pod"] + (["fixed_pod"] if config["ambiguity"]["enabled"] else [])
+    return ["float_pod"] + (["fixed_pod"] if CONFIG["ambiguity"]["enabled"] else [])
 
 
 # --- upstream outputs ----------------------------------------------------------------------
@@ -146,7 +144,7 @@ def slr_template(sat):
 
 def applied_code_bias_map(wildcards):
     """{"code_bias": map file} of the period whose map corrects the day's codes, or {}."""
-    period = applied_code_bias_period(config, wildcards.date)
+    period = applied_code_bias_period(CONFIG, wildcards.date)
     if period is None:
         return {}
     return {"code_bias": fill(rules.code_bias.output.nc, sat=wildcards.sat, period=period)}
@@ -169,7 +167,7 @@ def existing_locate_source(wildcards):
 
 def simulation_product_files(wildcards):
     """The real GNSS product set the simulator uses (simulate.gnss_products), if any."""
-    products = ProductSet.from_config(config.get("simulate", {}).get("gnss_products"))
+    products = ProductSet.from_config(CONFIG.get("simulate", {}).get("gnss_products"))
     return [] if products is None else products.files
 
 
@@ -191,7 +189,7 @@ def ingest_inputs(wildcards):
 
 def code_bias_inputs(wildcards):
     """Quality outputs of the days of a code-bias period."""
-    days = period_days(config, wildcards.period)
+    days = period_days(CONFIG, wildcards.period)
     if not days:
         raise ValueError(f"code-bias period {wildcards.period} has no campaign day")
     return {"quality": expand(rules.quality.output.nc, sat=wildcards.sat, date=days)}
@@ -201,7 +199,7 @@ def float_pod_inputs(wildcards):
     """Ingest/quality outputs and GNSS products of the days of the arc of a satellite-day."""
     if not product_file("gnss_clock"):
         raise ValueError("float_pod needs a GNSS clock product (products.gnss_clock)")
-    days = arc_days(config, wildcards.date)
+    days = arc_days(CONFIG, wildcards.date)
     sat = wildcards.sat
     files = {
         "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
@@ -218,7 +216,7 @@ def float_pod_inputs(wildcards):
 
 def ambiguity_inputs(wildcards):
     """Observations and quality of the arc's days, the code-bias map and the AR product."""
-    days = arc_days(config, wildcards.date)
+    days = arc_days(CONFIG, wildcards.date)
     sat = wildcards.sat
     files = {
         "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
@@ -268,8 +266,8 @@ def slr_inputs(wildcards):
     )
     if ecc:
         files["eccentricities"] = expand_template(ecc, date, sat)
-    if config["validation"]["slr"].get("ocean_loading_blq"):
-        files["ocean_loading"] = config["validation"]["slr"]["ocean_loading_blq"]
+    if CONFIG["validation"]["slr"].get("ocean_loading_blq"):
+        files["ocean_loading"] = CONFIG["validation"]["slr"]["ocean_loading_blq"]
     return files
 
 
@@ -293,7 +291,7 @@ def summary_files(sat):
     for solution in solutions():
         residuals = pod_output(solution, "residuals")
         f = {"residuals": {d: fill(residuals, sat=sat, date=d) for d in DAYS}}
-        if config["ambiguity"]["enabled"]:
+        if CONFIG["ambiguity"]["enabled"]:
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {
             d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in DAYS[:-1]
@@ -328,7 +326,7 @@ def all_targets():
     per_day = [rules.quality.output.nc, rules.quality.output.summary]
     if product_file("gnss_clock"):  # POD needs a clock product (schema)
         per_day.append(rules.float_pod.output.sp3)
-        if config["ambiguity"]["enabled"]:
+        if CONFIG["ambiguity"]["enabled"]:
             per_day += [rules.ambiguity.output.table, rules.fixed_pod.output.sp3]
     targets = expand([str(p) for p in per_day], sat=SATS, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
@@ -350,7 +348,7 @@ def all_targets():
 
 def sat_simulation(wildcards):
     """The simulate block with the satellite's own orbit keys (satellites.<sat>.simulate_orbit)."""
-    block = dict(config.get("simulate") or {})
+    block = dict(CONFIG.get("simulate") or {})
     block["orbit"] = {**block.get("orbit", {}), **sat_config(wildcards).get("simulate_orbit", {})}
     return block
 
@@ -402,7 +400,7 @@ def sat_pod_sp3_id(wildcards):
 
 def sat_yaw_flips(wildcards):
     """Yaw-flip epochs of the satellite if maps are kept per attitude mode, else None."""
-    if not config["code_bias"]["attitude_modes"]:
+    if not CONFIG["code_bias"]["attitude_modes"]:
         return None
     return sat_config(wildcards).get("yaw_flips") or None
 
@@ -424,7 +422,7 @@ def retro_offset(wildcards):
         return block["retro_offset_body_m"]
     from leopod.simulate.settings import SimulationSettings
 
-    return list(SimulationSettings.from_config(config.get("simulate")).slr.retro_offset_body_m)
+    return list(SimulationSettings.from_config(CONFIG.get("simulate")).slr.retro_offset_body_m)
 
 
 # --- resources functions -------------------------------------------------------------------

@@ -19,7 +19,7 @@ rule ingest:
         mem_mb=3000,
         runtime=15,
     params:
-        signals=config["signals"],
+        signals=CONFIG["signals"],
         pco_body_m=sat_pco,
         sp3_id=sat_sp3_id,
     script:

@@ -19,12 +19,12 @@ rule float_pod:
         runtime=30,
     params:
         step="float_pod",
-        signals=config["signals"],
-        pod=config["pod"],
+        signals=CONFIG["signals"],
+        pod=CONFIG["pod"],
         pco_body_m=sat_pco,
         title=sat_title,
         sp3_id=sat_pod_sp3_id,
-        code_bias=config["code_bias"],
+        code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
     script:
         # the step's own script (a path with params, so that fixed_pod can reuse this rule);
@@ -61,10 +61,10 @@ rule ambiguity:
         mem_mb=3000,
         runtime=10,
     params:
-        signals=config["signals"],
-        pod=config["pod"],
-        settings=config["ambiguity"],
-        code_bias=config["code_bias"],
+        signals=CONFIG["signals"],
+        pod=CONFIG["pod"],
+        settings=CONFIG["ambiguity"],
+        code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
         title=sat_title,
     script:
@@ -92,11 +92,11 @@ use rule float_pod as fixed_pod with:
         "logs/benchmarks/fixed_pod/{sat}/{date}.tsv"
     params:
         step="fixed_pod",
-        signals=config["signals"],
-        pod=config["pod"],
-        settings=config["ambiguity"],
+        signals=CONFIG["signals"],
+        pod=CONFIG["pod"],
+        settings=CONFIG["ambiguity"],
         pco_body_m=sat_pco,
         title=sat_title,
         sp3_id=sat_pod_sp3_id,
-        code_bias=config["code_bias"],
+        code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,

@@ -50,8 +50,8 @@ rule quality:
         mem_mb=3000,
         runtime=15,
     params:
-        signals=config["signals"],
-        settings=config["quality"],
+        signals=CONFIG["signals"],
+        settings=CONFIG["quality"],
         title=sat_title,
     script:
         "../../scripts/quality.py"

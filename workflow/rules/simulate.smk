@@ -22,8 +22,8 @@ rule simulate_truth:
         runtime=20,
     params:
         settings=sat_simulation,
-        world_start=config["start_date"],
-        world_end=config["end_date"],
+        world_start=CONFIG["start_date"],
+        world_end=CONFIG["end_date"],
     script:
         "../../scripts/simulate_truth.py"
 
@@ -49,9 +49,9 @@ rule simulate_world:
         mem_mb=1000,
         runtime=5,
     params:
-        settings=config["simulate"],
-        world_start=config["start_date"],
-        world_end=config["end_date"],
+        settings=CONFIG["simulate"],
+        world_start=CONFIG["start_date"],
+        world_end=CONFIG["end_date"],
         # the satellites whose files the simulate rules write
         sats=SIMULATED_SATS,
     script:
@@ -80,9 +80,9 @@ rule simulate_gnss:
         mem_mb=1000,
         runtime=10,
     params:
-        settings=config["simulate"],
-        world_start=config["start_date"],
-        world_end=config["end_date"],
+        settings=CONFIG["simulate"],
+        world_start=CONFIG["start_date"],
+        world_end=CONFIG["end_date"],
     script:
         "../../scripts/simulate_gnss.py"
 
@@ -111,9 +111,9 @@ rule simulate:
         mem_mb=2000,
         runtime=10,
     params:
-        settings=config["simulate"],
-        world_start=config["start_date"],
-        world_end=config["end_date"],
+        settings=CONFIG["simulate"],
+        world_start=CONFIG["start_date"],
+        world_end=CONFIG["end_date"],
         pco_body_m=sat_pco,
     script:
         "../../scripts/simulate.py"

@@ -21,7 +21,7 @@ rule overlap:
         mem_mb=500,
         runtime=5,
     params:
-        trim_s=config["validation"]["overlap_trim_s"],
+        trim_s=CONFIG["validation"]["overlap_trim_s"],
         title=solution_title,
     script:
         "../../scripts/overlap.py"
@@ -152,7 +152,7 @@ rule slr:
         mem_mb=1000,
         runtime=5,
     params:
-        settings=config["validation"]["slr"],
+        settings=CONFIG["validation"]["slr"],
         retro_offset_body_m=retro_offset,
         solution=solution_name,
         title=sat_title,
@@ -203,7 +203,7 @@ rule slr_summary:
         mem_mb=1000,
         runtime=5,
     params:
-        settings=config["validation"]["slr"],
+        settings=CONFIG["validation"]["slr"],
         solutions=solutions(),
         title=sat_name,
     script:
