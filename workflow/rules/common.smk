@@ -62,10 +62,10 @@ def download_log(family):
 
 
 def sat_simulation(wildcards):
-    """The simulate block with the satellite's own orbit keys (satellites.<sat>.simulate_orbit)."""
-    block = dict(config.get("simulate") or {})
-    block["orbit"] = {**block.get("orbit", {}), **sat_config(wildcards).get("simulate_orbit", {})}
-    return block
+    """The simulate section with the satellite's orbit keys (satellites.<sat>.simulate_orbit)."""
+    section = dict(config["simulate"])
+    section["orbit"] = {**section["orbit"], **sat_config(wildcards)["simulate_orbit"]}
+    return section
 
 
 def sat_config(wildcards):
@@ -101,8 +101,8 @@ PERIODS = code_bias_periods(config)
 
 def simulation_product_files(wildcards):
     """The real GNSS product set the simulator uses (simulate.gnss_products), if any."""
-    products = ProductSet.from_config(config.get("simulate", {}).get("gnss_products"))
-    return [] if products is None else products.files
+    products = config["simulate"]["gnss_products"]
+    return [] if products is None else ProductSet.from_config(products).files
 
 
 def solutions():
@@ -173,11 +173,9 @@ def slr_inputs(wildcards):
 def retro_offset(wildcards):
     """Retro-reflector offset from the centre of mass in the body frame [m]."""
     block = sat_config(wildcards)
-    if block.get("retro_offset_body_m") is not None:
+    if block["retro_offset_body_m"] is not None:
         return block["retro_offset_body_m"]
-    from leopod.simulate.settings import SimulationSettings
-
-    return list(SimulationSettings.from_config(config.get("simulate")).slr.retro_offset_body_m)
+    return list(config["simulate"]["slr"]["retro_offset_body_m"])
 
 
 def per_day_validation(pattern):

@@ -3,8 +3,10 @@
 The schema ``workflow/schemas/config.schema.yaml`` of the repository checks every key of a
 campaign file and supplies every default. The Snakefile validates the campaign with it before
 any job starts; :func:`validated` does the same from Python (a test, a benchmark, a script run
-from a prompt), and :func:`section_defaults` gives the defaults of one section, e.g. to build
-``PodSettings.from_config(section_defaults("pod"))`` in a test.
+from a prompt). :func:`section_defaults` gives the defaults of one section, e.g. to build
+``PodSettings.from_config(section_defaults("pod"))`` in a test, and :func:`with_defaults` a
+partial section completed as the campaign validation completes it, e.g.
+``SimulationSettings.from_config(with_defaults("simulate", {"interval_s": 10.0}))``.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from typing import Any
 
 import yaml
 
-__all__ = ["SCHEMA", "load_campaign", "section_defaults", "validated"]
+__all__ = ["SCHEMA", "load_campaign", "section_defaults", "validated", "with_defaults"]
 
 #: The campaign schema of the repository (the workflow layer lives in the checkout).
 SCHEMA = Path(__file__).resolve().parents[3] / "workflow" / "schemas" / "config.schema.yaml"
@@ -60,31 +62,85 @@ def _merge(base: dict, overlay: Mapping) -> None:
 
 
 def section_defaults(name: str, schema: str | Path = SCHEMA) -> dict:
-    """Defaults of the schema definition ``$defs/<name>`` (nested object defaults included).
+    """Defaults of the schema definition ``$defs/<name>``: what the campaign validation fills
+    into an empty section (nested sections, list items and model-dependent keys included).
 
     Parameters
     ----------
     name : str
         A section with a definition in the schema: ``pod``, ``quality``, ``ambiguity``,
-        ``code_bias``, ``validation``, ``download``, …
+        ``code_bias``, ``validation``, ``download``, ``simulate``, ``simulate_slr``, …
+
+    Returns
+    -------
+    dict
+        Without the keys the schema requires and does not default (``pod.forces``).
 
     Raises
     ------
     KeyError
         If the schema has no such definition.
     """
-    full = _schema(str(schema))
-    return _defaults(full["$defs"][name], full)
+    return _filled(name, {}, schema, required=False)
 
 
-def _defaults(node: Mapping, full: Mapping) -> dict:
-    if "$ref" in node:
-        node = full["$defs"][node["$ref"].rsplit("/", 1)[-1]]
-    out = {}
-    for key, prop in node.get("properties", {}).items():
-        if "$ref" in prop or prop.get("type") == "object":
-            if "default" in prop or "$ref" in prop:
-                out[key] = {**copy.deepcopy(prop.get("default", {})), **_defaults(prop, full)}
-        elif "default" in prop:
-            out[key] = copy.deepcopy(prop["default"])
-    return out
+def with_defaults(name: str, section: Mapping[str, Any], schema: str | Path = SCHEMA) -> dict:
+    """A copy of ``section`` validated against ``$defs/<name>`` with every default filled in.
+
+    A partial section means what it means in a campaign file: a key that is given replaces
+    its default (a mapping such as ``simulate.systems`` is replaced, not merged), the keys
+    that are not given take their defaults, nested sections included.
+
+    Parameters
+    ----------
+    name : str
+        A definition of the schema (:func:`section_defaults`).
+    section : mapping
+        The keys that differ from the defaults.
+
+    Raises
+    ------
+    KeyError
+        If the schema has no such definition.
+    snakemake.exceptions.WorkflowError
+        Naming the offending key and value when the section does not conform.
+    """
+    return _filled(name, copy.deepcopy(dict(section)), schema, required=True)
+
+
+def _filled(name: str, instance: dict, schema: str | Path, *, required: bool) -> dict:
+    """``instance`` with the defaults of ``$defs/<name>`` set in place, by the validator the
+    Snakefile uses (jsonschema 2020-12 with defaults, :func:`snakemake.utils.validate`)."""
+    import jsonschema
+    from snakemake.exceptions import WorkflowError
+
+    full = copy.deepcopy(_schema(str(schema)))  # defaults are set by reference: a fresh copy
+    if name not in full["$defs"]:
+        raise KeyError(f"the campaign schema has no definition '{name}' (known: "
+                       f"{', '.join(full['$defs'])})")
+    root = {"$schema": full["$schema"], "$defs": full["$defs"], "$ref": f"#/$defs/{name}"}
+    errors = [e for e in _default_validator()(root).iter_errors(instance)
+              if required or e.validator != "required"]
+    if errors:
+        error = jsonschema.exceptions.best_match(errors)
+        raise WorkflowError(f"Error validating the section '{name}'.", error)
+    return instance
+
+
+@functools.lru_cache(maxsize=1)
+def _default_validator():
+    """Draft 2020-12 validator class that sets the defaults of ``properties`` as Snakemake's
+    does (here on a copy of each default and only into mappings)."""
+    import jsonschema
+
+    base = jsonschema.Draft202012Validator
+    check_properties = base.VALIDATORS["properties"]
+
+    def properties(validator, props, instance, schema):
+        if validator.is_type(instance, "object"):
+            for key, sub in props.items():
+                if "default" in sub:
+                    instance.setdefault(key, copy.deepcopy(sub["default"]))
+        yield from check_properties(validator, props, instance, schema)
+
+    return jsonschema.validators.extend(base, {"properties": properties})
