@@ -33,6 +33,7 @@ from leopod.codebias.period import estimate_period
 from leopod.codebias.products import grid_of, node_vector
 from leopod.codebias.samples import load_quality
 from leopod.simulate.code_bias_map import CodeBiasMap
+from leopod.workflow.config import load_campaign
 
 REPO = Path(__file__).resolve().parents[1]
 DAYS = ("2019-001", "2019-002", "2019-003")
@@ -71,7 +72,9 @@ def _truth_check() -> None:
     count = grid.from_grid(maps["count"].sel(signal="C1W", mode=0).values)
     az, el = grid.node_directions()
     ok = np.isfinite(est) & (count >= 200)
-    err = est[ok] - CodeBiasMap("hy2b_p1")(az[ok], el[ok])
+    # the map the default campaign simulated (config/config.yaml, schema defaults)
+    (truth_map,) = load_campaign(REPO / "config" / "config.yaml")["simulate"]["code_bias_maps"]
+    err = est[ok] - CodeBiasMap.from_config(truth_map)(az[ok], el[ok])
     p1 = maps.sel(signal="C1W")
     before, after = float(p1.mp_rms_all_before_m), float(p1.mp_rms_all_after_m)
     print(f"{path.relative_to(REPO)}: C1W map minus truth over {ok.sum()} nodes with >= 200 "

@@ -39,8 +39,6 @@ def _inputs(tmp: Path):
         return ("GRACE-A 2007-080 (real, 10 s)", GRACE / "graa0800.07o.gz", GRACE / "cod14193.sp3.gz",
                 GRACE / "cod14193.clk.gz", GRACE / "igs05_1402.atx.gz",
                 {"L1": [-0.0004, -0.0004, -0.4514], "L2": [-0.0004, -0.0004, -0.4757]})
-    from dataclasses import replace
-
     from leopod.simulate.campaign import (
         simulate_gnss_products,
         simulate_leo_day,
@@ -48,9 +46,10 @@ def _inputs(tmp: Path):
         simulate_world_truth,
     )
     from leopod.simulate.settings import SimulationSettings
+    from leopod.workflow.config import with_defaults
 
     day, sat = "2019-001", "sim"
-    s = replace(SimulationSettings(), interval_s=10.0)
+    s = SimulationSettings.from_config(with_defaults("simulate", {"interval_s": 10.0}))
     pco = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37]}
     truth = simulate_truth(s, sat, day, day)
     biases = simulate_world_truth(s, [sat], day, day, biases_path=tmp / "b.nc",

@@ -25,7 +25,6 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
 from leopod.io.crd import read_crd
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
@@ -36,7 +35,7 @@ from leopod.validation.slr import (
     slr_residuals,
 )
 from leopod.workflow.campaign import campaign_days
-from leopod.workflow.config import section_defaults
+from leopod.workflow.config import load_campaign, section_defaults
 
 SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
 
@@ -55,7 +54,7 @@ def slr_check(cfg: dict, workdir: Path) -> None:
     truth = xr.load_dataset(sim / SAT / "truth_orbit.nc")
     stations = read_sinex_stations(sim / "slr_stations.snx")
     ecc = read_sinex_eccentricities(sim / "slr_eccentricities.snx")
-    retro = SimulationSettings.from_config(cfg.get("simulate")).slr.retro_offset_body_m
+    retro = SimulationSettings.from_config(cfg["simulate"]).slr.retro_offset_body_m
     for date in campaign_days(cfg):
         nps = read_crd(sim / SAT / f"{date}.crd")
         res = slr_residuals(truth, nps, stations, ecc, retro_offset_body_m=retro,
@@ -92,7 +91,7 @@ def main() -> None:
     parser.add_argument("--directory", type=Path, default=REPO)
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
-    cfg = yaml.safe_load(args.configfile.read_text())
+    cfg = load_campaign(args.configfile)
     slr_check(cfg, args.directory)
     report_time(args.directory.resolve(), args.configfile.resolve())
 

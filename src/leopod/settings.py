@@ -23,7 +23,7 @@ from typing import Any, ClassVar, Self
 
 import yaml
 
-__all__ = ["SCHEMA", "Settings", "frozen_value", "schema_defaults"]
+__all__ = ["SCHEMA", "Settings", "fill_defaults", "frozen_value", "schema_defaults"]
 
 #: The campaign schema of the repository checkout (leopod runs from its checkout).
 SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
@@ -35,34 +35,63 @@ def _schema(path: str) -> dict:
 
 
 def schema_defaults(name: str, schema: str | Path = SCHEMA) -> dict:
-    """Defaults of the schema definition ``$defs/<name>`` (nested object defaults included).
+    """Defaults of the schema definition ``$defs/<name>``: what the campaign validation fills
+    into an empty section (nested sections, list items and model-dependent keys included).
 
     Parameters
     ----------
     name : str
         A definition of the schema: ``pod``, ``quality``, ``ambiguity``, ``code_bias``,
-        ``slr_validation``, ``force_drag``, …
+        ``slr_validation``, ``force_drag``, ``simulate``, …
 
     Raises
     ------
     KeyError
         If the schema has no such definition.
     """
-    full = _schema(str(schema))
-    return _defaults(full["$defs"][name], full)
+    instance: dict = {}
+    fill_defaults(name, instance, schema)   # an empty section may lack required keys
+    return instance
 
 
-def _defaults(node: Mapping, full: Mapping) -> dict:
-    if "$ref" in node:
-        node = full["$defs"][node["$ref"].rsplit("/", 1)[-1]]
-    out = {}
-    for key, prop in node.get("properties", {}).items():
-        if "$ref" in prop or prop.get("type") == "object":
-            if "default" in prop:
-                out[key] = {**copy.deepcopy(prop["default"]), **_defaults(prop, full)}
-        elif "default" in prop:
-            out[key] = copy.deepcopy(prop["default"])
-    return out
+def fill_defaults(name: str, instance: dict, schema: str | Path = SCHEMA) -> list:
+    """Set the defaults of ``$defs/<name>`` into ``instance`` (in place) while validating it.
+
+    Returns
+    -------
+    list of jsonschema.ValidationError
+        What does not conform (missing required keys included).
+
+    Raises
+    ------
+    KeyError
+        If the schema has no such definition.
+    """
+    full = copy.deepcopy(_schema(str(schema)))  # defaults are set by reference: a fresh copy
+    if name not in full["$defs"]:
+        raise KeyError(f"the campaign schema has no definition '{name}' (known: "
+                       f"{', '.join(full['$defs'])})")
+    root = {"$schema": full["$schema"], "$defs": full["$defs"], "$ref": f"#/$defs/{name}"}
+    return list(_default_validator()(root).iter_errors(instance))
+
+
+@functools.lru_cache(maxsize=1)
+def _default_validator():
+    """Draft 2020-12 validator class that sets the defaults of ``properties`` as Snakemake's
+    does (here on a copy of each default and only into mappings)."""
+    import jsonschema
+
+    base = jsonschema.Draft202012Validator
+    check_properties = base.VALIDATORS["properties"]
+
+    def properties(validator, props, instance, schema):
+        if validator.is_type(instance, "object"):
+            for key, sub in props.items():
+                if "default" in sub:
+                    instance.setdefault(key, copy.deepcopy(sub["default"]))
+        yield from check_properties(validator, props, instance, schema)
+
+    return jsonschema.validators.extend(base, {"properties": properties})
 
 
 def frozen_value(value: Any) -> Any:

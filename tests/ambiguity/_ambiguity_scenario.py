@@ -22,9 +22,12 @@ import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.signals import frequency_hz
-from leopod.simulate.biases import ar_products, simulate_biases
+from leopod.simulate.biases import BiasSettings, ar_products, simulate_biases
+from leopod.workflow.config import section_defaults
 
 EPOCH = np.datetime64("2020-06-01T00:00", "ns")
+#: Bias magnitudes of the simulator (the schema's defaults).
+BIASES = BiasSettings.from_config(section_defaults("simulate_biases"))
 GPS = [f"G{i:02d}" for i in range(1, 33)]
 F1, F2 = frequency_hz("G", "L1C"), frequency_hz("G", "L2W")
 LAMBDA_NL_M = C_LIGHT_M_S / (F1 + F2)
@@ -51,7 +54,8 @@ def scenario(seed: int = 3, hours: float = 6.0, step_s: float = 10.0, n_sv: int 
              sigma_hmw_cyc: float = 0.3, sigma_if_m: float = 0.003,
              common_if_m: float = 0.05, factor_if_m: float = 0.001) -> SimpleNamespace:
     rng = np.random.default_rng(seed)
-    biases = simulate_biases(GPS, None, np.random.default_rng(seed + 100), epoch=EPOCH)
+    biases = simulate_biases(GPS, None, np.random.default_rng(seed + 100), epoch=EPOCH,
+                             settings=BIASES)
     products = ar_products(biases)
     truth = products.truth
     n_epochs = int(hours * 3600 / step_s)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _ambiguity_scenario import EPOCH, F1, F2, GPS, LAMBDA_NL_M, scenario
+from _ambiguity_scenario import BIASES, EPOCH, F1, F2, GPS, LAMBDA_NL_M, scenario
 
 from leopod.ambiguity.narrow_lane import (
     fixed_sd_if_m,
@@ -80,7 +80,7 @@ def test_closed_loop_normalised_errors():
 
 
 def test_if_phase_bias_from_osb_equals_simulator_truth(tmp_path):
-    biases = simulate_biases(GPS, None, np.random.default_rng(4), epoch=EPOCH)
+    biases = simulate_biases(GPS, None, np.random.default_rng(4), epoch=EPOCH, settings=BIASES)
     prods = ar_products(biases)
     path = tmp_path / "osb.bia"
     write_bias_sinex(prods.osb, path)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
-from _ambiguity_scenario import EPOCH, GPS, W_RX_CYC, scenario
+from _ambiguity_scenario import BIASES, EPOCH, GPS, W_RX_CYC, scenario
 
 from leopod.ambiguity.pairs import sd_pairs
 from leopod.ambiguity.wide_lane import (
@@ -137,7 +137,7 @@ def test_sd_wide_lane_errors():
 
 
 def _biases(seed=2, svs=GPS + BDS):
-    return simulate_biases(svs, None, np.random.default_rng(seed), epoch=EPOCH)
+    return simulate_biases(svs, None, np.random.default_rng(seed), epoch=EPOCH, settings=BIASES)
 
 
 def test_wl_bias_from_cnes_file_equals_simulator_truth(tmp_path):

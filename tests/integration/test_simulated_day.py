@@ -29,8 +29,7 @@ from leopod.simulate.campaign import (
     simulate_world_truth,
 )
 from leopod.simulate.settings import SimulationSettings
-from leopod.simulate.truth_forces import TruthDynamics
-from leopod.workflow.config import section_defaults
+from leopod.workflow.config import section_defaults, with_defaults
 
 SIGNALS = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],
                                  "pod_code": ["C1W", "C2W"]}})
@@ -38,7 +37,8 @@ PCO = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37]}
 DAY, SAT = "2019-002", "hy2b-sim"
 START, END = DAY, DAY
 #: Degree-30 truth field: the observations do not depend on it, the cost halves.
-SETTINGS = replace(SimulationSettings(), dynamics=TruthDynamics(gravity_degree=30))
+SETTINGS = SimulationSettings.from_config(with_defaults("simulate",
+                                                       {"truth": {"gravity_degree": 30}}))
 
 
 def _leo_day(folder, settings, truth, biases):

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import xarray as xr
@@ -14,16 +15,24 @@ from leopod.simulate.campaign import (
     simulate_world_truth,
 )
 from leopod.simulate.settings import SimulationSettings
-from leopod.simulate.truth_forces import TruthDynamics
+from leopod.workflow.config import with_defaults
 
 DAY = "2019-001"
 SAT = "hy2b-sim"
 #: LEO antenna offsets per band in the body frame [m] (GPS L1/L2, BDS-3 B1C/B2a).
 PCO = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37], "B1C": [0.0, 0.0, -0.35],
        "B2a": [0.0, 0.0, -0.37]}
-#: Default settings with a degree-30 truth field (the observations do not depend on the
-#: degree; it halves the cost of the truth orbit).
-SETTINGS = replace(SimulationSettings(), dynamics=TruthDynamics(gravity_degree=30))
+#: The simulate section of the tests: the schema's defaults with a degree-30 truth field
+#: (the observations do not depend on the degree; it halves the cost of the truth orbit).
+SECTION = {"truth": {"gravity_degree": 30}}
+
+
+def simulation(section: Mapping = SECTION) -> SimulationSettings:
+    """Settings of a (partial) simulate section completed by the campaign schema."""
+    return SimulationSettings.from_config(with_defaults("simulate", section))
+
+
+SETTINGS = simulation()
 
 
 @dataclass

@@ -36,17 +36,21 @@ from leopod.simulate.biases import (
     integer_clock_s,
     simulate_biases,
 )
+from leopod.workflow.config import with_defaults
 
 EPOCH = np.datetime64("2020-06-01T00:00", "ns")
 GPS = [f"G{i:02d}" for i in range(1, 33)]
 BDS = [f"C{i:02d}" for i in range(19, 47)]
 TOL_CYC = 1e-9      # integer property of the HMW combination [WL cycles]
 TOL_M = 1e-9        # ionosphere-free combinations [m]
+#: Bias magnitudes of the simulator (the schema's defaults).
+DEFAULTS = BiasSettings.from_config(with_defaults("simulate_biases", {}))
 
 
 def _biases(seed=1, drift=0.0, svs=GPS + BDS):
     return simulate_biases(svs, None, np.random.default_rng(seed), epoch=EPOCH,
-                           settings=BiasSettings(nl_drift_sigma_cyc_per_day=drift))
+                           settings=BiasSettings.from_config(with_defaults(
+                               "simulate_biases", {"nl_drift_sigma_cyc_per_day": drift})))
 
 
 def _observations(biases, system, times, rng):
@@ -252,7 +256,7 @@ def test_magnitudes_and_constellation_datum():
 @pytest.mark.shared
 def test_real_files_clock_reference_and_magnitudes(shared_data):
     # The design constraint (IF of the C1W/C2W satellite OSBs = 0) and the magnitudes of
-    # BiasSettings are those of real products.
+    # the simulator's default BiasSettings are those of real products.
     f1, f2 = frequency_hz("G", "1"), frequency_hz("G", "2")
     for name in ("products_2008-279_whu/WHU0IGSFIN_20082790000_01D_01D_ABS.BIA.Z",
                  "products_2023-189_cod_osb/COD0OPSFIN_20231890000_01D_01D_OSB.BIA"):
@@ -267,7 +271,7 @@ def test_real_files_clock_reference_and_magnitudes(shared_data):
         assert 2.5 < std_ns < 5.0   # BiasSettings: 4 ns (WHU 2008: 3.0, COD 2023: 4.8)
     dcb = read_code_dcb(shared_data / "products_2008-279_whu/P1C10810_RINEX.DCB.Z")
     gps = dcb["dcb_s"].sel(sv=[s for s in dcb.sv.values if s.startswith("G")])
-    assert float(gps.std()) * 1e9 == pytest.approx(BiasSettings().dcb_other_sigma_ns, rel=0.1)
+    assert float(gps.std()) * 1e9 == pytest.approx(DEFAULTS.dcb_other_sigma_ns, rel=0.1)
     assert abs(float(gps.mean())) < 1e-12
 
 
@@ -285,10 +289,12 @@ def test_truth_dataset_is_netcdf_ready(tmp_path):
 def test_signal_errors():
     rng = np.random.default_rng(0)
     with pytest.raises(ValueError, match="clock-reference codes C1W/C2W"):
-        simulate_biases(GPS, {"G": ("C1C", "C2W", "L1C", "L2W")}, rng, epoch=EPOCH)
+        simulate_biases(GPS, {"G": ("C1C", "C2W", "L1C", "L2W")}, rng, epoch=EPOCH,
+                        settings=DEFAULTS)
     with pytest.raises(ValueError, match="exactly one phase signal on band 1"):
-        simulate_biases(GPS, {"G": ("C1W", "C2W", "L1C", "L1W", "L2W")}, rng, epoch=EPOCH)
+        simulate_biases(GPS, {"G": ("C1W", "C2W", "L1C", "L1W", "L2W")}, rng, epoch=EPOCH,
+                        settings=DEFAULTS)
     with pytest.raises(ValueError, match="system R"):
-        simulate_biases(["R01"], None, rng, epoch=EPOCH)
+        simulate_biases(["R01"], None, rng, epoch=EPOCH, settings=DEFAULTS)
     with pytest.raises(ValueError, match="does not divide one day"):
         ar_products(_biases(), window_s=7000.0)

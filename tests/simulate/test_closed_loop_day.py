@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-import yaml
-from _simulated_day import DAY, PCO, SAT, SETTINGS, simulate_day, write_leo
+from _simulated_day import DAY, PCO, SAT, SECTION, SETTINGS, simulate_day, simulation, write_leo
+from snakemake.exceptions import WorkflowError
 
 from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
@@ -50,12 +50,14 @@ from leopod.numerics.interpolate import interpolate_table
 from leopod.signals import SystemSignals, frequency_hz
 from leopod.simulate.campaign import gnss_world, simulate_leo_day
 from leopod.simulate.code_bias_map import CodeBiasMap
-from leopod.simulate.observations import DEFAULT_NOISE_M, ObservationSettings
 from leopod.simulate.settings import SimulationSettings
 from leopod.simulate.slr import DEFAULT_STATIONS
 from leopod.time.calendar import seconds_since
+from leopod.workflow.config import load_campaign, section_defaults, with_defaults
 
 REPO_CONFIG = Path(__file__).resolve().parents[2] / "config/config.yaml"
+#: The HY-2B P1 map of the simulation (model parameters: the schema's defaults).
+HY2B_MAP = CodeBiasMap.from_config(SETTINGS.code_bias_maps[0])
 F1, F2 = frequency_hz("G", "1"), frequency_hz("G", "2")
 LAM1, LAM2 = C_LIGHT_M_S / F1, C_LIGHT_M_S / F2
 LAM_WL, LAM_NL = wide_lane_wavelength_m(F1, F2), narrow_lane_wavelength_m(F1, F2)
@@ -104,12 +106,12 @@ def test_mp_recovers_code_bias_map_and_noise(raw, truth_obs):
     # expected: the map (independent evaluation of the model of Peng et al. 2021), the antenna
     # offsets (rho_b = rho + sin(el) z_b: MP1 keeps B (rho2 - rho1)) and the wind-up (MP1 keeps
     # w (B lam2 - A lam1)); ionosphere, clocks, geometry cancel, ambiguities are per pass
-    expected = (CodeBiasMap("hy2b_p1", "C1W")(az, el) + MP_B * np.sin(np.radians(el)) * DZ_PCO_M
+    expected = (HY2B_MAP(az, el) + MP_B * np.sin(np.radians(el)) * DZ_PCO_M
                 + truth_obs.windup_cyc.values * (MP_B * LAM2 - MP_A * LAM1))
     expected = np.where(np.isfinite(mp), expected, np.nan)
     mp_dm, exp_dm = _per_pass_demeaned(mp, pid), _per_pass_demeaned(expected, pid)
     ok = np.isfinite(mp_dm)
-    settings = ObservationSettings()
+    settings = SETTINGS.observations
     sigma = np.sqrt(settings.sigma_m("C1W", el)**2
                     + (MP_A**2 + MP_B**2) * settings.sigma_m("L1C", el)**2)
     z = (mp_dm - exp_dm)[ok] / sigma[ok]
@@ -141,7 +143,7 @@ def test_hmw_minus_wide_lane_biases_is_the_true_integer(day, raw, truth_obs):
     # non-integer terms that are not biases, from the configured models: the C1W map
     # (-f1 m / ((f1 + f2) λ_WL)) and the L1/L2 antenna offsets (δ = rho2 - rho1 =
     # sin(el)(z2 - z1) gives -2 f1 f2 δ / ((f1² - f2²) λ_WL))
-    map_term = -F1 * CodeBiasMap("hy2b_p1", "C1W")(az, el) / ((F1 + F2) * LAM_WL)
+    map_term = -F1 * HY2B_MAP(az, el) / ((F1 + F2) * LAM_WL)
     pco_term = (-2.0 * F1 * F2 * np.sin(np.radians(el)) * DZ_PCO_M
                 / ((F1**2 - F2**2) * LAM_WL))
     corrected = hmw + wl[None, :] - w_rx - map_term - pco_term
@@ -382,8 +384,8 @@ def _pass_offsets(res, pass_id, keep):
 
 
 def _quiet(settings):
-    return replace(settings, observations=ObservationSettings(
-        noise_m={k: 0.0 for k in DEFAULT_NOISE_M}))
+    noise = {k: 0.0 for k in settings.observations.noise_m}
+    return replace(settings, observations=replace(settings.observations, noise_m=noise))
 
 
 def _quiet_day(day, folder, settings):
@@ -428,9 +430,9 @@ def test_closed_loop_with_gnss_antenna_offsets(day, tmp_path, shared_data):
 def test_beidou3_closed_loop_and_wide_lane(day, tmp_path):
     """GPS + BDS-3 (B1C/B2a, patchy map on C1P), no noise: the BDS-3 IF observations agree
     with the estimator's model, HMW minus the written WL biases is the true integer."""
-    settings = _quiet(replace(SETTINGS, systems={**SETTINGS.systems,
-                                                 "C": ("C1P", "C5P", "L1P", "L5P")},
-                              code_bias_maps=({"model": "bds3_patchy", "signal": "C1P"},)))
+    settings = _quiet(simulation({**SECTION, "systems": {"G": list(SETTINGS.systems["G"]),
+                                                         "C": ["C1P", "C5P", "L1P", "L5P"]},
+                                  "code_bias_maps": [{"model": "bds3_patchy", "signal": "C1P"}]}))
     other = simulate_day(tmp_path / "bds", settings, truth=day.truth)
     raw = read_rinex_obs(other.path("o.rnx"))
     assert raw.attrs["obs_types_C"] == "C1P C5P L1P L5P"
@@ -457,7 +459,7 @@ def test_closed_loop_residuals_are_the_noise_put_in(day, raw):
     r = _closed_loop(day.folder, raw)
     keep = r["valid"]
     assert keep.mean() > 0.99
-    s = ObservationSettings()
+    s = SETTINGS.observations
     g1, g2 = F1**2 / (F1**2 - F2**2), F2**2 / (F1**2 - F2**2)
     sig_phase = np.hypot(g1, g2) * s.sigma_m("L1C", r["el"])
     sig_code = np.hypot(g1 * s.sigma_m("C1W", r["el"]), g2 * s.sigma_m("C2W", r["el"]))
@@ -481,8 +483,8 @@ def test_geometry_free_contains_first_order_ionosphere(day, raw, truth_obs):
     dcb = ((sat_code.sel(code_signal="C2W") - sat_code.sel(code_signal="C1W")).values[None, :]
            + float(rx_code.sel(code_signal="C2W") - rx_code.sel(code_signal="C1W")))
     gf_code = (raw.C2W.values - raw.C1W.values - d_rho - dcb
-               + CodeBiasMap("hy2b_p1", "C1W")(az, el) - di)
-    s = ObservationSettings()
+               + HY2B_MAP(az, el) - di)
+    s = SETTINGS.observations
     z = gf_code / np.hypot(s.sigma_m("C1W", el), s.sigma_m("C2W", el))
     ok = np.isfinite(z)
     assert abs(z[ok].mean()) < 0.03 and 0.97 < z[ok].std() < 1.03
@@ -500,21 +502,22 @@ def test_geometry_free_contains_first_order_ionosphere(day, raw, truth_obs):
 
 # -------------------------------------------------------------------------- settings
 def test_settings_from_the_campaign_config():
-    cfg = yaml.safe_load(REPO_CONFIG.read_text())["simulate"]
-    s = SimulationSettings.from_config(cfg)
+    s = SimulationSettings.from_config(load_campaign(REPO_CONFIG)["simulate"])
     assert s.marker == "HY2B" and s.interval_s == 30.0
     assert s.systems == {"G": ("C1C", "C1W", "C2W", "L1C", "L2W")}
     assert s.dynamics.gravity_degree == 150 and s.models["field"] == "satkit:ITU_GRACE16.gfc"
     assert s.observations.channels == 12
-    # documented noise values = the defaults of the code (values of Peng et al. 2021 / sqrt(2))
+    # documented noise values = the schema's defaults (values of Peng et al. 2021 / sqrt(2))
+    defaults = section_defaults("simulate")
     for code, value in s.observations.noise_m.items():
-        assert value == pytest.approx(DEFAULT_NOISE_M[code], abs=5e-5)
+        assert value == pytest.approx(defaults["observations"]["noise_m"][code], abs=5e-5)
     # Peng et al. (2021) Table I: LRA centre (311.29, -215.43, 986.53) minus centre of mass
     # (1383.44, 6.85, 2.35) mm
     np.testing.assert_allclose(s.slr.retro_offset_body_m, [-1.07215, -0.22228, 0.98418],
                                atol=1e-9)
-    assert s.slr.retro_offset_body_m == SimulationSettings().slr.retro_offset_body_m
-    assert s.code_bias_maps == ({"model": "hy2b_p1", "signal": "C1W"},)
+    assert s.slr.retro_offset_body_m == tuple(defaults["slr"]["retro_offset_body_m"])
+    assert s.code_bias_maps == (with_defaults("simulate_code_bias_map",
+                                              {"model": "hy2b_p1", "signal": "C1W"}),)
 
 
 @pytest.mark.parametrize("cfg,named", [
@@ -524,16 +527,17 @@ def test_settings_from_the_campaign_config():
     ({"truth": {"gravity_deg": 12}}, "gravity_deg"),
     ({"truth": {"models": {"gravity": "x.gfc"}}}, "gravity"),
     ({"slr": {"retro": [0, 0, 1]}}, "retro"),
+    ({"code_bias_maps": [{"model": "hy2b_p1", "valley_depth": 1.0}]}, "valley_depth"),
 ])
 def test_settings_errors_name_the_key(cfg, named):
-    with pytest.raises(ValueError, match=named):
-        SimulationSettings.from_config(cfg)
+    with pytest.raises(WorkflowError, match=named):
+        with_defaults("simulate", cfg)
 
 
 def test_inconsistent_inputs_are_named(day, tmp_path):
     with pytest.raises(ValueError, match="not simulated.*C5P"):
-        write_leo(tmp_path, replace(SETTINGS, code_bias_maps=({"model": "hy2b_p1",
-                                                               "signal": "C5P"},)),
+        write_leo(tmp_path, simulation({**SECTION, "code_bias_maps": [{"model": "hy2b_p1",
+                                                                       "signal": "C5P"}]}),
                   day.truth, day.biases)
     with pytest.raises(ValueError, match="no LEO antenna offset.*L2"):
         simulate_leo_day(DAY, SAT, SETTINGS, DAY, DAY, day.truth, day.biases,

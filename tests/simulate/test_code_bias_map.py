@@ -9,15 +9,23 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from snakemake.exceptions import WorkflowError
 
 from leopod.simulate.code_bias_map import HY2B_P1_AREA_MEAN_M, CodeBiasMap
+from leopod.workflow.config import with_defaults
 
 ATOL_M = 1e-12
 
 
+def _map(model: str, signal: str = "C1W", **params) -> CodeBiasMap:
+    """A map of ``simulate.code_bias_maps``: the schema's default parameters with ``params``."""
+    return CodeBiasMap.from_config(with_defaults(
+        "simulate_code_bias_map", {"model": model, "signal": signal, **params}))
+
+
 @pytest.fixture(scope="module")
 def hy2b():
-    return CodeBiasMap("hy2b_p1", "C1W")
+    return _map("hy2b_p1", "C1W")
 
 
 def test_hy2b_valley_on_the_long_axis(hy2b):
@@ -104,7 +112,7 @@ def test_area_mean_against_midpoint_quadrature(hy2b):
 
 @pytest.mark.parametrize("name", ["hy2b_p1", "bds3_patchy"])
 def test_smooth_and_continuous(name):
-    m = CodeBiasMap(name)
+    m = _map(name)
     # azimuth wrap (analytic: same direction)
     el = np.linspace(0.0, 90.0, 19)
     np.testing.assert_allclose(m(0.0, el), m(360.0, el), atol=ATOL_M)
@@ -127,36 +135,49 @@ def test_below_horizon_and_broadcasting(hy2b):
 
 
 def test_none_model_is_zero():
-    m = CodeBiasMap("none", "C1W")
+    m = _map("none", "C1W")
     assert np.all(m(np.arange(0.0, 360.0, 10.0)[:, None], np.arange(0.0, 91.0, 10.0)) == 0.0)
     assert m.mean_m() == 0.0
 
 
 def test_bds3_patchy_amplitude_seed_and_low_elevation():
     # Jiang et al. (2023): "patchy patterns with the amplitudes mainly concentrated within ±40 cm"
-    blobs = CodeBiasMap("bds3_patchy", "C1P", low_elevation_m=0.0, seed=3)
+    blobs = _map("bds3_patchy", "C1P", low_elevation_m=0.0, seed=3)
     az, el = np.meshgrid(np.arange(0.0, 360.0, 0.25), np.arange(0.0, 90.01, 0.25))
     peak = np.max(np.abs(blobs(az, el)))
     assert 0.4 <= peak <= 0.42   # normalised to 0.4 m on a 1° grid, checked on a 0.25° grid
     # the same seed gives the same map, another seed another one
-    again = CodeBiasMap("bds3_patchy", "C1P", low_elevation_m=0.0, seed=3)
-    other = CodeBiasMap("bds3_patchy", "C1P", low_elevation_m=0.0, seed=4)
+    again = _map("bds3_patchy", "C1P", low_elevation_m=0.0, seed=3)
+    other = _map("bds3_patchy", "C1P", low_elevation_m=0.0, seed=4)
     assert np.array_equal(blobs(az, el), again(az, el))
     assert np.max(np.abs(blobs(az, el) - other(az, el))) > 0.1
     # Jiang et al. (2023): "at low elevation angles, the MPs of both frequencies predominantly fall
     # below 0 m": the default low-elevation term is -0.2 m at the horizon, 0 at the zenith
-    full = CodeBiasMap("bds3_patchy", "C1P", seed=3)
+    full = _map("bds3_patchy", "C1P", seed=3)
     assert full(az[0], 0.0) - blobs(az[0], 0.0) == pytest.approx(np.full(az.shape[1], -0.2))
     assert full(0.0, 90.0) - blobs(0.0, 90.0) == pytest.approx(-0.2 * np.exp(-9.0))
 
 
 def test_from_config_and_errors():
-    m = CodeBiasMap.from_config({"model": "hy2b_p1", "signal": "C1W", "valley_m": -0.5,
-                                 "crescent_az_deg": [100.0, 260.0]})
+    m = _map("hy2b_p1", "C1W", valley_m=-0.5, crescent_az_deg=[100.0, 260.0])
     assert m(90.0, 90.0) == pytest.approx(-0.5, abs=1e-5)   # the valley bottom at the zenith
     assert m.model.crescent_az_deg == (100.0, 260.0)
-    assert CodeBiasMap.from_config({}).name == "hy2b_p1"
+    # the schema's defaults: model hy2b_p1 on C1W with the parameters of Peng et al. (2021)
+    default = CodeBiasMap.from_config(with_defaults("simulate_code_bias_map", {}))
+    assert (default.name, default.signal) == ("hy2b_p1", "C1W")
+    assert default.model.valley_m == -0.3 and default.model.crescent_az_deg == (120.0, 240.0)
+    # the schema names a misspelt or foreign parameter
+    with pytest.raises(WorkflowError, match="valley_depth"):
+        _map("hy2b_p1", valley_depth=1.0)
+    with pytest.raises(WorkflowError, match="seed"):
+        _map("hy2b_p1", seed=1)
+    with pytest.raises(WorkflowError, match="gaussian"):
+        _map("gaussian")
+    # and the library an unknown model, a foreign or a missing parameter
     with pytest.raises(ValueError, match="unknown code-bias map model"):
-        CodeBiasMap("gaussian")
+        CodeBiasMap("gaussian", "C1W")
     with pytest.raises(ValueError, match="valley_depth"):
-        CodeBiasMap("hy2b_p1", valley_depth=1.0)
+        CodeBiasMap("hy2b_p1", "C1W", valley_depth=1.0)
+    with pytest.raises(ValueError, match="lacks the parameter.*plateau_m"):
+        CodeBiasMap("hy2b_p1", "C1W", **{k: v for k, v in with_defaults(
+            "simulate_map_hy2b_p1", {}).items() if k != "plateau_m"})

@@ -7,10 +7,10 @@ CODE's code.bia); the HMW combination (Peng et al. 2021, eq. 3) whose satellite 
 reads from the same file (:func:`leopod.ambiguity.wide_lane.sat_wl_bias_osb`).
 """
 
-from dataclasses import replace
-
 import numpy as np
 import pytest
+from _simulated_day import SECTION, simulation
+from snakemake.exceptions import WorkflowError
 
 from leopod.ambiguity.wide_lane import hmw_cycles, sat_wl_bias_osb
 from leopod.constants import C_LIGHT_M_S
@@ -24,8 +24,7 @@ from leopod.simulate.biases import truth_dataset
 from leopod.simulate.campaign import _campaign_biases, gnss_world, receiver_clock, simulate_truth
 from leopod.simulate.observations import simulate_observations
 from leopod.simulate.product_world import ProductSet
-from leopod.simulate.settings import DEFAULT_PCO_BODY_M, SimulationSettings
-from leopod.simulate.truth_forces import TruthDynamics
+from leopod.simulate.settings import DEFAULT_PCO_BODY_M
 
 pytestmark = pytest.mark.shared
 
@@ -43,18 +42,25 @@ def files(shared_data):
                       dcb_p1c1=str(d / "P1C10810_RINEX.DCB.Z"))
 
 
+def _section(files):
+    return {"orbit": list(files.orbit), "clock": files.clock[0], "osb": files.osb,
+            "dcb_p1c1": files.dcb_p1c1}
+
+
 @pytest.fixture(scope="module")
 def settings(files):
-    return replace(SimulationSettings(), gnss_products=files, code_bias_maps=(),
-                   dynamics=TruthDynamics(gravity_degree=30))
+    return simulation({**SECTION, "gnss_products": _section(files), "code_bias_maps": []})
 
 
 def test_config_block_builds_the_product_set(files):
-    cfg = {"gnss_products": {"orbit": list(files.orbit), "clock": files.clock[0],
-                             "osb": files.osb, "dcb_p1c1": files.dcb_p1c1}}
-    assert SimulationSettings.from_config(cfg).gnss_products == files
-    with pytest.raises(ValueError, match="unknown key"):
-        SimulationSettings.from_config({"gnss_products": {**cfg["gnss_products"], "x": 1}})
+    assert simulation({"gnss_products": _section(files)}).gnss_products == files
+    assert simulation({}).gnss_products is None
+    without_dcb = {k: v for k, v in _section(files).items() if k != "dcb_p1c1"}
+    assert simulation({"gnss_products": without_dcb}).gnss_products.dcb_p1c1 is None
+    with pytest.raises(WorkflowError, match="'x' was unexpected"):
+        simulation({"gnss_products": {**_section(files), "x": 1}})
+    with pytest.raises(WorkflowError, match="'osb' is a required property"):
+        simulation({"gnss_products": {"orbit": files.orbit[0], "clock": files.clock[0]}})
 
 
 def test_world_reproduces_the_sp3_orbits_and_clocks(settings, files):

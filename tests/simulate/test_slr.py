@@ -24,10 +24,19 @@ from leopod.simulate.slr import (
 from leopod.simulate.world import CircularOrbit, earth_fixed
 from leopod.validation.slr import SlrResidualSettings, slr_residuals
 from leopod.validation.slr_model import elevation_rad
-from leopod.workflow.config import section_defaults
+from leopod.workflow.config import section_defaults, with_defaults
 
 #: Default laser-ranging settings (the campaign schema's defaults).
 SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
+
+
+def _slr_settings(**changes) -> SlrSettings:
+    """The simulator's laser-ranging settings: the schema's defaults with ``changes``."""
+    return SlrSettings.from_config(with_defaults("simulate_slr", changes))
+
+
+#: The schema's defaults.
+DEFAULT = _slr_settings()
 
 T0 = np.datetime64("2021-03-01T00:00:00", "ns")
 THETA0_RAD = 1.1
@@ -57,13 +66,14 @@ def truth():
 
 @pytest.fixture(scope="module")
 def nps(truth):
-    return simulate_normal_points(truth, OFFSET_BODY_M, rng=np.random.default_rng(42))
+    return simulate_normal_points(truth, OFFSET_BODY_M, settings=DEFAULT,
+                                  rng=np.random.default_rng(42))
 
 
 @pytest.fixture(scope="module")
 def full(truth):
     """Every visible bin tracked (no weather, no dropouts)."""
-    settings = SlrSettings(clear_sky_probability=1.0, bin_fill_probability=1.0)
+    settings = _slr_settings(clear_sky_probability=1.0, bin_fill_probability=1.0)
     return simulate_normal_points(truth, OFFSET_BODY_M, settings=settings,
                                   rng=np.random.default_rng(7))
 
@@ -98,7 +108,7 @@ def _brute_force_range_m(t_s, sta):
 def test_points_above_cut_off(nps):
     # Definition of the cut-off; independent check with the analytic orbit at the transmit
     # epoch (light time moves the elevation by < 0.01°).
-    cut = SlrSettings().elevation_cut_off_deg
+    cut = DEFAULT.elevation_cut_off_deg
     assert nps.sizes["point"] > 100
     assert nps["elevation_deg"].min() >= cut
     sta = np.array([STATIONS[s].pos_itrf_m for s in nps["station"].values])
@@ -125,7 +135,7 @@ def test_points_in_bins_aligned_to_utc_midnight(nps, full):
 def test_weather_gaps(truth, full, nps):
     # Probabilities 0 / 1 are exact; the default network tracks a subset of the full set.
     none = simulate_normal_points(truth, OFFSET_BODY_M,
-                                  settings=SlrSettings(clear_sky_probability=0.0),
+                                  settings=_slr_settings(clear_sky_probability=0.0),
                                   rng=np.random.default_rng(1))
     assert none.sizes["point"] == 0
     assert full.sizes["point"] > nps.sizes["point"]
@@ -137,9 +147,11 @@ def test_weather_gaps(truth, full, nps):
 
 def test_determinism(truth, nps):
     # Same generator state -> identical output; another seed -> other points.
-    again = simulate_normal_points(truth, OFFSET_BODY_M, rng=np.random.default_rng(42))
+    again = simulate_normal_points(truth, OFFSET_BODY_M, settings=DEFAULT,
+                                   rng=np.random.default_rng(42))
     xr.testing.assert_identical(nps, again)
-    other = simulate_normal_points(truth, OFFSET_BODY_M, rng=np.random.default_rng(43))
+    other = simulate_normal_points(truth, OFFSET_BODY_M, settings=DEFAULT,
+                                   rng=np.random.default_rng(43))
     assert other.sizes["point"] != nps.sizes["point"] or not np.array_equal(
         other["tof_s"].values, nps["tof_s"].values)
 
@@ -172,8 +184,8 @@ def test_geometric_range_against_analytic_brute_force(nps):
 def test_noise_and_bias_recovered(truth):
     # Statistics: the sample STD of n points has a relative standard error 1/sqrt(2n) < 3 %;
     # tolerance 10 %. The bias of station 7090 is recovered from its mean residual (4 sigma).
-    settings = SlrSettings(clear_sky_probability=1.0, noise_m=0.005,
-                           range_bias_m={"7090": 0.05})
+    settings = _slr_settings(clear_sky_probability=1.0, noise_m=0.005,
+                             range_bias_m={"7090": 0.05})
     ds = simulate_normal_points(truth, np.zeros(3), settings=settings,
                                 rng=np.random.default_rng(3))
     res = 0.5 * C_LIGHT_M_S * ds["tof_s"].values - (

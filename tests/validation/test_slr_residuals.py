@@ -43,7 +43,7 @@ from leopod.validation.slr_statistics import (
     rtn_projection,
     station_statistics,
 )
-from leopod.workflow.config import section_defaults
+from leopod.workflow.config import section_defaults, with_defaults
 
 #: Default laser-ranging settings (the campaign schema's defaults).
 SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
@@ -80,7 +80,8 @@ def truth():
 
 
 def _files(tmp_path_factory, truth, noise_m, seed):
-    settings = SlrSettings(clear_sky_probability=1.0, noise_m=noise_m)
+    settings = SlrSettings.from_config(with_defaults(
+        "simulate_slr", {"clear_sky_probability": 1.0, "noise_m": noise_m}))
     sim = simulate_normal_points(truth, OFFSET_BODY_M, settings=settings,
                                  rng=np.random.default_rng(seed))
     d = tmp_path_factory.mktemp(f"slr{seed}")

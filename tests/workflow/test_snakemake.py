@@ -27,6 +27,7 @@ from leopod.io.sp3 import read_sp3
 from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.validation.compare import difference_rtn, rms_rtn
+from leopod.workflow.config import validated
 
 REPO = Path(__file__).resolve().parents[2]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
@@ -175,7 +176,8 @@ def test_one_simulated_day_end_to_end(tmp_path):
     est = node_vector(maps, "C1W", 0)
     az, el = grid.node_directions()
     ok = np.isfinite(est) & (grid.from_grid(maps["count"].sel(signal="C1W", mode=0).values) >= 100)
-    err = est[ok] - CodeBiasMap("hy2b_p1")(az[ok], el[ok])
+    (truth_map,) = validated(default_config())["simulate"]["code_bias_maps"]
+    err = est[ok] - CodeBiasMap.from_config(truth_map)(az[ok], el[ok])
     assert ok.sum() > 340 and np.sqrt(np.mean((err - err.mean()) ** 2)) < 0.05
     p1 = maps.sel(signal="C1W")
     assert float(p1.mp_rms_all_after_m) < 0.26 * float(p1.mp_rms_all_before_m)

@@ -167,8 +167,8 @@ def existing_locate_source(wildcards):
 
 def simulation_product_files(wildcards):
     """The real GNSS product set the simulator uses (simulate.gnss_products), if any."""
-    products = ProductSet.from_config(CONFIG.get("simulate", {}).get("gnss_products"))
-    return [] if products is None else products.files
+    products = CONFIG["simulate"]["gnss_products"]
+    return [] if products is None else ProductSet.from_config(products).files
 
 
 def ingest_inputs(wildcards):
@@ -347,10 +347,10 @@ def all_targets():
 
 
 def sat_simulation(wildcards):
-    """The simulate block with the satellite's own orbit keys (satellites.<sat>.simulate_orbit)."""
-    block = dict(CONFIG.get("simulate") or {})
-    block["orbit"] = {**block.get("orbit", {}), **sat_config(wildcards).get("simulate_orbit", {})}
-    return block
+    """The simulate section with the satellite's orbit keys (satellites.<sat>.simulate_orbit)."""
+    section = dict(CONFIG["simulate"])
+    section["orbit"] = {**section["orbit"], **sat_config(wildcards)["simulate_orbit"]}
+    return section
 
 
 def sat_name(wildcards):
@@ -418,11 +418,9 @@ def sat_reference_time_system(wildcards):
 def retro_offset(wildcards):
     """Retro-reflector offset from the centre of mass in the body frame [m]."""
     block = sat_config(wildcards)
-    if block.get("retro_offset_body_m") is not None:
+    if block["retro_offset_body_m"] is not None:
         return block["retro_offset_body_m"]
-    from leopod.simulate.settings import SimulationSettings
-
-    return list(SimulationSettings.from_config(CONFIG.get("simulate")).slr.retro_offset_body_m)
+    return list(CONFIG["simulate"]["slr"]["retro_offset_body_m"])
 
 
 # --- resources functions -------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """Simulated GNSS code and phase biases, and the ambiguity-resolution products made from them.
 
-Why one module of 561 lines: the simulated biases and the products made from them (OSB, WL
+Why one module of 557 lines: the simulated biases and the products made from them (OSB, WL
 records, integer-recovery clock) follow the one set of sign conventions stated below; a split
 would separate the conventions from half of the code they govern.
 
@@ -47,13 +47,14 @@ both frequencies, so ``w^s`` stays constant and the ionosphere-free phase bias d
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S, SECONDS_PER_DAY
+from leopod.settings import Settings
 from leopod.signals import frequency_hz
 
 __all__ = [
@@ -82,21 +83,22 @@ _NS_TO_M = 1e-9 * C_LIGHT_M_S
 
 
 @dataclass(frozen=True)
-class BiasSettings:
-    """Magnitudes of the simulated biases.
+class BiasSettings(Settings):
+    """Magnitudes of the simulated biases (``simulate.biases`` of the campaign schema, which
+    holds the defaults).
 
     Attributes
     ----------
     dcb_clock_pair_sigma_ns : dict
         Standard deviation of the satellite DCB between the two clock-reference codes per
-        system [ns]. GPS C1W−C2W: 4 ns (std over GPS of C1W−C2W: 4.8 ns in CODE's OSB file
-        COD0OPSFIN_20231890000_01D_01D_OSB.BIA, 3.0 ns in WHU0IGSFIN_20082790000_01D_01D_ABS);
-        BDS-3 C1P−C5P: 4 ns, from Galileo C1C−C5Q on the same frequencies (3.9 ns in the CODE
-        file; no BDS-3 file at hand).
+        system [ns]. Default GPS C1W−C2W: 4 ns (std over GPS of C1W−C2W: 4.8 ns in CODE's OSB
+        file COD0OPSFIN_20231890000_01D_01D_OSB.BIA, 3.0 ns in
+        WHU0IGSFIN_20082790000_01D_01D_ABS); BDS-3 C1P−C5P: 4 ns, from Galileo C1C−C5Q on the
+        same frequencies (3.9 ns in the CODE file; no BDS-3 file at hand).
     dcb_other_sigma_ns : float
         Standard deviation of the DCB between any other code and the clock-reference code of
-        its band [ns]: 1 ns (GPS P1−C1: 1.04 ns in CODE's P1C10810_RINEX.DCB, 1.02 ns in the
-        2023 OSB file).
+        its band [ns]. Default 1 ns (GPS P1−C1: 1.04 ns in CODE's P1C10810_RINEX.DCB, 1.02 ns
+        in the 2023 OSB file).
     rx_code_sigma_ns : float
         Standard deviation of each receiver code bias [ns].
     phase_half_range_cyc : float
@@ -106,16 +108,11 @@ class BiasSettings:
         [cycles/day] (0: constant).
     """
 
-    dcb_clock_pair_sigma_ns: dict = field(default_factory=lambda: {"G": 4.0, "C": 4.0})
-    dcb_other_sigma_ns: float = 1.0
-    rx_code_sigma_ns: float = 3.0
-    phase_half_range_cyc: float = 0.5
-    nl_drift_sigma_cyc_per_day: float = 0.0
-
-    @classmethod
-    def from_config(cls, config: dict) -> BiasSettings:
-        """Settings from a config mapping whose keys are attribute names."""
-        return cls(**config)
+    dcb_clock_pair_sigma_ns: dict
+    dcb_other_sigma_ns: float
+    rx_code_sigma_ns: float
+    phase_half_range_cyc: float
+    nl_drift_sigma_cyc_per_day: float
 
 
 @dataclass(frozen=True)
@@ -215,7 +212,7 @@ def _sat_code_biases(system: str, codes: list[str], n: int, rng: np.random.Gener
 
 
 def simulate_biases(svs, signals_by_system: dict | None, rng: np.random.Generator, *,
-                    epoch, settings: BiasSettings | None = None) -> SimulatedBiases:
+                    epoch, settings: BiasSettings) -> SimulatedBiases:
     """Draw the satellite and receiver code and phase biases of one day.
 
     Parameters
@@ -230,7 +227,7 @@ def simulate_biases(svs, signals_by_system: dict | None, rng: np.random.Generato
         Source of randomness (same generator state -> same biases).
     epoch : datetime64 or str
         Start of the day (GPS time): reference of the drift and of the products' windows.
-    settings : BiasSettings, optional
+    settings : BiasSettings
         Magnitudes.
 
     Returns
@@ -248,7 +245,6 @@ def simulate_biases(svs, signals_by_system: dict | None, rng: np.random.Generato
     ValueError
         If a system or a required signal is missing.
     """
-    settings = settings or BiasSettings()
     signals = DEFAULT_SIGNALS if signals_by_system is None else signals_by_system
     svs = sorted(str(s) for s in svs)
     systems = sorted({s[0] for s in svs})

@@ -208,7 +208,7 @@ def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, wor
         altitude_m=o.altitude_km * 1e3, ltan_h=o.ltan_h, inclination_deg=o.inclination_deg,
         u0_deg=o.u0_deg, dynamics=settings.dynamics, eop=eop,
         models={"gravity_field": models["field"], "space_weather": models["space_weather"],
-                "ocean_tides": models.get("ocean")})
+                "ocean_tides": models["ocean"]})
     truth.attrs["satellite"] = sat
     log.info("truth orbit of %s: %s to %s, %d epochs, %.1f s", sat, t_start, t_end,
              truth.sizes["time"], _time.perf_counter() - clock)

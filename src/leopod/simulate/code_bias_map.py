@@ -49,7 +49,9 @@ Elevations below 0° (below the antenna horizon) are evaluated at 0°.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -69,7 +71,8 @@ _FINE_GRID_DEG = 1.0  # grid on which the patchy map's blob sum is normalised [d
 
 @dataclass(frozen=True)
 class Hy2bP1:
-    """Parameters of the ``"hy2b_p1"`` model (defaults reproduce Peng et al. 2021, sec. II).
+    """Parameters of the ``"hy2b_p1"`` model (``$defs/simulate_map_hy2b_p1`` of the campaign
+    schema; its defaults reproduce Peng et al. 2021, sec. II).
 
     Attributes
     ----------
@@ -99,18 +102,18 @@ class Hy2bP1:
         e-folding elevation of the crescent [deg].
     """
 
-    plateau_m: float = 0.15
-    valley_m: float = -0.30
-    valley_half_width_deg: float = 5.0
-    ellipse_el_flight_deg: float = 60.0
-    ellipse_el_cross_deg: float = 40.0
-    edge_width: float = 0.15
-    outer_min_m: float = 0.5
-    outer_max_m: float = 1.0
-    crescent_m: float = 2.0
-    crescent_az_deg: tuple[float, float] = (120.0, 240.0)
-    crescent_edge_deg: float = 8.0
-    crescent_scale_el_deg: float = 12.0
+    plateau_m: float
+    valley_m: float
+    valley_half_width_deg: float
+    ellipse_el_flight_deg: float
+    ellipse_el_cross_deg: float
+    edge_width: float
+    outer_min_m: float
+    outer_max_m: float
+    crescent_m: float
+    crescent_az_deg: tuple[float, float]
+    crescent_edge_deg: float
+    crescent_scale_el_deg: float
 
     def __call__(self, az_deg: np.ndarray, el_deg: np.ndarray) -> np.ndarray:
         r = (90.0 - el_deg) / 90.0
@@ -140,7 +143,7 @@ class Hy2bP1:
 @dataclass(frozen=True)
 class Bds3Patchy:
     """Parameters of the ``"bds3_patchy"`` model (Jiang et al. 2023, sec. "Code multipath
-    analysis").
+    analysis"; ``$defs/simulate_map_bds3_patchy`` of the campaign schema holds the defaults).
 
     Attributes
     ----------
@@ -158,12 +161,12 @@ class Bds3Patchy:
         Seed of the random blobs.
     """
 
-    amplitude_m: float = 0.4
-    n_blobs: int = 15
-    width_deg: tuple[float, float] = (8.0, 20.0)
-    low_elevation_m: float = -0.2
-    low_elevation_scale_deg: float = 10.0
-    seed: int = 0
+    amplitude_m: float
+    n_blobs: int
+    width_deg: tuple[float, float]
+    low_elevation_m: float
+    low_elevation_scale_deg: float
+    seed: int
     _blobs: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -217,16 +220,17 @@ class CodeBiasMap:
     signal : str
         RINEX 3 code the map is added to (HY-2B P1: ``"C1W"``; BDS-3: ``"C1P"``/``"C5P"``).
     **params
-        Model parameters overriding the defaults (fields of :class:`Hy2bP1` or
-        :class:`Bds3Patchy`; tuples may be given as lists).
+        Every parameter of the model (fields of :class:`Hy2bP1` or :class:`Bds3Patchy`; tuples
+        may be given as lists). The campaign schema holds their defaults: build a map from a
+        validated ``simulate.code_bias_maps`` item with :meth:`from_config`.
 
     Raises
     ------
     ValueError
-        If the model is unknown or a parameter does not belong to it.
+        If the model is unknown, or a parameter does not belong to it or is missing.
     """
 
-    def __init__(self, name: str = "hy2b_p1", signal: str = "C1W", **params):
+    def __init__(self, name: str, signal: str, **params):
         if name not in _MODEL_CLASSES:
             raise ValueError(f"unknown code-bias map model '{name}' (known: {', '.join(MODELS)})")
         cls = _MODEL_CLASSES[name]
@@ -235,20 +239,28 @@ class CodeBiasMap:
         if unknown:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)} of code-bias map model "
                              f"'{name}' (known: {sorted(known)})")
+        missing = known - set(params)
+        if missing:
+            raise ValueError(f"code-bias map model '{name}' lacks the parameter(s) "
+                             f"{sorted(missing)} (validate the map against the campaign "
+                             "schema, which holds their defaults)")
         params = {k: tuple(v) if isinstance(v, list) else v for k, v in params.items()}
         self.name = name
         self.signal = signal
         self.model = cls(**params)
 
     @classmethod
-    def from_config(cls, config: dict) -> CodeBiasMap:
-        """Build a map from a config mapping ``{"model": ..., "signal": ..., <params>}``.
+    def from_config(cls, config: Mapping[str, Any]) -> CodeBiasMap:
+        """A map from a validated item of ``simulate.code_bias_maps``
+        (``{"model": ..., "signal": ..., <every parameter of the model>}``).
 
-        ``model`` defaults to ``"hy2b_p1"`` and ``signal`` to ``"C1W"``; every other key is a
-        model parameter.
+        Raises
+        ------
+        KeyError
+            If ``model`` or ``signal`` is missing (the item was not validated).
         """
         cfg = dict(config)
-        return cls(cfg.pop("model", "hy2b_p1"), cfg.pop("signal", "C1W"), **cfg)
+        return cls(cfg.pop("model"), cfg.pop("signal"), **cfg)
 
     def __repr__(self) -> str:
         return f"CodeBiasMap(name={self.name!r}, signal={self.signal!r}, model={self.model!r})"

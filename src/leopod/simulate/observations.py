@@ -1,6 +1,6 @@
 """Onboard GNSS code and phase of a simulated LEO, with their truth (closed-loop simulator).
 
-Why one module of 522 lines: one public function, simulate_observations, with its two input
+Why one module of 513 lines: one public function, simulate_observations, with its two input
 types (ObservationSettings, GnssWorld) and the private geometry only it uses (light time,
 antenna angles, patterns); a split would only export private helpers.
 
@@ -47,16 +47,17 @@ random short gaps; cycle slips (integer jumps of the phases, LLI set with probab
 ``lli_detected``); a new pass with new random integer ambiguities at each acquisition (LLI
 set); white noise with the elevation-dependent standard deviation ``σ(e) = σ_30 (1 + k exp(−e/10°)) / (1 + k exp(−3))``.
 
-The default code noise levels ``σ_30`` are the typical 2-min STDs of epoch-differenced
-code minus carrier of Peng et al. (2021) (C1 0.46, P1 0.09, P2 0.02 m, sec. II-B) divided by
-√2 (the epoch difference doubles the variance); BDS-3 B1C/B2a (0.20 and 0.15 m before the √2)
-are assumed values (Jiang et al. 2023 gives no numbers); phases 1.5 mm.
+The default code noise levels ``σ_30`` (``simulate.observations.noise_m`` in the campaign
+schema) are the typical 2-min STDs of epoch-differenced code minus carrier of Peng et al.
+(2021) (C1 0.46, P1 0.09, P2 0.02 m, sec. II-B) divided by √2 (the epoch difference doubles the
+variance); BDS-3 B1C/B2a (0.20 and 0.15 m before the √2) are assumed values (Jiang et al. 2023
+gives no numbers); phases 1.5 mm.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -74,13 +75,14 @@ from leopod.gnss.corrections import (
     windup_cycles,
 )
 from leopod.numerics.interpolate import interpolate_table
+from leopod.settings import Settings
 from leopod.simulate.biases import SimulatedBiases
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.tracking import passes, track
 from leopod.simulate.world import CircularOrbit, KeplerOrbit, RandomWalkClock
 from leopod.time.calendar import seconds_since
 
-__all__ = ["DEFAULT_NOISE_M", "GnssWorld", "ObservationSettings", "simulate_observations"]
+__all__ = ["GnssWorld", "ObservationSettings", "simulate_observations"]
 
 #: First-order ionospheric delay factor: ``I = 40.3 STEC / f²`` with STEC in electrons/m²,
 #: i.e. 40.3e16 m Hz² per TECU (Hofmann-Wellenhof et al., GNSS, 2008, eq. 5.75).
@@ -90,24 +92,17 @@ _LIGHT_TIME_ITERATIONS = 4
 #: Reference elevation of the noise levels and e-folding elevation of their growth [deg].
 _NOISE_REF_EL_DEG, _NOISE_SCALE_EL_DEG = 30.0, 10.0
 
-_SQRT2 = np.sqrt(2.0)
-#: Default white-noise STD per RINEX 3 code at 30° elevation [m] (module docstring).
-DEFAULT_NOISE_M = {
-    "C1C": 0.46 / _SQRT2, "C1W": 0.09 / _SQRT2, "C2W": 0.02 / _SQRT2,
-    "L1C": 0.0015, "L2W": 0.0015,
-    "C1P": 0.20 / _SQRT2, "C5P": 0.15 / _SQRT2, "L1P": 0.0015, "L5P": 0.0015,
-}
-
 
 @dataclass(frozen=True)
-class ObservationSettings:
-    """Receiver, signal-noise and tracking settings of the simulated observations.
+class ObservationSettings(Settings):
+    """Receiver, signal-noise and tracking settings of the simulated observations
+    (``simulate.observations`` of the campaign schema, which holds the defaults).
 
     Attributes
     ----------
     noise_m : dict
-        White-noise STD at 30° antenna elevation per RINEX 3 code [m] (merged over
-        :data:`DEFAULT_NOISE_M`).
+        White-noise STD at 30° antenna elevation per RINEX 3 code [m] (defaults: module
+        docstring).
     low_elevation_factor : float
         ``k`` of the elevation dependence (module docstring) [1].
     channels : int
@@ -132,22 +127,18 @@ class ObservationSettings:
         Ambiguities at acquisition are uniform in ±this [cycles].
     """
 
-    noise_m: dict = field(default_factory=dict)
-    low_elevation_factor: float = 3.0
-    channels: int = 12
-    elevation_mask_deg: float = 0.0
-    vtec_tecu: tuple[float, float] = (2.0, 8.0)
-    shell_height_m: float = 400e3
-    slip_rate_per_h: float = 0.05
-    slip_max_cyc: int = 50
-    lli_detected: float = 0.8
-    gap_rate_per_h: float = 0.05
-    gap_max_epochs: int = 5
-    ambiguity_max_cyc: int = 500
-
-    def __post_init__(self):
-        object.__setattr__(self, "noise_m", {**DEFAULT_NOISE_M, **dict(self.noise_m)})
-        object.__setattr__(self, "vtec_tecu", tuple(self.vtec_tecu))
+    noise_m: dict
+    low_elevation_factor: float
+    channels: int
+    elevation_mask_deg: float
+    vtec_tecu: tuple[float, float]
+    shell_height_m: float
+    slip_rate_per_h: float
+    slip_max_cyc: int
+    lli_detected: float
+    gap_rate_per_h: float
+    gap_max_epochs: int
+    ambiguity_max_cyc: int
 
     def sigma_m(self, code: str, el_deg: np.ndarray) -> np.ndarray:
         """Noise STD [m] of ``code`` at antenna elevations ``el_deg`` [deg]."""

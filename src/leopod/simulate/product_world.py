@@ -39,6 +39,7 @@ from leopod.io.clock import read_rinex_clock
 from leopod.io.dcb import read_code_dcb
 from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
+from leopod.settings import Settings
 from leopod.signals import frequency_hz
 from leopod.simulate.biases import SimulatedBiases
 from leopod.simulate.observations import GnssWorld
@@ -50,15 +51,16 @@ log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class ProductSet:
-    """Files of a real GNSS product set (``simulate.gnss_products``).
+class ProductSet(Settings):
+    """Files of a real GNSS product set (``simulate.gnss_products`` of the campaign schema).
 
     Attributes
     ----------
     orbit : tuple of str
-        SP3 files covering the campaign (and the arcs' margins), in time order.
+        SP3 files covering the campaign (and the arcs' margins), in time order (one path may
+        be given as a string).
     clock : tuple of str
-        RINEX clock files of the campaign days.
+        RINEX clock files of the campaign days (one path may be given as a string).
     osb : str
         Bias-SINEX file with the satellite code and phase OSBs.
     dcb_p1c1 : str or None
@@ -68,24 +70,12 @@ class ProductSet:
     orbit: tuple[str, ...]
     clock: tuple[str, ...]
     osb: str
-    dcb_p1c1: str | None = None
+    dcb_p1c1: str | None
 
-    @classmethod
-    def from_config(cls, value) -> ProductSet | None:
-        """From the ``simulate.gnss_products`` mapping (None stays None)."""
-        if value is None:
-            return None
-        value = dict(value)
-        unknown = sorted(set(value) - {"orbit", "clock", "osb", "dcb_p1c1"})
-        if unknown:
-            raise ValueError(f"'gnss_products': unknown key(s) {unknown}")
-
-        def paths(v):
-            return (str(v),) if isinstance(v, str) else tuple(str(p) for p in v)
-
-        return cls(orbit=paths(value["orbit"]), clock=paths(value["clock"]),
-                   osb=str(value["osb"]),
-                   dcb_p1c1=None if value.get("dcb_p1c1") is None else str(value["dcb_p1c1"]))
+    def __post_init__(self):
+        for name in ("orbit", "clock"):
+            value = getattr(self, name)
+            object.__setattr__(self, name, (value,) if isinstance(value, str) else tuple(value))
 
     @property
     def files(self) -> list[str]:

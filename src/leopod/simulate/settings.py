@@ -1,19 +1,24 @@
-"""Settings of a simulated campaign: the ``simulate`` block of a campaign configuration.
+"""Settings of a simulated campaign: the ``simulate`` section of a campaign configuration.
 
-:class:`SimulationSettings` gathers everything that defines a simulated campaign (defaults: an
-HY-2B-like satellite, the values documented in ``config/config.yaml``) and hands out the
-random streams: every stream comes from ``numpy.random.SeedSequence([seed, crc32(label)])``
+:class:`SimulationSettings` gathers everything that defines a simulated campaign and hands out
+the random streams: every stream comes from ``numpy.random.SeedSequence([seed, crc32(label)])``
 with a label naming its use, so that a file depends only on the master seed and its own label.
+The keys, their checks and their defaults (an HY-2B-like satellite) are those of
+``$defs/simulate`` of the campaign schema (``workflow/schemas/config.schema.yaml``); every
+``from_config`` here takes a validated section (:mod:`leopod.settings`), and a settings class
+with nested sections hands each to the ``from_config`` of its own class.
 """
 
 from __future__ import annotations
 
 import zlib
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, fields
+from typing import Any, Self
 
 import numpy as np
 
+from leopod.settings import Settings, frozen_value
 from leopod.simulate.biases import BiasSettings
 from leopod.simulate.observations import ObservationSettings
 from leopod.simulate.product_world import ProductSet
@@ -32,10 +37,18 @@ DEFAULT_PCO_BODY_M = {"L1": (0.0, 0.0, -0.35), "L2": (0.0, 0.0, -0.37),
                       "B1C": (0.0, 0.0, -0.35), "B2a": (0.0, 0.0, -0.37)}
 
 
+def _subsection(section: Mapping[str, Any], key: str, owner: str) -> Mapping[str, Any]:
+    """``section[key]``, or a KeyError that points at the schema."""
+    if key not in section:
+        raise KeyError(f"{owner}: the configuration section has no {key} (validate it "
+                       "against the campaign schema, which holds the defaults)")
+    return section[key]
+
+
 @dataclass(frozen=True)
-class OrbitSettings:
-    """Initial orbit of the truth (see :func:`leopod.simulate.truth_orbit.
-    initial_state_sun_synchronous`).
+class OrbitSettings(Settings):
+    """Initial orbit of the truth (``simulate.orbit``; see
+    :func:`leopod.simulate.truth_orbit.initial_state_sun_synchronous`).
 
     Attributes
     ----------
@@ -44,7 +57,7 @@ class OrbitSettings:
     ltan_h : float
         Local time of the ascending node [h] (HY-2B: 18, dawn-dusk).
     inclination_deg : float or None
-        Inclination [deg]; None: sun-synchronous (99.34° at 971 km).
+        Inclination [deg]; None: sun-synchronous, computed for the altitude (99.34° at 971 km).
     u0_deg : float
         Argument of latitude at the start of the truth [deg].
     step_s : float
@@ -53,17 +66,18 @@ class OrbitSettings:
         Truth before 00:00 of the first day and after 24:00 of the last [s].
     """
 
-    altitude_km: float = 971.0
-    ltan_h: float = 18.0
-    inclination_deg: float | None = None
-    u0_deg: float = 0.0
-    step_s: float = 10.0
-    margin_s: float = 300.0
+    altitude_km: float
+    ltan_h: float
+    inclination_deg: float | None
+    u0_deg: float
+    step_s: float
+    margin_s: float
 
 
 @dataclass(frozen=True)
-class ClockSettings:
-    """Receiver and GNSS clocks (:class:`leopod.simulate.world.RandomWalkClock`).
+class ClockSettings(Settings):
+    """Receiver and GNSS clocks (``simulate.clocks``;
+    :class:`leopod.simulate.world.RandomWalkClock`).
 
     Attributes
     ----------
@@ -76,17 +90,17 @@ class ClockSettings:
         GNSS clock random-walk intensity [s/√s] (1e-12: 5 ps per 30 s, 0.3 ns per day).
     """
 
-    rx_bias_s: float = 1.5e-6
-    rx_drift_s_s: float = 2e-11
-    rx_walk_s_sqrt_s: float = 1e-10
-    gnss_bias_max_s: float = 5e-4
-    gnss_drift_max_s_s: float = 1e-11
-    gnss_walk_s_sqrt_s: float = 1e-12
+    rx_bias_s: float
+    rx_drift_s_s: float
+    rx_walk_s_sqrt_s: float
+    gnss_bias_max_s: float
+    gnss_drift_max_s_s: float
+    gnss_walk_s_sqrt_s: float
 
 
 @dataclass(frozen=True)
-class ProductSettings:
-    """GNSS product files.
+class ProductSettings(Settings):
+    """GNSS product files (``simulate.products``).
 
     Attributes
     ----------
@@ -99,32 +113,42 @@ class ProductSettings:
         Agency / analysis-centre code (3 characters).
     """
 
-    orbit_interval_s: float = 900.0
-    clock_interval_s: float = 30.0
-    agency: str = "SIM"
+    orbit_interval_s: float
+    clock_interval_s: float
+    agency: str
 
 
 @dataclass(frozen=True)
-class SlrSimulation:
-    """Laser ranging of the simulated LEO.
+class SlrSimulation(Settings):
+    """Laser ranging of the simulated LEO (``simulate.slr``).
 
     Attributes
     ----------
     retro_offset_body_m : tuple of float
-        Retro-reflector offset from the centre of mass in the body frame [m]: HY-2B's LRA
-        spherical centre minus its centre of mass in Peng et al. (2021) Table I (311.29, -215.43,
-        986.53) - (1383.44, 6.85, 2.35) mm, taking the mechanical frame as the body frame
-        (X flight, Z nadir: the LRA is on the Earth-facing side, the GPS antenna on the
-        zenith side).
+        Retro-reflector offset from the centre of mass in the body frame [m] (the schema's
+        default: HY-2B's LRA spherical centre minus its centre of mass in Peng et al. (2021)
+        Table I (311.29, -215.43, 986.53) - (1383.44, 6.85, 2.35) mm, taking the mechanical
+        frame as the body frame: X flight, Z nadir, the LRA on the Earth-facing side, the GPS
+        antenna on the zenith side).
     stations : tuple of str or None
         CDP pad ids of the network (None: every station of
         :data:`leopod.simulate.slr.DEFAULT_STATIONS`).
     settings : SlrSettings
+        The other keys of the section.
     """
 
-    retro_offset_body_m: tuple[float, float, float] = (-1.07215, -0.22228, 0.98418)
-    stations: tuple[str, ...] | None = None
-    settings: SlrSettings = field(default_factory=SlrSettings)
+    retro_offset_body_m: tuple[float, float, float]
+    stations: tuple[str, ...] | None
+    settings: SlrSettings
+
+    @classmethod
+    def from_config(cls, section: Mapping[str, Any]) -> Self:
+        """From the validated ``simulate.slr`` section (its keys other than
+        ``retro_offset_body_m`` and ``stations`` are those of :class:`SlrSettings`)."""
+        return cls(retro_offset_body_m=frozen_value(
+                       _subsection(section, "retro_offset_body_m", cls.__name__)),
+                   stations=frozen_value(_subsection(section, "stations", cls.__name__)),
+                   settings=SlrSettings.from_config(section))
 
     @property
     def station_list(self):
@@ -139,14 +163,9 @@ class SlrSimulation:
         return tuple(known[p] for p in self.stations)
 
 
-def _default_models() -> dict:
-    return {"field": "satkit:ITU_GRACE16.gfc", "space_weather": "satkit:SW-All.csv",
-            "ocean": None}
-
-
 @dataclass(frozen=True)
-class SimulationSettings:
-    """Everything that defines a simulated campaign (defaults: an HY-2B-like satellite).
+class SimulationSettings(Settings):
+    """Everything that defines a simulated campaign (the ``simulate`` section).
 
     Attributes
     ----------
@@ -160,10 +179,12 @@ class SimulationSettings:
         System -> RINEX 3 codes simulated (GPS C1C/C1W/C2W/L1C/L2W; BDS-3 C1P/C5P/L1P/L5P).
     orbit : OrbitSettings
     dynamics : TruthDynamics
-        Truth force model (gravity degree, drag and stochastic accelerations).
+        Truth force model (gravity degree, drag and stochastic accelerations): the keys of
+        ``simulate.truth`` other than ``models``.
     models : dict
-        Truth model files: ``field`` (gravity, ICGEM), ``space_weather`` (CelesTrak CSV),
-        ``ocean`` (FES2004 or None); ``satkit:<file>`` names a satkit-data file.
+        Truth model files (``simulate.truth.models``): ``field`` (gravity, ICGEM),
+        ``space_weather`` (CelesTrak CSV), ``ocean`` (FES2004 or None); ``satkit:<file>``
+        names a satkit-data file.
     clocks : ClockSettings
     products : ProductSettings
     observations : ObservationSettings
@@ -184,38 +205,56 @@ class SimulationSettings:
         Satellite id of the LEO in the truth SP3 files.
     """
 
-    seed: int = 2018
-    marker: str = "SIML"
-    interval_s: float = 30.0
-    systems: dict = field(default_factory=lambda: {"G": ("C1C", "C1W", "C2W", "L1C", "L2W")})
-    orbit: OrbitSettings = field(default_factory=OrbitSettings)
-    dynamics: TruthDynamics = field(default_factory=TruthDynamics)
-    models: dict = field(default_factory=_default_models)
-    clocks: ClockSettings = field(default_factory=ClockSettings)
-    products: ProductSettings = field(default_factory=ProductSettings)
-    observations: ObservationSettings = field(default_factory=ObservationSettings)
-    biases: BiasSettings = field(default_factory=BiasSettings)
-    code_bias_maps: tuple = ({"model": "hy2b_p1", "signal": "C1W"},)
-    gnss_antex: str | None = None
-    gnss_products: ProductSet | None = None
-    gnss_eccentricity_max: float = 0.015
-    slr: SlrSimulation = field(default_factory=SlrSimulation)
-    leo_sp3_id: str = "L01"
+    seed: int
+    marker: str
+    interval_s: float
+    systems: dict
+    orbit: OrbitSettings
+    dynamics: TruthDynamics
+    models: dict
+    clocks: ClockSettings
+    products: ProductSettings
+    observations: ObservationSettings
+    biases: BiasSettings
+    code_bias_maps: tuple
+    gnss_antex: str | None
+    gnss_products: ProductSet | None
+    gnss_eccentricity_max: float
+    slr: SlrSimulation
+    leo_sp3_id: str
 
     @classmethod
-    def from_config(cls, cfg: Mapping | None) -> SimulationSettings:
-        """Build from the ``simulate`` block of a campaign config (``config/config.yaml``
-        documents every key); unknown keys raise a ``ValueError`` that names them."""
-        cfg = dict(cfg or {})
-        try:
-            kwargs = {}
-            for key, value in cfg.items():
-                if key not in _PARSERS:
-                    raise ValueError(f"unknown key '{key}' (known: {', '.join(_PARSERS)})")
-                kwargs.update(_PARSERS[key](value))
-            return cls(**kwargs)
-        except (TypeError, ValueError) as err:
-            raise ValueError(f"config 'simulate': {err}") from None
+    def from_config(cls, section: Mapping[str, Any]) -> Self:
+        """From the validated ``simulate`` section (:func:`leopod.workflow.config.validated`,
+        or :func:`leopod.workflow.config.with_defaults` for a partial one); each nested section
+        goes to the ``from_config`` of its class.
+
+        Raises
+        ------
+        KeyError
+            When a key is missing: the section was not validated against the schema.
+        """
+        def sub(key):
+            return _subsection(section, key, cls.__name__)
+
+        truth = sub("truth")
+        products = sub("gnss_products")
+        nested = {
+            "systems": {str(k): tuple(v) for k, v in sub("systems").items()},
+            "orbit": OrbitSettings.from_config(sub("orbit")),
+            "dynamics": TruthDynamics(**{f.name: frozen_value(_subsection(truth, f.name, "truth"))
+                                         for f in fields(TruthDynamics)}),
+            "models": dict(_subsection(truth, "models", "truth")),
+            "clocks": ClockSettings.from_config(sub("clocks")),
+            "products": ProductSettings.from_config(sub("products")),
+            "observations": ObservationSettings.from_config(sub("observations")),
+            "biases": BiasSettings.from_config(sub("biases")),
+            "code_bias_maps": tuple(dict(m) for m in sub("code_bias_maps")),
+            "gnss_products": None if products is None else ProductSet.from_config(products),
+            "slr": SlrSimulation.from_config(sub("slr")),
+        }
+        flat = {f.name: frozen_value(sub(f.name)) for f in fields(cls) if f.name not in nested}
+        return cls(**flat, **nested)
 
     def signal_codes(self) -> dict[str, tuple[str, ...]]:
         """System -> simulated RINEX 3 codes."""
@@ -232,56 +271,3 @@ class SimulationSettings:
     def int_seed(self, label: str) -> int:
         """An integer seed drawn from the stream ``label`` (for seeded helpers)."""
         return int(self.seed_sequence(label).generate_state(1)[0])
-
-
-def _checked(cls, value: Mapping | None, name: str):
-    value = dict(value or {})
-    known = {f.name for f in fields(cls)}
-    unknown = sorted(set(value) - known)
-    if unknown:
-        raise ValueError(f"'{name}': unknown key(s) {unknown} (known: {sorted(known)})")
-    return cls(**value)
-
-
-def _parse_truth(value: Mapping) -> dict:
-    value = dict(value or {})
-    models = dict(value.pop("models", {}) or {})
-    unknown = sorted(set(models) - set(_default_models()))
-    if unknown:
-        raise ValueError(f"'truth.models': unknown key(s) {unknown} (known: "
-                         f"{sorted(_default_models())})")
-    models = {**_default_models(), **models}
-    if "stochastic_sigma_rtn_m_s2" in value:
-        value["stochastic_sigma_rtn_m_s2"] = tuple(value["stochastic_sigma_rtn_m_s2"])
-    return {"dynamics": _checked(TruthDynamics, value, "truth"), "models": models}
-
-
-def _parse_slr(value: Mapping) -> dict:
-    value = dict(value or {})
-    own = {k: value.pop(k) for k in ("retro_offset_body_m", "stations") if k in value}
-    if "retro_offset_body_m" in own:
-        own["retro_offset_body_m"] = tuple(float(v) for v in own["retro_offset_body_m"])
-    if own.get("stations") is not None:
-        own["stations"] = tuple(str(p) for p in own["stations"])
-    return {"slr": SlrSimulation(**own, settings=_checked(SlrSettings, value, "slr"))}
-
-
-_PARSERS = {
-    "seed": lambda v: {"seed": int(v)},
-    "marker": lambda v: {"marker": str(v)},
-    "interval_s": lambda v: {"interval_s": float(v)},
-    "systems": lambda v: {"systems": {str(k): tuple(c) for k, c in dict(v).items()}},
-    "orbit": lambda v: {"orbit": _checked(OrbitSettings, v, "orbit")},
-    "truth": _parse_truth,
-    "clocks": lambda v: {"clocks": _checked(ClockSettings, v, "clocks")},
-    "products": lambda v: {"products": _checked(ProductSettings, v, "products")},
-    "observations": lambda v: {"observations": _checked(ObservationSettings, v,
-                                                        "observations")},
-    "biases": lambda v: {"biases": _checked(BiasSettings, v, "biases")},
-    "code_bias_maps": lambda v: {"code_bias_maps": tuple(dict(m) for m in (v or ()))},
-    "gnss_antex": lambda v: {"gnss_antex": None if v is None else str(v)},
-    "gnss_products": lambda v: {"gnss_products": ProductSet.from_config(v)},
-    "gnss_eccentricity_max": lambda v: {"gnss_eccentricity_max": float(v)},
-    "slr": _parse_slr,
-    "leo_sp3_id": lambda v: {"leo_sp3_id": str(v)},
-}

@@ -31,7 +31,7 @@ from __future__ import annotations
 import datetime as _dt
 import logging
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import erfa
@@ -41,6 +41,7 @@ import xarray as xr
 from leopod.constants import C_LIGHT_M_S, WGS84_A_M, WGS84_INV_F
 from leopod.io.crd_write import write_crd
 from leopod.io.sinex_write import write_sinex_eccentricities, write_sinex_stations
+from leopod.settings import Settings
 from leopod.time.eop import EarthOrientation
 from leopod.time.scales import gps_to_utc, utc_to_gps
 from leopod.validation.slr_model import OrbitReflector, elevation_rad, slr_range
@@ -111,7 +112,7 @@ class SlrStation:
 #: trackers of Peng et al. (2021) Table IV (Yarragadee, Changchun, Greenbelt, Graz). They give ~600
 #: normal points a day (~1400 if every visible bin were tracked); the real HY-2B tracking is
 #: sparser (Peng et al. 2021, Table IV: ~10 600 NPs from 10 stations over several months, i.e. tens
-#: per day): ``SlrSettings(clear_sky_probability=0.05)`` comes closer to it.
+#: per day): ``simulate.slr.clear_sky_probability: 0.05`` comes closer to it.
 DEFAULT_STATIONS: tuple[SlrStation, ...] = (
     SlrStation("7090", "YARL", "Yarragadee", "50107M001",
                (-2389008.0, 5043330.0, -3078524.0), 0.7, (-1.2073, 2.5034, -1.5509)),
@@ -140,8 +141,9 @@ DEFAULT_STATIONS: tuple[SlrStation, ...] = (
 
 
 @dataclass(frozen=True)
-class SlrSettings:
-    """Settings of the simulated laser ranging.
+class SlrSettings(Settings):
+    """Settings of the simulated laser ranging (keys of ``simulate.slr`` in the campaign
+    schema, which holds the defaults).
 
     Attributes
     ----------
@@ -154,7 +156,7 @@ class SlrSettings:
     noise_m : float
         White noise of a normal point on the one-way range [m].
     range_bias_m : Mapping[str, float]
-        One-way range bias per CDP pad id [m] (default none).
+        One-way range bias per CDP pad id [m] (stations not named: none).
     clear_sky_probability : float, optional
         Tracking probability of every pass; None uses each station's own value.
     bin_fill_probability : float
@@ -177,22 +179,22 @@ class SlrSettings:
         Displace the stations by the solid Earth tide and the pole tide.
     """
 
-    elevation_cut_off_deg: float = 10.0
-    bin_s: float = 30.0
-    noise_m: float = 0.005
-    range_bias_m: Mapping[str, float] = field(default_factory=dict)
-    clear_sky_probability: float | None = None
-    bin_fill_probability: float = 0.9
-    pass_gap_s: float = 600.0
-    wavelength_nm: float = 532.0
-    pressure_sigma_hpa: float = 5.0
-    temperature_sigma_k: float = 5.0
-    humidity_mean_pct: float = 60.0
-    humidity_sigma_pct: float = 15.0
-    satellite: str = "haiyang2b"
-    ilrs_id: str = "1808101"
-    norad_id: int = -1
-    station_displacements: bool = True
+    elevation_cut_off_deg: float
+    bin_s: float
+    noise_m: float
+    range_bias_m: Mapping[str, float]
+    clear_sky_probability: float | None
+    bin_fill_probability: float
+    pass_gap_s: float
+    wavelength_nm: float
+    pressure_sigma_hpa: float
+    temperature_sigma_k: float
+    humidity_mean_pct: float
+    humidity_sigma_pct: float
+    satellite: str
+    ilrs_id: str
+    norad_id: int
+    station_displacements: bool
 
 
 # --------------------------------------------------------------------------- candidates
@@ -242,7 +244,7 @@ def _pass_meteo(height_m: np.ndarray, settings: SlrSettings, rng: np.random.Gene
 # ------------------------------------------------------------------------------ simulate
 def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
                            stations: Sequence[SlrStation] = DEFAULT_STATIONS,
-                           settings: SlrSettings | None = None,
+                           settings: SlrSettings,
                            rng: np.random.Generator,
                            eop: EarthOrientation | None = None) -> xr.Dataset:
     """Simulate the SLR normal points of a LEO over the span of its truth orbit.
@@ -257,8 +259,7 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         Retro-reflector offset from the centre of mass in the nominal body frame [m].
     stations : sequence of SlrStation
         Station network (default :data:`DEFAULT_STATIONS`).
-    settings : SlrSettings, optional
-        Default ``SlrSettings()``.
+    settings : SlrSettings
     rng : numpy.random.Generator
         Source of all random draws (the result is a deterministic function of its state).
     eop : EarthOrientation, optional
@@ -278,7 +279,6 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         (point, xyz), the ranging reference point (marker + eccentricity + displacement) and
         ``station_displacement_itrf_m`` (point, xyz), its tide displacement.
     """
-    settings = SlrSettings() if settings is None else settings
     reflector = OrbitReflector(truth, retro_offset_body_m)
     sta_pos = np.array([s.pos_itrf_m for s in stations], dtype=float)
     cand_utc, cand_s, visible = _candidates(reflector, truth, sta_pos, settings, rng)
