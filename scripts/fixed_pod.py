@@ -49,7 +49,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
               inputs=[inputs["table"], inputs["float_orbit"], inputs["float_parameters"],
                       *data.files])
     plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in FIGURES},
-             title=f"ambiguity-fixed {title}")
+             title=title,
+             solution="ambiguity-fixed", reference="float POD orbit")
 
 
 def run(sm) -> None:

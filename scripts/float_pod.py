@@ -37,7 +37,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     write_arc(solution, **{k: outputs[k] for k in PRODUCTS}, step="float_pod", kind="float",
               title=title, sp3_id=sp3_id, inputs=data.files)
     plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in FIGURES},
-             title=f"float {title}")
+             title=title,
+             solution="float", reference="a-priori (code-only) orbit")
 
 
 def run(sm) -> None:

@@ -122,7 +122,7 @@ def _n_rejected(res: xr.Dataset, kind: str) -> int:
     return int(np.count_nonzero(res[f"{kind}_rejected"].values == 1))
 
 
-def plot_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
+def plot_residuals_time(res: xr.Dataset, path, title: str = "", solution: str = "float") -> None:
     """Post-fit phase [mm] and code [m] residuals versus time, coloured by satellite.
 
     Each panel states the RMS of the finite residuals, their number and the number of
@@ -159,12 +159,13 @@ def plot_residuals_time(res: xr.Dataset, path, title: str = "") -> None:
                      f"{_n_rejected(res, kind)} rejected", fontsize=9, loc="left")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel(xlabel)
-    fig.suptitle(_heading(title, "float POD post-fit residuals"))
+    fig.suptitle(_heading(title, f"{solution} POD post-fit residuals"))
     fig.tight_layout()
     save_figure(fig, path)
 
 
-def plot_residuals_elevation(res: xr.Dataset, path, title: str = "") -> None:
+def plot_residuals_elevation(res: xr.Dataset, path, title: str = "",
+                             solution: str = "float") -> None:
     """Post-fit phase [mm] and code [m] residuals versus antenna elevation, with RMS per bin.
 
     The red line is the RMS in 5° elevation bins (:func:`rms_by_bin`), drawn at the bin centres.
@@ -197,7 +198,7 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "") -> None:
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("elevation in the antenna frame [deg]")
     axes[-1].set_xlim(edges[0], 90)
-    fig.suptitle(_heading(title, "float POD residuals vs elevation"))
+    fig.suptitle(_heading(title, f"{solution} POD residuals vs elevation"))
     fig.tight_layout()
     save_figure(fig, path)
 
@@ -255,7 +256,8 @@ def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
     save_figure(fig, path)
 
 
-def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
+def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "", solution: str = "float",
+                            reference: str = "a-priori (code-only) orbit") -> None:
     """A-priori minus estimated orbit in R/T/N [m] and formal sigmas of the estimate [mm].
 
     Upper panel: ``apriori_diff_rtn_m`` per component with its RMS (finite values) in the
@@ -270,6 +272,11 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
         PNG to write.
     title : str
         Prefix of the figure title.
+    solution : str
+        The estimated solution ("float", "ambiguity-fixed"), for the title.
+    reference : str
+        What the a-priori orbit is (the code-only orbit of the float POD, the float orbit of
+        the fixed POD), for the title.
     """
     hours, xlabel = _hours_of_day(orbit.time.values)
     fig, (ax, ax_sig) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
@@ -295,16 +302,19 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "") -> None:
                  frameon=False)
     ax_sig.grid(alpha=0.3, which="both")
     ax_sig.set_xlabel(xlabel)
-    fig.suptitle(_heading(title, "a-priori (code-only) orbit minus float POD orbit, R/T/N"))
+    fig.suptitle(_heading(title, f"{reference} minus {solution} POD orbit, R/T/N"))
     fig.tight_layout()
     save_figure(fig, path)
 
 
 def plot_arc(orbit: xr.Dataset, residuals: xr.Dataset, *, res_time, res_elevation, res_skymap,
-             apriori, title: str) -> None:
+             apriori, title: str, solution: str, reference: str) -> None:
     """The four figures of a POD solution: residuals vs time and elevation, phase residual
-    map, and the orbit minus its a-priori orbit in RTN (paths of the PNG files)."""
-    plot_residuals_time(residuals, res_time, title=title)
-    plot_residuals_elevation(residuals, res_elevation, title=title)
-    plot_residual_skymap(residuals, res_skymap, title=title)
-    plot_apriori_difference(orbit, apriori, title=title)
+    map, and the orbit minus its a-priori orbit in RTN (paths of the PNG files).
+
+    ``solution`` names the estimate ("float", "ambiguity-fixed") and ``reference`` its a-priori
+    orbit in the titles (:func:`plot_apriori_difference`)."""
+    plot_residuals_time(residuals, res_time, title=title, solution=solution)
+    plot_residuals_elevation(residuals, res_elevation, title=title, solution=solution)
+    plot_residual_skymap(residuals, res_skymap, title=f"{solution} {title}")
+    plot_apriori_difference(orbit, apriori, title=title, solution=solution, reference=reference)
