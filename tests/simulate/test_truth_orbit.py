@@ -50,7 +50,7 @@ T0 = np.datetime64("2019-01-01T00:00:00", "ns")
 ARC_S = 3600.0
 SEED = 7
 #: Low-degree truth for fast tests (the physics of the other forces is unchanged).
-LOW = TruthDynamics(gravity_degree=12)
+LOW = TruthDynamics.from_config({"gravity_degree": 12})
 DAY_S = 86_400.0
 #: Standard deviations of the stochastic accelerations in R, T, N [m/s²] (the assignment).
 SIGMA_RTN_M_S2 = np.array([2e-8, 5e-8, 3e-8])

@@ -39,19 +39,18 @@ from pathlib import Path
 
 import numpy as np
 
-from leopod.constants import SECONDS_PER_DAY
 from leopod.dynamics.forces import ForceModel, apriori_parameters, interval_edges
+from leopod.settings import Settings
 
-__all__ = ["HY2B_MASS_KG", "TruthDynamics", "TruthForces", "default_models", "truth_force_config"]
+__all__ = ["TruthDynamics", "TruthForces", "default_models", "truth_force_config"]
 
-#: HY-2 spacecraft mass [kg] (Wang et al. 2024, sec. 1, HY-2A: 1575 kg; HY-2B assumed alike).
-HY2B_MASS_KG = 1575.0
 _RTN = ["R", "T", "N"]
 
 
 @dataclass(frozen=True)
-class TruthDynamics:
-    """Settings of the truth force model (defaults: HY-2B-like cannonball).
+class TruthDynamics(Settings):
+    """Settings of the truth force model (config ``simulate.truth``; the schema's defaults:
+    HY-2B-like cannonball).
 
     Attributes
     ----------
@@ -74,18 +73,20 @@ class TruthDynamics:
         Standard deviations of the stochastic accelerations in R, T, N [m/s²].
     """
 
-    gravity_degree: int = 150
-    mass_kg: float = HY2B_MASS_KG
-    drag_area_m2: float = 5.0
-    srp_area_m2: float = 10.0
-    drag_coefficient: float = 2.3
-    reflectivity_coefficient: float = 1.3
-    drag_interval_s: float = 5400.0
-    drag_scale_amplitude: float = 0.15
-    drag_scale_period_s: float = SECONDS_PER_DAY
-    drag_scale_sigma: float = 0.05
-    stochastic_interval_s: float = 600.0
-    stochastic_sigma_rtn_m_s2: tuple[float, float, float] = (2e-8, 5e-8, 3e-8)
+    SCHEMA_DEF = "simulate_truth"
+
+    gravity_degree: int
+    mass_kg: float
+    drag_area_m2: float
+    srp_area_m2: float
+    drag_coefficient: float
+    reflectivity_coefficient: float
+    drag_interval_s: float
+    drag_scale_amplitude: float
+    drag_scale_period_s: float
+    drag_scale_sigma: float
+    stochastic_interval_s: float
+    stochastic_sigma_rtn_m_s2: tuple[float, float, float]
 
 
 def default_models() -> dict[str, Path | None]:
@@ -183,7 +184,7 @@ def truth_force_config(span_s: float, *, seed: int, dynamics: TruthDynamics | No
     -------
     TruthForces
     """
-    dyn = TruthDynamics() if dynamics is None else dynamics
+    dyn = TruthDynamics.from_config({}) if dynamics is None else dynamics
     files = {**default_models(), **dict(models or {})}
     drag_rng, stoch_rng = (np.random.default_rng(s)
                            for s in np.random.SeedSequence(seed).spawn(2))

@@ -251,7 +251,7 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
     if not span_s > 0.0 or not step_s > 0.0:
         raise ValueError(f"need t_end > t_start and step_s > 0 (got {t_start}, {t_end}, "
                          f"{step_s})")
-    dyn = TruthDynamics() if dynamics is None else dynamics
+    dyn = TruthDynamics.from_config({}) if dynamics is None else dynamics
     forces = truth_force_config(span_s, seed=seed, dynamics=dyn, models=models)
     model = build_force_model(ForceModelSettings.from_config(forces.config), t0, 0.0, span_s, eop=eop)
     params = forces.parameter_vector(model)
