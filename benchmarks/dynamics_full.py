@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _timing import best_of
 
 from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import apriori_parameters
@@ -81,13 +82,11 @@ def run(config: dict, t_ref, state0, repeat: int) -> dict:
 
 def _cost_us(fun, traj, params, idx, repeat: int = 3) -> float:
     """Least mean cost per call [µs] of ``fun(t, r, v, p)`` over the states ``idx``."""
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
+    def calls():
         for i in idx:
             fun(traj.t_s[i], traj.states[i, :3], traj.states[i, 3:], params)
-        best = min(best, (time.perf_counter() - t0) / idx.size * 1e6)
-    return best
+
+    return best_of(calls, repeat) / idx.size * 1e6
 
 
 def force_costs(model, params, traj, n_calls: int = 3000) -> dict[str, float]:

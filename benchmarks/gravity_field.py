@@ -18,6 +18,7 @@ from pathlib import Path
 import numba
 import numpy as np
 import xarray as xr
+from _timing import best_of
 
 from leopod.dynamics.gravity_field import GravityField
 from leopod.dynamics.spherical_harmonics import acceleration_sums, field_sums
@@ -63,14 +64,6 @@ def _jitted_loop(kernel, pos_m, args, out):
         kernel(pos_m[i], *args, out)
 
 
-def _best(func, repeat: int) -> float:
-    best = np.inf
-    for _ in range(repeat):
-        start = time.perf_counter()
-        func()
-        best = min(best, time.perf_counter() - start)
-    return best
-
 
 def main(degree: int, repeat: int) -> None:
     label, ds = _model(degree)
@@ -82,18 +75,18 @@ def main(degree: int, repeat: int) -> None:
     field.acceleration_and_gradient(pos[:1])
     field.acceleration(pos[:1])
     first_s = time.perf_counter() - start
-    acc_s = _best(lambda: field.acceleration(pos), repeat)
-    grad_s = _best(lambda: field.acceleration_and_gradient(pos), repeat)
+    acc_s = best_of(lambda: field.acceleration(pos), repeat)
+    grad_s = best_of(lambda: field.acceleration_and_gradient(pos), repeat)
     n_single = 2000
-    one_acc_s = _best(lambda: [field.acceleration(p) for p in pos[:n_single]], repeat)
-    one_grad_s = _best(lambda: [field.acceleration_and_gradient(p) for p in pos[:n_single]],
+    one_acc_s = best_of(lambda: [field.acceleration(p) for p in pos[:n_single]], repeat)
+    one_grad_s = best_of(lambda: [field.acceleration_and_gradient(p) for p in pos[:n_single]],
                        repeat)
     kernel_times = {}
     for kind, kernel, size in (("acceleration", acceleration_sums, 3),
                                ("gradient", field_sums, 9)):
         args, out = field.kernel_args(kind), np.empty(size)
         _jitted_loop(kernel, pos[:2], args, out)
-        kernel_times[kind] = _best(
+        kernel_times[kind] = best_of(
             lambda kernel=kernel, args=args, out=out: _jitted_loop(kernel, pos, args, out),
             repeat)
 

@@ -18,11 +18,11 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from _timing import best_of
 
 from leopod.constants import GM_EARTH_M3_S2
 from leopod.frames.earth_rotation import gcrf_to_itrf
@@ -35,14 +35,6 @@ SHARED = Path(__file__).resolve().parents[2] / "shared/data"
 ANTEX = SHARED / "antex/igs05_1627.atx"
 SLRF2020 = SHARED / "slr/SLRF2020_POS+VEL_2023.10.02.snx"
 
-
-def _best(fn, repeat: int) -> float:
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def _circular_orbit(hours: float = 30.0, step_s: float = 10.0) -> xr.Dataset:
@@ -68,19 +60,20 @@ def main() -> None:
     args = parser.parse_args()
     rows = []
     if ANTEX.exists():
-        rows.append(("read_antex igs05_1627.atx", _best(lambda: read_antex(ANTEX), args.repeat), 1.5))
+        rows.append(("read_antex igs05_1627.atx",
+                     best_of(lambda: read_antex(ANTEX), args.repeat), 1.5))
     else:
         print(f"{ANTEX} not found: ANTEX reading not measured")
     if SLRF2020.exists():
         rows.append(("read_sinex_stations SLRF2020",
-                     _best(lambda: read_sinex_stations(SLRF2020), args.repeat), 1.0))
+                     best_of(lambda: read_sinex_stations(SLRF2020), args.repeat), 1.0))
     else:
         print(f"{SLRF2020} not found: SINEX reading not measured")
     orbit = _circular_orbit()
     ref = orbit.isel(time=slice(0, None, 3))
     compare_orbits(orbit.isel(time=slice(0, 50)), ref)                    # warm-up
     rows.append(("compare_orbits + statistics, 30 h at 10 s",
-                 _best(lambda: orbit_statistics(compare_orbits(orbit, ref)), args.repeat), 0.5))
+                 best_of(lambda: orbit_statistics(compare_orbits(orbit, ref)), args.repeat), 0.5))
     print(f"{'step':45s} {'best [s]':>9s} {'limit [s]':>9s}")
     for name, seconds, limit in rows:
         flag = "" if seconds < limit else "  OVER THE LIMIT"

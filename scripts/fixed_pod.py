@@ -10,16 +10,12 @@ from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings
 from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
 from leopod.estimation.float_pod import PodSettings
-from leopod.estimation.write import log_arc, write_arc
-from leopod.plots.pod import plot_arc
+from leopod.estimation.write import ARC_PRODUCTS, log_arc, write_arc
+from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
-
-#: Outputs written by write_arc and plot_arc.
-PRODUCTS = ("orbit", "sp3", "residuals", "parameters", "ambiguities")
-FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
 def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
@@ -31,11 +27,9 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
 
     ``inputs``: those of scripts/float_pod.py plus ``table`` (ambiguity step) and
     ``float_orbit``, ``float_parameters``, ``float_ambiguities``, ``float_residuals`` (float
-    POD); ``outputs``: :data:`PRODUCTS` and :data:`FIGURES` paths.
+    POD); ``outputs``: the paths of ``ARC_PRODUCTS`` and ``ARC_FIGURES``.
     """
-    data = ArcData.read(obs=inputs["obs"], quality=inputs["quality"], leo=inputs["leo"],
-                        orbit=inputs["orbit"], clock=inputs["clock"], antex=inputs.get("antex"),
-                        code_bias=inputs.get("code_bias"))
+    data = ArcData.read(inputs)
     float_solution = FloatSolution.read(parameters=inputs["float_parameters"],
                                         ambiguities=inputs["float_ambiguities"],
                                         residuals=inputs["float_residuals"],
@@ -44,13 +38,12 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
                           xr.load_dataset(inputs["table"]), float_solution, ambiguity,
                           code_correction=code_correction, yaw_flips=yaw_flips)
     log_arc(fixed.arc, f"fixed POD {date}")
-    write_arc(fixed.arc, **{k: outputs[k] for k in PRODUCTS}, step="fixed_pod",
+    write_arc(fixed.arc, **{k: outputs[k] for k in ARC_PRODUCTS}, step="fixed_pod",
               kind="ambiguity-fixed", title=title, sp3_id=sp3_id,
               inputs=[inputs["table"], inputs["float_orbit"], inputs["float_parameters"],
                       *data.files])
-    plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in FIGURES},
-             title=title,
-             solution="ambiguity-fixed", reference="float POD orbit")
+    plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in ARC_FIGURES},
+             title=title, solution="ambiguity-fixed", reference="float POD orbit")
 
 
 def run(sm) -> None:

@@ -6,16 +6,12 @@ from leopod.codebias.apply import CodeCorrection
 from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings, run_arc
 from leopod.estimation.float_pod import PodSettings
-from leopod.estimation.write import log_arc, write_arc
-from leopod.plots.pod import plot_arc
+from leopod.estimation.write import ARC_PRODUCTS, log_arc, write_arc
+from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
-
-#: Outputs written by write_arc and plot_arc.
-PRODUCTS = ("orbit", "sp3", "residuals", "parameters", "ambiguities")
-FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
 def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
@@ -25,20 +21,18 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     """Float POD of the arc of ``date`` from the files ``inputs`` into the files ``outputs``.
 
     ``inputs``: lists ``obs``, ``quality``, ``leo``, ``orbit``, ``clock`` and optional
-    ``antex``, ``code_bias`` paths; ``outputs``: :data:`PRODUCTS` and :data:`FIGURES` paths.
+    ``antex``, ``code_bias`` paths; ``outputs``: the paths of ``ARC_PRODUCTS`` and
+    ``ARC_FIGURES``.
     The settings are those of :func:`leopod.estimation.arc.run_arc`.
     """
-    data = ArcData.read(obs=inputs["obs"], quality=inputs["quality"], leo=inputs["leo"],
-                        orbit=inputs["orbit"], clock=inputs["clock"], antex=inputs.get("antex"),
-                        code_bias=inputs.get("code_bias"))
+    data = ArcData.read(inputs)
     solution = run_arc(date, data, signals, arc, pod, forces, pco_body_m,
                        code_correction=code_correction, yaw_flips=yaw_flips)
     log_arc(solution, f"float POD {date}")
-    write_arc(solution, **{k: outputs[k] for k in PRODUCTS}, step="float_pod", kind="float",
-              title=title, sp3_id=sp3_id, inputs=data.files)
-    plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in FIGURES},
-             title=title,
-             solution="float", reference="a-priori (code-only) orbit")
+    write_arc(solution, **{k: outputs[k] for k in ARC_PRODUCTS}, step="float_pod",
+              kind="float", title=title, sp3_id=sp3_id, inputs=data.files)
+    plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in ARC_FIGURES},
+             title=title, solution="float", reference="a-priori (code-only) orbit")
 
 
 def run(sm) -> None:

@@ -49,6 +49,11 @@ def schema_defaults(name: str, schema: str | Path = SCHEMA) -> dict:
     KeyError
         If the schema has no such definition.
     """
+    return copy.deepcopy(_defaults(name, str(schema)))
+
+
+@functools.lru_cache(maxsize=64)
+def _defaults(name: str, schema: str) -> dict:
     instance: dict = {}
     fill_defaults(name, instance, schema)   # an empty section may lack required keys
     return instance

@@ -66,7 +66,7 @@ from leopod.dynamics.third_body import ThirdBodies
 from leopod.dynamics.tides import TideModel
 from leopod.io.icgem import read_icgem
 from leopod.io.space_weather import read_space_weather
-from leopod.settings import Settings, schema_defaults
+from leopod.settings import Settings
 from leopod.time.eop import EarthOrientation
 
 __all__ = ["DragSettings", "EmpiricalSettings", "EnvironmentSettings", "ForceModelSettings",
@@ -296,9 +296,9 @@ def _gravity(cfg: GravitySettings, tides_cfg: TideSettings | None,
             raise ValueError(f"tides with the gravity field {field.modelname}: {err}") from None
         if not (tides.solid or tides.solid_pole or tides.ocean_pole or ocean is not None):
             tides = None
-    step_s = schema_defaults("force_tides")["step_s"] if tides_cfg is None else tides_cfg.step_s
-    return EarthGravity(field, env, tides, gradient_field=gradient_field,
-                        tide_step_s=float(step_s))
+    # the tide grid exists only with tides: its step comes from their settings
+    grid = {} if tides is None else {"tide_step_s": float(tides_cfg.step_s)}
+    return EarthGravity(field, env, tides, gradient_field=gradient_field, **grid)
 
 
 def _drag(cfg: DragSettings, env: ArcEnvironment) -> Drag:

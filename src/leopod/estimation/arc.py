@@ -105,9 +105,13 @@ class ArcData:
     files: list[str] = field(default_factory=list)
 
     @classmethod
-    def read(cls, *, obs, quality, leo, orbit, clock, antex=None, code_bias=None) -> ArcData:
-        """Read the files of an arc: lists of daily netCDF/SP3/clock paths, optional ANTEX
-        and code-bias map paths."""
+    def read(cls, files: Mapping) -> ArcData:
+        """Read the files of an arc: ``obs``, ``quality``, ``leo`` (daily netCDF), ``orbit``
+        (SP3) and ``clock`` (RINEX clock) lists of paths, optional ``antex`` and
+        ``code_bias`` (maps) paths; other keys are ignored."""
+        obs, quality, leo = files["obs"], files["quality"], files["leo"]
+        orbit, clock = files["orbit"], files["clock"]
+        antex, code_bias = files.get("antex"), files.get("code_bias")
         return cls(obs=[xr.load_dataset(p) for p in obs],
                    quality=[xr.load_dataset(p) for p in quality],
                    leo=[xr.load_dataset(p) for p in leo],

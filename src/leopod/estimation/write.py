@@ -12,7 +12,10 @@ from leopod.estimation.outputs import sp3_dataset
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3_write import write_sp3
 
-__all__ = ["log_arc", "write_arc"]
+__all__ = ["ARC_PRODUCTS", "log_arc", "write_arc"]
+
+#: The files :func:`write_arc` writes (its path arguments).
+ARC_PRODUCTS = ("orbit", "sp3", "residuals", "parameters", "ambiguities")
 
 log = logging.getLogger(__name__)
 

@@ -29,6 +29,7 @@ import xarray as xr
 from leopod.plots import save_figure
 
 __all__ = [
+    "ARC_FIGURES",
     "plot_apriori_difference",
     "plot_arc",
     "plot_residual_skymap",
@@ -305,6 +306,10 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "", solution: 
     fig.suptitle(_heading(title, f"{reference} minus {solution} POD orbit, R/T/N"))
     fig.tight_layout()
     save_figure(fig, path)
+
+
+#: The figures :func:`plot_arc` draws (its path arguments).
+ARC_FIGURES = ("res_time", "res_elevation", "res_skymap", "apriori")
 
 
 def plot_arc(orbit: xr.Dataset, residuals: xr.Dataset, *, res_time, res_elevation, res_skymap,

@@ -35,14 +35,10 @@ path: the tropospheric delay would shift the bounce epoch by Δ/c and the range 
 References
 ----------
 1. Petit, G. & Luzum, B. (eds.) (2010). IERS Conventions (2010), IERS Technical Note 36.
-2. Mendes, V.B. & Pavlis, E.C. (2004). High-accuracy zenith delay prediction at optical
-   wavelengths. Geophys. Res. Lett. 31, L14602, doi:10.1029/2004GL020308.
-3. Mendes, V.B., Prates, G., Pavlis, E.C., Pavlis, D.E. & Langley, R.B. (2002). Improved
-   mapping functions for atmospheric refraction correction in SLR. Geophys. Res. Lett. 29(10),
-   1414, doi:10.1029/2001GL014394.
-4. Giacomo, P. (1982). Equation for the determination of the density of moist air (1981).
-   Metrologia 18, 33–40; Davis, R.S. (1992), Metrologia 29, 67–70 (CIPM-81/91 constants).
-5. Montenbruck, O. & Gill, E. (2000). Satellite Orbits, ch. 6 (light-time iteration).
+2. Montenbruck, O. & Gill, E. (2000). Satellite Orbits, ch. 6 (light-time iteration).
+
+The troposphere's references (Mendes & Pavlis 2004; Mendes et al. 2002; Giacomo 1982) are
+given in :mod:`leopod.validation.slr_troposphere`.
 """
 
 from __future__ import annotations
