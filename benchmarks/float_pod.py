@@ -1,7 +1,7 @@
 """Benchmark and figures of the float POD on the real GRACE-A day 2007-03-21 (issue 5).
 
 Prepares the ingest and quality outputs with the workflow if they are missing
-(``snakemake --configfile config/grace-a-2007.yaml results/quality/grace-a/2007-080.nc``),
+(``snakemake results/quality/grace-a/2007-080.nc --configfile config/grace-a-2007.yaml``),
 then runs the float POD step's library call (:func:`leopod.estimation.arc.run_arc`) with the
 campaign settings of config/grace-a-2007.yaml at 30-s sampling over the 24 h of data and
 prints its wall time, peak memory, post-fit residual RMS, passes and rejections. With
@@ -46,8 +46,9 @@ DATE = "2007-080"
 def _prepare() -> None:
     target = RESULTS / "quality" / "grace-a" / f"{DATE}.nc"
     if not target.exists():
-        subprocess.run([str(REPO / ".venv" / "bin" / "snakemake"), "--cores", "2",
-                        "--configfile", str(CONFIG), str(target.relative_to(REPO))],
+        # the target first: --configfile takes several values
+        subprocess.run([str(REPO / ".venv" / "bin" / "snakemake"), str(target.relative_to(REPO)),
+                        "--cores", "2", "--configfile", str(CONFIG)],
                        cwd=REPO, check=True)
 
 
