@@ -224,5 +224,9 @@ class Empirical(Force):
     def breakpoints_s(self) -> np.ndarray:
         return self.model.boundaries_s[1:-1]
 
+    def kernel_data(self) -> tuple:
+        """``(boundaries_s, direction indices, term indices)`` (compiled force model)."""
+        return self.model.boundaries_s, self.model._dir_idx, self.model._term_idx
+
     def evaluate(self, t_s, pos_m, vel_m_s, params):
         return empirical_acceleration(t_s, pos_m, vel_m_s, params, self.model)

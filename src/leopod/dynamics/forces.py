@@ -119,6 +119,14 @@ class ForceModel:
         """Number P of global parameters."""
         return len(self.parameters)
 
+    def follow(self, positions) -> None:
+        """Give the forces that are tabulated along a reference orbit (drag: its density,
+        :meth:`leopod.dynamics.drag.Drag.follow`) that orbit: ``positions(t_s (n,)) -> (n, 3)``
+        GCRF positions [m] over the arc."""
+        for force in self.forces:
+            if hasattr(force, "follow"):
+                force.follow(positions)
+
     def evaluate(self, t_s: float, pos_m: np.ndarray, vel_m_s: np.ndarray,
                  params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Total acceleration and partials; ``da_dp`` has shape (3, P), global order.

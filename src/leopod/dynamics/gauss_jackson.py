@@ -18,7 +18,7 @@ q + 1 nodes and integrated once and twice from the nearest node.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import lru_cache
 from math import comb
@@ -26,6 +26,9 @@ from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
+
+from leopod.dynamics.compiled import augmented_rhs
+from leopod.frames.rtn import _rtn_basis
 
 if TYPE_CHECKING:
     from leopod.dynamics.integrator import _Rhs
@@ -169,7 +172,11 @@ def _kahan_add(total, compensation, x):  # pragma: no cover - numba
 
 @dataclass
 class _NodeSegment:
-    """Gauss–Jackson solution on equidistant nodes ``t_start + k h`` (k = 0..N)."""
+    """Gauss–Jackson solution on equidistant nodes ``t_start + k h`` (k = 0..N).
+
+    Velocity pulses at the nodes ``jump_node`` (without restart): ``y`` holds the right
+    limit there and ``y_left`` the left one.
+    """
 
     t_start: float
     t_end: float
@@ -177,6 +184,8 @@ class _NodeSegment:
     y: np.ndarray        # (N + 1, 6, C)
     f: np.ndarray        # (N + 1, 3, C)
     order: int
+    jump_node: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
+    y_left: np.ndarray | None = None     # (J, 6, C)
 
     def evaluate(self, t_s: np.ndarray) -> np.ndarray:
         """Augmented matrix at times inside the segment, shape (m, 6, C)."""
@@ -186,6 +195,11 @@ class _NodeSegment:
         s = x - base
         first = np.clip(base - self.order // 2, 0, n_last - self.order)
         out = self.y[base].copy()
+        if self.jump_node.size:                  # left of a pulse: its left limit
+            j = np.searchsorted(self.jump_node, base)
+            left = ((j < self.jump_node.size) & (s * self.h < 0.0)
+                    & (self.jump_node[np.minimum(j, self.jump_node.size - 1)] == base))
+            out[left] = self.y_left[j[left]]
         off = np.flatnonzero(s != 0.0)
         stencil = np.arange(self.order + 1)
         for blk in np.array_split(off, max(1, -(-off.size // _DENSE_BLOCK))):
@@ -193,7 +207,7 @@ class _NodeSegment:
                 continue
             w1, w2 = _integration_weights(first[blk] - base[blk], s[blk], self.order + 1)
             f = self.f[first[blk][:, None] + stencil[None, :]]      # (b, K, 3, C)
-            out[blk, :3] += (s[blk] * self.h)[:, None, None] * self.y[base[blk], 3:]
+            out[blk, :3] += (s[blk] * self.h)[:, None, None] * out[blk, 3:]
             out[blk, :3] += self.h**2 * np.einsum("bk,bkrc->brc", w2, f)
             out[blk, 3:] += self.h * np.einsum("bk,bkrc->brc", w1, f)
         return out
@@ -219,6 +233,25 @@ def _inside(t_s: np.ndarray, t_start: float, t_end: float) -> np.ndarray:
 
 
 
+@lru_cache(maxsize=8)
+def _startup_weights(order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Collocation weights (q, q + 1) of the start-up nodes 1..q (:func:`_startup`)."""
+    j = np.arange(1, order + 1)
+    return _integration_weights(np.zeros(order, dtype=int), j.astype(float), order + 1)
+
+
+def _startup_tolerance(n_columns: int) -> np.ndarray:
+    tol = np.full(n_columns, _STARTUP_RTOL_PARTIALS)
+    tol[0] = _STARTUP_RTOL_STATE
+    return tol
+
+
+def segment_grid(t_start: float, t_end: float, step_s: float, order: int) -> tuple[int, float]:
+    """Steps N and signed step h of a segment: the largest h ≤ step_s dividing it, N ≥ q."""
+    n_steps = max(order, int(np.ceil(abs(t_end - t_start) / step_s - 1e-9)))
+    return n_steps, (t_end - t_start) / n_steps
+
+
 def _startup(rhs: _Rhs, t_nodes: np.ndarray, h: float, y: np.ndarray, f: np.ndarray,
              order: int) -> None:
     """Fill nodes 1..q of ``y`` and 0..q of ``f`` by collocation (fixed-point iteration).
@@ -230,12 +263,11 @@ def _startup(rhs: _Rhs, t_nodes: np.ndarray, h: float, y: np.ndarray, f: np.ndar
     the force model (e.g. numerically differentiated partials) and ends the iteration too.
     """
     j = np.arange(1, order + 1)
-    w1, w2 = _integration_weights(np.zeros(order, dtype=int), j.astype(float), order + 1)
+    w1, w2 = _startup_weights(order)
     rhs(t_nodes[0], y[0], f[0])
     f[1:order + 1] = f[0]
     y[1:order + 1] = y[0]
-    tol = np.full(y.shape[2], _STARTUP_RTOL_PARTIALS)
-    tol[0] = _STARTUP_RTOL_STATE
+    tol = _startup_tolerance(y.shape[2])
     previous_ratio = np.inf
     for _ in range(_STARTUP_MAX_ITERATIONS):
         y_old = y[1:order + 1].copy()
@@ -254,11 +286,159 @@ def _startup(rhs: _Rhs, t_nodes: np.ndarray, h: float, y: np.ndarray, f: np.ndar
                        f"reduce step_s (now {abs(h)} s)")
 
 
+@numba.njit(cache=True)
+def _max_relative_change(y, y_old, c, first_row):  # pragma: no cover - numba
+    """``max|new − old| / max(|new|, |old|)`` over nodes and 3 rows of column c."""
+    diff, big_new, big_old = 0.0, 0.0, 0.0
+    for k in range(y.shape[0]):
+        for r in range(first_row, first_row + 3):
+            diff = max(diff, abs(y[k, r, c] - y_old[k, r, c]))
+            big_new = max(big_new, abs(y[k, r, c]))
+            big_old = max(big_old, abs(y_old[k, r, c]))
+    return diff / (max(big_new, big_old) + 2.2250738585072014e-308)
+
+
+@numba.njit(cache=True)
+def _startup_compiled(t_nodes, h, y, f, order, w1, w2, tol, params, data,
+                      work):  # pragma: no cover - numba
+    """:func:`_startup` with :func:`leopod.dynamics.compiled.augmented_rhs`; returns the
+    number of force evaluations, negative if the iteration did not converge."""
+    n_col = y.shape[2]
+    augmented_rhs(t_nodes[0], y[0], f[0], params, data, work)
+    for k in range(1, order + 1):
+        f[k] = f[0]
+        y[k] = y[0]
+    n_eval = 1
+    previous_ratio = np.inf
+    for _ in range(_STARTUP_MAX_ITERATIONS):
+        y_old = y[1:order + 1].copy()
+        for jj in range(1, order + 1):
+            for r in range(3):
+                for c in range(n_col):
+                    s1 = 0.0
+                    s2 = 0.0
+                    for i in range(order + 1):
+                        s1 += w1[jj - 1, i] * f[i, r, c]
+                        s2 += w2[jj - 1, i] * f[i, r, c]
+                    y[jj, r, c] = y[0, r, c] + (jj * h) * y[0, 3 + r, c] + h * h * s2
+                    y[jj, 3 + r, c] = y[0, 3 + r, c] + h * s1
+        for k in range(1, order + 1):
+            augmented_rhs(t_nodes[k], y[k], f[k], params, data, work)
+        n_eval += order
+        ratio = 0.0
+        for c in range(n_col):
+            change = max(_max_relative_change(y[1:order + 1], y_old, c, 0),
+                         _max_relative_change(y[1:order + 1], y_old, c, 3))
+            ratio = max(ratio, change / tol[c])
+        if ratio <= 1.0 or (ratio <= _STARTUP_FLOOR and ratio > 0.5 * previous_ratio):
+            return n_eval
+        previous_ratio = ratio
+    return -n_eval
+
+
+@numba.njit(cache=True)
+def _jump(y, f, t_nodes, node, order, dv_rtn, sign, da_dr, da_dv, saved):  # pragma: no cover
+    """Velocity pulse ``sign · M Δv`` at ``node``, into y (6, C), without a restart.
+
+    The back values f of the q nodes before are replaced by those of the orbit after the pulse
+    extended backwards to first order, ``f_k + A (t_k − t_p) Δv`` (+ ``B Δv`` at the node;
+    A, B the partials of the last evaluation), so that the difference formulas see a smooth
+    right-hand side; ``saved`` (q, 3) receives the original back values of the state column.
+    """
+    basis = np.empty((3, 3))
+    _rtn_basis(y[:3, 0].copy(), y[3:, 0].copy(), basis)
+    dv = np.zeros(3)
+    for i in range(3):
+        for j in range(3):
+            dv[i] += sign * basis[i, j] * dv_rtn[j]
+    for i in range(3):
+        y[3 + i, 0] += dv[i]
+    for k in range(order + 1):
+        row = node - k
+        dt = t_nodes[row] - t_nodes[node]
+        for i in range(3):
+            if k > 0:
+                saved[k - 1, i] = f[row, i, 0]
+            for j in range(3):
+                f[row, i, 0] += da_dr[i, j] * dv[j] * dt + (da_dv[i, j] * dv[j] if k == 0
+                                                              else 0.0)
+
+
+@numba.njit(cache=True)
+def _sums_from_node(y_node, f_hist, corr_v, corr_r, h, s1, s2, c1, c2):  # pragma: no cover
+    """Integration constants S1, S2 from the state and back values at a node (correctors)."""
+    zero = np.zeros((3, y_node.shape[1]))
+    sums = np.empty((6, y_node.shape[1]))
+    _gj_sum(f_hist, zero, zero, corr_v, corr_r, h, False, sums)
+    s1[:, :] = (y_node[3:] - sums[3:]) / h
+    s2[:, :] = (y_node[:3] - sums[:3]) / (h * h)
+    c1[:, :] = 0.0
+    c2[:, :] = 0.0
+
+
+@numba.njit(cache=True)
+def _gauss_jackson_compiled(t_nodes, h, y, f, order, w1, w2, tol, weights, pece, jump_node,
+                            jump_dv, direction, y_left, params, data,
+                            work):  # pragma: no cover - numba
+    """Start-up and Gauss–Jackson steps of one segment with the compiled force model.
+
+    Velocity pulses ``jump_dv[j]`` (RTN [m/s]) at the nodes ``jump_node[j]`` (increasing
+    along the integration, more than q nodes apart and after the start-up) enter the state
+    without a restart (:func:`_jump`; the integration constants are taken anew from the state
+    after the pulse); ``y`` keeps the right limit at those nodes and ``y_left[j]`` the left
+    one. Returns the number of force evaluations (negative: the start-up did not converge).
+    """
+    pred_v, pred_r, corr_v, corr_r = weights
+    n_steps = t_nodes.size - 1
+    n_eval = _startup_compiled(t_nodes, h, y, f, order, w1, w2, tol, params, data, work)
+    if n_eval < 0:
+        return n_eval
+    n_col = y.shape[2]
+    s1, s2 = np.empty((3, n_col)), np.empty((3, n_col))
+    c1, c2 = np.empty((3, n_col)), np.empty((3, n_col))
+    _sums_from_node(y[order], f[:order + 1], corr_v, corr_r, h, s1, s2, c1, c2)
+    saved = np.empty((order, 3))
+    restore = -1                           # node whose back values to restore, -1: none
+    next_jump = 0
+    for n in range(order, n_steps):
+        if restore >= 0 and n == restore + order:   # out of the window: the true values
+            for k in range(1, order + 1):
+                f[restore - k, :, 0] = saved[k - 1]
+            restore = -1
+        _gj_sum(f[n - order:n + 1], s1, s2, pred_v, pred_r, h, True, y[n + 1])
+        augmented_rhs(t_nodes[n + 1], y[n + 1], f[n + 1], params, data, work)
+        n_eval += 1
+        _kahan_add(s2, c2, s1)
+        _kahan_add(s1, c1, f[n + 1])
+        _gj_sum(f[n + 1 - order:n + 2], s1, s2, corr_v, corr_r, h, False, y[n + 1])
+        if pece:
+            f_predicted = f[n + 1].copy()
+            augmented_rhs(t_nodes[n + 1], y[n + 1], f[n + 1], params, data, work)
+            n_eval += 1
+            _kahan_add(s1, c1, f[n + 1] - f_predicted)
+        if next_jump < jump_node.size and jump_node[next_jump] == n + 1:
+            reached = y[n + 1].copy()
+            _jump(y[n + 1], f, t_nodes, n + 1, order, jump_dv[next_jump], float(direction),
+                  work[1], work[2], saved)
+            _sums_from_node(y[n + 1], f[n + 1 - order:n + 2], corr_v, corr_r, h, s1, s2, c1,
+                            c2)
+            restore = n + 1
+            if direction > 0:
+                y_left[next_jump] = reached
+            else:                          # backwards: reached from the right
+                y_left[next_jump] = y[n + 1]
+                y[n + 1] = reached
+            next_jump += 1
+    if restore >= 0:
+        for k in range(1, order + 1):
+            f[restore - k, :, 0] = saved[k - 1]
+    return n_eval
+
+
 def _gauss_jackson_segment(rhs: _Rhs, t_start: float, t_end: float, y0: np.ndarray,
                            step_s: float, order: int, pece: bool) -> _NodeSegment:
     """Integrate one smooth segment with the Gauss–Jackson method."""
-    n_steps = max(order, int(np.ceil(abs(t_end - t_start) / step_s - 1e-9)))
-    h = (t_end - t_start) / n_steps
+    n_steps, h = segment_grid(t_start, t_end, step_s, order)
     t_nodes = _inside(t_start + h * np.arange(n_steps + 1), t_start, t_end)
     y = np.empty((n_steps + 1, 6, y0.shape[1]))
     f = np.empty((n_steps + 1, 3, y0.shape[1]))
@@ -285,3 +465,54 @@ def _gauss_jackson_segment(rhs: _Rhs, t_start: float, t_end: float, y0: np.ndarr
             _kahan_add(s1, c1, f[n + 1] - f_predicted)
     return _NodeSegment(t_start, t_end, h, y, f, order)
 
+
+
+def gauss_jackson_compiled(compiled, params: np.ndarray, t_start: float, t_end: float,
+                           y0: np.ndarray, step_s: float, order: int, pece: bool,
+                           jump_node: np.ndarray, jump_dv: np.ndarray,
+                           direction: int) -> tuple[_NodeSegment, int]:
+    """One segment with the compiled force model, pulses at nodes applied without restart.
+
+    Parameters
+    ----------
+    compiled : leopod.dynamics.compiled.CompiledForceModel
+    params : ndarray, shape (P,)
+    t_start, t_end : float
+        Segment [TT s] (t_end < t_start backwards).
+    y0 : ndarray, shape (6, C)
+        Augmented matrix at t_start.
+    step_s, order, pece
+        As :func:`leopod.dynamics.integrator.integrate`.
+    jump_node : ndarray of int, shape (J,)
+        Node indices in (q, N), more than q apart, of velocity pulses (:func:`segment_grid`).
+    jump_dv : ndarray, shape (J, 3)
+        The pulses in R, T, N [m/s] (applied with the sign of ``direction``).
+    direction : int
+        +1 forwards, −1 backwards.
+
+    Returns
+    -------
+    segment : _NodeSegment
+    n_evaluations : int
+    """
+    n_steps, h = segment_grid(t_start, t_end, step_s, order)
+    t_nodes = _inside(t_start + h * np.arange(n_steps + 1), t_start, t_end)
+    n_col = y0.shape[1]
+    y = np.empty((n_steps + 1, 6, n_col))
+    f = np.empty((n_steps + 1, 3, n_col))
+    y[0] = y0
+    y_left = np.empty((jump_node.size, 6, n_col))
+    w1, w2 = _startup_weights(order)
+    p = np.ascontiguousarray(params, dtype=float)
+    work = (np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, p.size)))
+    n_eval = _gauss_jackson_compiled(
+        t_nodes, h, y, f, order, w1, w2, _startup_tolerance(n_col), _gauss_jackson_weights(order),
+        pece, np.asarray(jump_node, dtype=np.int64),
+        np.ascontiguousarray(jump_dv, dtype=float).reshape(-1, 3), direction, y_left, p,
+        compiled.data, work)
+    if n_eval < 0:
+        raise RuntimeError(f"integrator start at t = {t_start} s did not converge; "
+                           f"reduce step_s (now {abs(h)} s)")
+    segment = _NodeSegment(t_start, t_end, h, y, f, order, np.asarray(jump_node, dtype=int),
+                           y_left)
+    return segment, n_eval

@@ -400,13 +400,16 @@ class EarthGravity(Force):
                           table.reshape(-1, 6), out)
         return out
 
+    def kernel_data(self) -> tuple:
+        """The arguments of :func:`_gravity_kernel` after ``t, pos`` (compiled force model)."""
+        return (self.env.rotation_grid.args(), self._full, self._sum_args, self._grad_args,
+                self.tide_grid is not None, self._tide_args, self._tide_grid_args)
+
     def evaluate(self, t_s, pos_m, vel_m_s, params):
         self.env.check(t_s)
         acc = np.empty(3)
         grad = np.empty((3, 3))
         _gravity_kernel(float(t_s), np.ascontiguousarray(pos_m, dtype=float),
-                        self.env.rotation_grid.args(), self._full, self._sum_args,
-                        self._grad_args, self.tide_grid is not None, self._tide_args,
-                        self._tide_grid_args, acc, grad)
+                        *self.kernel_data(), acc, grad)
         return acc, grad, np.zeros((3, 3)), np.zeros((3, 0))
 

@@ -53,12 +53,17 @@ import logging
 from dataclasses import dataclass, field
 from itertools import pairwise
 
-import numba
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from leopod.dynamics.compiled import CompiledForceModel, fill_acceleration
 from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses
-from leopod.dynamics.gauss_jackson import _gauss_jackson_segment, _inside
+from leopod.dynamics.gauss_jackson import (
+    _gauss_jackson_segment,
+    _inside,
+    gauss_jackson_compiled,
+    segment_grid,
+)
 from leopod.frames.rtn import rtn_basis
 
 __all__ = ["DEFAULT_ORDER", "DEFAULT_STEP_S", "Trajectory", "apply_pulses", "integrate",
@@ -80,22 +85,6 @@ _N_STATE_COLUMNS = 7             # columns of y and Φ in the augmented matrix
 # Right-hand side
 
 
-@numba.njit(cache=True)
-def _fill_acceleration(acc, da_dr, da_dv, da_dp, y, out):  # pragma: no cover - numba
-    """``out = [a | A y_r + B y_v (+ ∂a/∂p in the S columns)]`` for y (6, C), out (3, C)."""
-    n_col = y.shape[1]
-    for i in range(3):
-        out[i, 0] = acc[i]
-        for j in range(1, n_col):
-            s = 0.0
-            for k in range(3):
-                s += da_dr[i, k] * y[k, j] + da_dv[i, k] * y[3 + k, j]
-            out[i, j] = s
-        if n_col > 1:
-            for j in range(da_dp.shape[1]):
-                out[i, 7 + j] += da_dp[i, j]
-
-
 class _Rhs:
     """Augmented acceleration ``F(t, Y)`` (3, C) of the 6×C matrix ``Y = [y | Φ | S]``."""
 
@@ -109,7 +98,7 @@ class _Rhs:
         acc, da_dr, da_dv, da_dp = self.force_model.evaluate(t_s, y[:3, 0].copy(),
                                                              y[3:, 0].copy(), self.params)
         self.n_evaluations += 1
-        _fill_acceleration(np.asarray(acc, dtype=float), np.asarray(da_dr, dtype=float),
+        fill_acceleration(np.asarray(acc, dtype=float), np.asarray(da_dr, dtype=float),
                            np.asarray(da_dv, dtype=float), np.asarray(da_dp, dtype=float),
                            y, out)
 
@@ -285,6 +274,37 @@ def _velocity_jump(y: np.ndarray, dv_rtn_m_s: np.ndarray, direction: int) -> np.
     return out
 
 
+_PULSE_ON_NODE = 1e-7          # a pulse this close to a node [steps] is applied there
+
+
+def _compiled_pieces(compiled: CompiledForceModel, params, a: float, b: float, y0, jumps,
+                     step_s: float, order: int, pece: bool, direction: int):
+    """Segments from a to b with the compiled force model; pulses strictly inside that fall
+    on nodes past the start-up, more than q nodes apart, are applied without restart
+    (:func:`leopod.dynamics.gauss_jackson.gauss_jackson_compiled`); the others split it."""
+    compiled.env.check(a)
+    compiled.env.check(b)
+    inside = sorted((t for t in jumps if (t - a) * direction > 0 and (b - t) * direction > 0),
+                    key=lambda t: t * direction)
+    n_steps, h = segment_grid(a, b, step_s, order)
+    node = np.array([(t - a) / h for t in inside])
+    index = np.rint(node).astype(int)
+    bad = ((np.abs(node - index) > _PULSE_ON_NODE) | (index <= order) | (index >= n_steps)
+           | (np.diff(index, prepend=0) <= order))
+    if not bad.any():
+        dv = np.array([jumps[t] for t in inside]).reshape(-1, 3)
+        segment, n_eval = gauss_jackson_compiled(compiled, params, a, b, y0, step_s, order,
+                                                 pece, index, dv, direction)
+        return [segment], n_eval
+    t_split = inside[int(np.argmax(bad))]
+    left, n_left = _compiled_pieces(compiled, params, a, t_split, y0, jumps, step_s, order,
+                                    pece, direction)
+    y = _velocity_jump(left[-1].y_end, jumps[t_split], direction)
+    right, n_right = _compiled_pieces(compiled, params, t_split, b, y, jumps, step_s, order,
+                                      pece, direction)
+    return left + right, n_left + n_right
+
+
 def _integrate(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
                jumps: dict[float, np.ndarray], *, step_s: float = DEFAULT_STEP_S,
                order: int = DEFAULT_ORDER, pece: bool = False, method: str = "gauss-jackson",
@@ -306,11 +326,13 @@ def _integrate(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
     if method == "gauss-jackson" and (step_s <= 0 or not 2 <= order <= 16):
         raise ValueError(f"need step_s > 0 and 2 <= order <= 16 (got {step_s}, {order})")
     rhs = _Rhs(force_model, params, with_partials)
+    compiled = CompiledForceModel.of(force_model) if method == "gauss-jackson" else None
     y0 = np.zeros((6, rhs.n_columns))
     y0[:, 0] = state0
     if with_partials:
         y0[:, 1:_N_STATE_COLUMNS] = np.eye(6)
-    breaks = np.union1d(force_model.breakpoints_s, list(jumps))
+    breaks = np.union1d(force_model.breakpoints_s, [] if compiled else list(jumps))
+    n_compiled = 0
     arcs = []
     for direction, t_end in ((1, t_out.max(initial=t0_s)), (-1, t_out.min(initial=t0_s))):
         if t_end == t0_s:
@@ -323,6 +345,13 @@ def _integrate(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
         for a, b in pairwise(edges):
             if a in jumps:
                 y = _velocity_jump(y, jumps[a], direction)
+            if compiled is not None:
+                pieces, n_eval = _compiled_pieces(compiled, params, a, b, y, jumps, step_s,
+                                                  order, pece, direction)
+                arc.segments.extend(pieces)
+                n_compiled += n_eval
+                y = pieces[-1].y_end
+                continue
             if method == "gauss-jackson":
                 seg = _gauss_jackson_segment(rhs, a, b, y, step_s, order, pece)
             else:
@@ -333,10 +362,12 @@ def _integrate(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
             y = _velocity_jump(y, jumps[t_end], direction)
             arc.segments.append(_PointSegment(t_end, t_end, y))
         arcs.append(arc)
-    log.debug("integrated %d arc(s), %d segment(s), %d force evaluations", len(arcs),
-              sum(len(a.segments) for a in arcs), rhs.n_evaluations)
+    n_evaluations = rhs.n_evaluations + n_compiled
+    log.debug("integrated %d arc(s), %d segment(s), %d force evaluations (%s)", len(arcs),
+              sum(len(a.segments) for a in arcs), n_evaluations,
+              "compiled" if compiled else "Python")
     shell = _trajectory_from(np.empty(0), np.empty((0,) + y0.shape), t0_s,
-                             force_model.parameters, rhs.n_evaluations, y0, arcs)
+                             force_model.parameters, n_evaluations, y0, arcs)
     return shell.at(t_out)
 
 

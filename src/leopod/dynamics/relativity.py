@@ -117,6 +117,10 @@ class Relativity(Force):
         self.lense_thirring, self.de_sitter = bool(lense_thirring), bool(de_sitter)
         self.parameters = []
 
+    def kernel_data(self) -> tuple:
+        """``(Sun grid, lense_thirring, de_sitter)`` (compiled force model)."""
+        return self.env.body_grid.args(), self.lense_thirring, self.de_sitter
+
     def evaluate(self, t_s, pos_m, vel_m_s, params):
         self.env.check(t_s)
         acc = _relativity_kernel(float(t_s), np.ascontiguousarray(pos_m, dtype=float),

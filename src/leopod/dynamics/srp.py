@@ -362,6 +362,10 @@ class SolarRadiation(_Scaled):
         self.cr_area_mass_m2_kg = float(cr_area_mass_m2_kg)
         self.shadow, self.r_earth_m = bool(shadow), float(r_earth_m)
 
+    def kernel_data(self) -> tuple:
+        """``(edges_s, C_R A/m, Earth radius, shadow)`` (compiled force model)."""
+        return self.edges_s, self.cr_area_mass_m2_kg, self.r_earth_m, self.shadow
+
     def _unscaled(self, t_s, pos, vel, scale):
         sun = self.env.body_grid(t_s)[0, 0:3]
         return srp_cannonball(pos, sun, self.cr_area_mass_m2_kg, scale,

@@ -95,6 +95,10 @@ class ThirdBodies(Force):
         self.parameters = []
         self._gm = np.array([GM_SUN_M3_S2 if sun else 0.0, GM_MOON_M3_S2 if moon else 0.0])
 
+    def kernel_data(self) -> tuple:
+        """``(Sun and Moon grid, GM of Sun and Moon (0 = off))`` (compiled force model)."""
+        return self.env.body_grid.args(), self._gm
+
     def evaluate(self, t_s, pos_m, vel_m_s, params):
         self.env.check(t_s)
         acc = np.empty(3)
