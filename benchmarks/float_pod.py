@@ -8,7 +8,7 @@ prints its wall time, peak memory, post-fit residual RMS, passes and rejections.
 ``--overlap`` it also solves the sub-arcs 00-14 h and 10-24 h and prints their RTN
 differences over the 4-h overlap (and over its central 2 h, away from the arc ends).
 
-    .venv/bin/python benchmarks/float_pod.py [--overlap] [--set key=value ...]
+    .venv/bin/python benchmarks/float_pod.py [--overlap] [--set key=value ...] [--save F]
 
 ``--set`` overrides a key of the ``pod`` section (YAML value), e.g. ``--set
 pulse_interval_s=360``.
@@ -78,10 +78,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--overlap", action="store_true", help="also solve the two sub-arcs")
     parser.add_argument("--set", action="append", default=[], help="pod key=value override")
+    parser.add_argument("-v", action="store_true", help="log the steps (INFO)")
+    parser.add_argument("--save", type=Path, help="write the orbit (netCDF) here, to compare")
     args = parser.parse_args()
     if not DATA.exists():
         sys.exit(f"{DATA} is absent: this benchmark needs the real GRACE-A day")
-    logging.basicConfig(level=logging.WARNING)
+    logging.basicConfig(level=logging.INFO if "-v" in sys.argv else logging.WARNING,
+                        format="%(asctime)s %(name)s %(message)s")
     _prepare()
     cfg = yaml.safe_load(CONFIG.read_text())
     for item in args.set:
@@ -95,6 +98,8 @@ def main() -> None:
     tic = time.perf_counter()
     arc = run_arc(DATE, *common)
     _summary("GRACE-A 2007-080, 00-24 h, 30 s", arc, time.perf_counter() - tic)
+    if args.save:
+        arc.orbit.to_netcdf(args.save)
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"peak resident memory {peak_mb:.0f} MB (target wall time < 60 s)")
     if args.overlap:

@@ -535,7 +535,7 @@ class Drag(_Scaled):
         self.cd_area_mass_m2_kg = float(cd_area_mass_m2_kg)
         self.along_orbit: DensityAlongOrbit | None = None
 
-    def follow(self, positions, step_s: float = 60.0) -> None:
+    def follow(self, positions, step_s: float = 30.0) -> None:
         """Take the density along a reference orbit from now on (:class:`DensityAlongOrbit`).
 
         Parameters

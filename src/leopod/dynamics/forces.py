@@ -40,10 +40,11 @@ import numpy as np
 from leopod.constants import GM_EARTH_M3_S2
 from leopod.dynamics.environment import ArcEnvironment
 from leopod.frames.rtn import RTN_AXES, rtn_basis, rtn_vector_partials
+from leopod.numerics.interpolate import interpolate_table
 
 __all__ = ["ConstantAcceleration", "Force", "ForceModel", "PointMassGravity",
            "PseudoStochasticPulses", "apriori_parameters", "constraint_sigmas",
-           "estimated_parameters", "interval_edges"]
+           "estimated_parameters", "interval_edges", "tabulated_orbit"]
 
 
 class Force(ABC):
@@ -246,6 +247,28 @@ class PseudoStochasticPulses:
         object.__setattr__(self, "epochs_s", epochs)
         names = [f"{self.prefix}_{axis}_{i}" for i in range(epochs.size) for axis in RTN_AXES]
         object.__setattr__(self, "parameters", names)
+
+
+def tabulated_orbit(t_s: np.ndarray, pos_m: np.ndarray):
+    """A reference orbit for :meth:`ForceModel.follow` from tabulated positions.
+
+    Parameters
+    ----------
+    t_s : ndarray, shape (n,)
+        Increasing epochs [TT s since the reference epoch], n ≥ 9.
+    pos_m : ndarray, shape (n, 3)
+        GCRF positions [m] (e.g. the a-priori orbit; across data gaps the interpolation is
+        rough, enough for a density looked up along the orbit, see Drag.follow).
+
+    Returns
+    -------
+    callable
+        ``positions(t_s (m,)) -> (m, 3)``: Lagrange interpolation (degree 8) at the epochs
+        clipped to ``[t_s[0], t_s[-1]]``.
+    """
+    t = np.asarray(t_s, dtype=float)
+    pos = np.asarray(pos_m, dtype=float)
+    return lambda q: interpolate_table(t, pos, np.clip(q, t[0], t[-1]), order=8)[0]
 
 
 # ------------------------------------------------------- parameters per interval

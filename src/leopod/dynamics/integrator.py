@@ -229,6 +229,12 @@ class Trajectory:
         ends = [s.t_end for arc in self._arcs for s in arc.segments]
         return min([self.t0_s] + ends), max([self.t0_s] + ends)
 
+    def positions(self, t_s) -> np.ndarray:
+        """GCRF positions (m, 3) [m] at epochs ``t_s`` clipped to :attr:`span_s`: the orbit as
+        a reference for :meth:`leopod.dynamics.forces.ForceModel.follow`."""
+        lo, hi = self.span_s
+        return self.at(np.clip(np.asarray(t_s, dtype=float), lo, hi)).states[:, :3]
+
     def at(self, t_s) -> Trajectory:
         """The trajectory interpolated at other epochs inside :attr:`span_s`.
 

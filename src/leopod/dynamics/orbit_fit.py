@@ -30,6 +30,7 @@ from leopod.dynamics.forces import (
     apriori_parameters,
     constraint_sigmas,
     estimated_parameters,
+    tabulated_orbit,
 )
 from leopod.dynamics.integrator import DEFAULT_STEP_S, Trajectory, integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
@@ -242,8 +243,12 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings | None = None, *,
     k = len(names)
     converged = False
     iterations = 0
+    # forces tabulated along a reference orbit (drag) follow the observed positions, then
+    # each iteration's orbit
+    force_model.follow(tabulated_orbit(t_s, pos))
     while True:
         traj = integrate(force_model, t_s[0], state, params, t_s, step_s=step_s)
+        force_model.follow(traj.positions)
         res = pos - traj.states[:, :3]
         design = np.concatenate([traj.stm[:, :3, :], traj.sensitivity[:, :3, est]], axis=2)
         rows = [design.reshape(-1, k) / sigma_obs_m]

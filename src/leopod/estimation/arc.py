@@ -19,6 +19,7 @@ import xarray as xr
 
 from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.dynamics.force_config import ForceModelSettings, build_force_model
+from leopod.dynamics.forces import tabulated_orbit
 from leopod.dynamics.orbit_fit import fit_orbit
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
 from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna
@@ -30,6 +31,7 @@ from leopod.estimation.outputs import (
     pod_start,
     residual_dataset,
 )
+from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.gnss.products import GnssProducts
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
@@ -235,6 +237,10 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
         state0, warm = fit.state0_gcrf, None
     else:
         state0, warm = None, pod_start(*continue_from, po)
+        ok = np.isfinite(apriori.values).all(axis=1)
+        pos_gcrf, _ = itrf_to_gcrf(apriori.time.values[ok], apriori.values[ok], eop=eop)
+        force_model.follow(tabulated_orbit(seconds_since(apriori.time.values[ok], t_ref),
+                                           pos_gcrf))
         log.info("continuing from the earlier solution of the arc (warm start)")
     result = float_pod(po, products, force_model, t_ref, state0, pod, eop=eop,
                        leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,

@@ -340,9 +340,15 @@ class _Problem:
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
+        """The orbit at the current estimates; forces tabulated along a reference orbit
+        (drag) follow it from then on."""
         if self.pulses is None:
-            return integrate(self.fm, self.t0, state0, self.params, t_eval)
-        return apply_pulses(self.fm, self.t0, state0, self.params, t_eval, self.pulses, self.dv)
+            traj = integrate(self.fm, self.t0, state0, self.params, t_eval)
+        else:
+            traj = apply_pulses(self.fm, self.t0, state0, self.params, t_eval, self.pulses,
+                                self.dv)
+        self.fm.follow(traj.positions)
+        return traj
 
     def current_vector(self, state0: np.ndarray) -> np.ndarray:
         parts = [state0, self.params[self.est], self.dv.ravel()]
