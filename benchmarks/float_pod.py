@@ -4,7 +4,8 @@ Prepares the ingest and quality outputs with the workflow if they are missing
 (``snakemake results/quality/grace-a/2007-080.nc --configfile config/grace-a-2007.yaml``),
 then runs the float POD step's library call (:func:`leopod.estimation.arc.run_arc`) with the
 campaign settings of config/grace-a-2007.yaml at 30-s sampling over the 24 h of data and
-prints its wall time, peak memory, post-fit residual RMS, passes and rejections. With
+prints its wall time, orbit integrations and force evaluations, peak memory, post-fit
+residual RMS, passes and rejections. With
 ``--overlap`` it also solves the sub-arcs 00-14 h and 10-24 h and prints their RTN
 differences over the 4-h overlap (and over its central 2 h, away from the arc ends).
 
@@ -27,6 +28,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 import yaml
+from _counting import IntegrationCounter
 
 from leopod.estimation.arc import ArcData, run_arc
 from leopod.io.antex import read_antex
@@ -96,8 +98,10 @@ def main() -> None:
     sat = cfg["satellites"]["grace-a"]
     common = (_inputs(), *settings.values(), sat["antenna_pco_body_m"])
     tic = time.perf_counter()
-    arc = run_arc(DATE, *common)
+    with IntegrationCounter() as counter:
+        arc = run_arc(DATE, *common)
     _summary("GRACE-A 2007-080, 00-24 h, 30 s", arc, time.perf_counter() - tic)
+    print(counter)
     if args.save:
         arc.orbit.to_netcdf(args.save)
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

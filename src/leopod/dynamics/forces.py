@@ -44,7 +44,8 @@ from leopod.numerics.interpolate import interpolate_table
 
 __all__ = ["ConstantAcceleration", "Force", "ForceModel", "PointMassGravity",
            "PseudoStochasticPulses", "apriori_parameters", "constraint_sigmas",
-           "estimated_parameters", "interval_edges", "tabulated_orbit"]
+           "circular_orbit", "estimated_parameters", "extended_orbit", "interval_edges",
+           "tabulated_orbit"]
 
 
 class Force(ABC):
@@ -249,6 +250,65 @@ class PseudoStochasticPulses:
         object.__setattr__(self, "parameters", names)
 
 
+# ------------------------------------------------------- reference orbits (ForceModel.follow)
+
+
+def circular_orbit(t0_s: float, state0: np.ndarray):
+    """Circular two-body motion through a state: a reference orbit for minutes around it.
+
+    Keeps the radius and the orbital plane of ``state0`` (GCRF position [m], velocity [m/s] at
+    ``t0_s``); a LEO departs from it by ~a e radially (km) and by the J2 drift, which a
+    density looked up along the orbit tolerates (:class:`leopod.dynamics.drag.DensityAlongOrbit`).
+
+    Returns
+    -------
+    callable
+        ``positions(t_s (m,)) -> (m, 3)`` GCRF [m].
+    """
+    state = np.asarray(state0, dtype=float)
+    radius = np.linalg.norm(state[:3])
+    e1 = state[:3] / radius
+    e2 = state[3:] - (state[3:] @ e1) * e1
+    e2 /= np.linalg.norm(e2)
+    n = np.sqrt(GM_EARTH_M3_S2 / radius**3)
+
+    def positions(t_s):
+        angle = n * (np.atleast_1d(np.asarray(t_s, dtype=float)) - t0_s)
+        return radius * (np.cos(angle)[:, None] * e1 + np.sin(angle)[:, None] * e2)
+    return positions
+
+
+def extended_orbit(inside, lo: float, hi: float, state_lo: np.ndarray, state_hi: np.ndarray):
+    """A reference orbit known on [lo, hi], continued by :func:`circular_orbit` beyond.
+
+    Parameters
+    ----------
+    inside : callable
+        ``positions(t_s (m,)) -> (m, 3)`` GCRF [m] for epochs in [lo, hi] [s].
+    lo, hi : float
+        Span of ``inside`` [s].
+    state_lo, state_hi : ndarray, shape (6,)
+        GCRF states at lo and hi.
+
+    Returns
+    -------
+    callable
+        ``positions(t_s (m,)) -> (m, 3)`` for any epochs.
+    """
+    before, after = circular_orbit(lo, state_lo), circular_orbit(hi, state_hi)
+
+    def positions(t_s):
+        t = np.atleast_1d(np.asarray(t_s, dtype=float))
+        out = np.empty((t.size, 3))
+        early, late = t < lo, t > hi
+        middle = ~(early | late)
+        for sel, fn in ((middle, inside), (early, before), (late, after)):
+            if sel.any():
+                out[sel] = fn(t[sel])
+        return out
+    return positions
+
+
 def tabulated_orbit(t_s: np.ndarray, pos_m: np.ndarray):
     """A reference orbit for :meth:`ForceModel.follow` from tabulated positions.
 
@@ -263,12 +323,14 @@ def tabulated_orbit(t_s: np.ndarray, pos_m: np.ndarray):
     Returns
     -------
     callable
-        ``positions(t_s (m,)) -> (m, 3)``: Lagrange interpolation (degree 8) at the epochs
-        clipped to ``[t_s[0], t_s[-1]]``.
+        ``positions(t_s (m,)) -> (m, 3)``: Lagrange interpolation (degree 8) inside
+        ``[t_s[0], t_s[-1]]``, :func:`extended_orbit` beyond.
     """
     t = np.asarray(t_s, dtype=float)
     pos = np.asarray(pos_m, dtype=float)
-    return lambda q: interpolate_table(t, pos, np.clip(q, t[0], t[-1]), order=8)[0]
+    ends, rates = interpolate_table(t, pos, t[[0, -1]], order=8)
+    return extended_orbit(lambda q: interpolate_table(t, pos, q, order=8)[0], t[0], t[-1],
+                          np.concatenate([ends[0], rates[0]]), np.concatenate([ends[1], rates[1]]))
 
 
 # ------------------------------------------------------- parameters per interval

@@ -57,7 +57,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from leopod.dynamics.compiled import CompiledForceModel, fill_acceleration
-from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses
+from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses, extended_orbit
 from leopod.dynamics.gauss_jackson import (
     _gauss_jackson_segment,
     _inside,
@@ -230,10 +230,13 @@ class Trajectory:
         return min([self.t0_s] + ends), max([self.t0_s] + ends)
 
     def positions(self, t_s) -> np.ndarray:
-        """GCRF positions (m, 3) [m] at epochs ``t_s`` clipped to :attr:`span_s`: the orbit as
-        a reference for :meth:`leopod.dynamics.forces.ForceModel.follow`."""
+        """GCRF positions (m, 3) [m] at epochs ``t_s``, continued beyond :attr:`span_s` by
+        :func:`leopod.dynamics.forces.extended_orbit`: the orbit as a reference for
+        :meth:`leopod.dynamics.forces.ForceModel.follow`."""
         lo, hi = self.span_s
-        return self.at(np.clip(np.asarray(t_s, dtype=float), lo, hi)).states[:, :3]
+        ends = self.at([lo, hi]).states
+        return extended_orbit(lambda t: self.at(t).states[:, :3], lo, hi, ends[0],
+                              ends[1])(t_s)
 
     def at(self, t_s) -> Trajectory:
         """The trajectory interpolated at other epochs inside :attr:`span_s`.

@@ -37,6 +37,7 @@ from leopod.constants import (
     TT_MINUS_TAI_S,
 )
 from leopod.dynamics.force_config import ForceModelSettings, build_force_model
+from leopod.dynamics.forces import circular_orbit
 from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
 from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
 from leopod.io.netcdf import write_netcdf
@@ -210,17 +211,6 @@ def _force_attrs(forces: TruthForces, dyn: TruthDynamics, integrator_step_s: flo
     }
 
 
-def _circular_orbit(state0: np.ndarray):
-    """Positions ``f(t_s) -> (n, 3)`` of the circular two-body orbit through ``state0``."""
-    radius = np.linalg.norm(state0[:3])
-    e1 = state0[:3] / radius
-    e2 = state0[3:] - (state0[3:] @ e1) * e1
-    e2 /= np.linalg.norm(e2)
-    n = np.sqrt(GM_EARTH_M3_S2 / radius**3)
-    return lambda t: radius * (np.cos(n * np.asarray(t))[:, None] * e1
-                               + np.sin(n * np.asarray(t))[:, None] * e2)
-
-
 def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
                          altitude_m: float = HY2B_ALTITUDE_M, ltan_h: float = HY2B_LTAN_H,
                          inclination_deg: float | None = None, u0_deg: float = 0.0,
@@ -273,7 +263,7 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
     t_out = step_s * np.arange(int(np.floor(span_s / step_s + 1e-9)) + 1)
     clock = _time.perf_counter()
     drag = np.array([name.startswith("drag_scale") for name in model.parameters])
-    model.follow(_circular_orbit(state0))          # a density table, unused: drag scales 0
+    model.follow(circular_orbit(0.0, state0))      # a density table, unused: drag scales 0
     first = integrate(model, 0.0, state0, np.where(drag, 0.0, params), t_out,
                       step_s=2 * integrator_step_s, with_partials=False)
     model.follow(first.positions)

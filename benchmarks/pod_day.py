@@ -1,0 +1,84 @@
+"""Benchmark: float and ambiguity-fixed POD of one simulated day of the default campaign.
+
+Prepares the day's inputs with the workflow (``snakemake results/ambiguity/<sat>/<date>.nc``
+in the working directory ``--directory``, default the repository; the float POD runs once
+there), then runs the float_pod, ambiguity and fixed_pod jobs of that day with their scripts,
+in-process as Snakemake would (:func:`leopod.workflow.boundary.mock_snakemake`: same inputs,
+settings and outputs), each step ``--repeat`` times in a fresh process, and prints per step the
+best wall time, the orbit integrations and force evaluations, and the peak memory. The fixed
+POD's time is what it adds on top of the float POD and the ambiguity step.
+
+    .venv/bin/python benchmarks/pod_day.py [--date 2019-002] [--repeat 3] [--directory D]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from _counting import IntegrationCounter
+
+REPO = Path(__file__).resolve().parents[1]
+SAT = "hy2b-sim"
+STEPS = ("float_pod", "ambiguity", "fixed_pod")
+
+
+def _one(step: str, date: str, root: Path) -> None:
+    """Run one job in this process and print its figures as JSON."""
+    import importlib.util
+
+    from leopod.workflow.boundary import mock_snakemake
+
+    logging.basicConfig(level=logging.WARNING)
+    job = mock_snakemake(step, root=root, sat=SAT, date=date)
+    spec = importlib.util.spec_from_file_location(step, REPO / "scripts" / f"{step}.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    tic = time.perf_counter()
+    with IntegrationCounter() as counter:
+        script.run(job)
+    wall = time.perf_counter() - tic
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps({"wall_s": wall, "integrations": counter.integrations,
+                      "compiled": counter.compiled, "evaluations": counter.evaluations,
+                      "peak_mb": peak_mb}))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--date", default="2019-002")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--directory", type=Path, default=REPO)
+    parser.add_argument("--step", choices=STEPS, help=argparse.SUPPRESS)   # internal
+    args = parser.parse_args()
+    root = args.directory.resolve()
+    if args.step:
+        _one(args.step, args.date, root)
+        return
+    target = f"results/ambiguity/{SAT}/{args.date}.nc"
+    subprocess.run([str(Path(sys.executable).with_name("snakemake")), target, "--cores", "2",
+                    "--snakefile", str(REPO / "Snakefile"), "--directory", str(root),
+                    "--configfile", str(REPO / "config" / "config.yaml")],
+                   check=True, capture_output=True)
+    print(f"default campaign, {SAT} {args.date}: best of {args.repeat} runs per step")
+    for step in STEPS:
+        runs = []
+        for _ in range(args.repeat):
+            out = subprocess.run([sys.executable, __file__, "--step", step, "--date", args.date,
+                                  "--directory", str(root)], check=True, capture_output=True,
+                                 text=True, cwd=REPO / "benchmarks")
+            runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
+        best = min(runs, key=lambda r: r["wall_s"])
+        print(f"{step:10s} wall {best['wall_s']:6.2f} s  {best['integrations']} integrations "
+              f"({best['compiled']} compiled), {best['evaluations']} force evaluations, "
+              f"peak memory {best['peak_mb']:.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
