@@ -38,10 +38,22 @@ DOP853 (scipy, adaptive, dense output) stays available as ``method="dop853"`` fo
 comparison; its error control then acts on the state only (the variational equations follow
 the same steps).
 
+Compiled path. When the force model has a compiled form
+(:class:`leopod.dynamics.compiled.CompiledForceModel`: the forces of
+:func:`leopod.dynamics.force_config.build_force_model`, drag following a reference orbit), the
+Gauss–Jackson start-up and steps run in numba with one call of the compiled right-hand side per
+evaluation (the same formulas, results equal to round-off); otherwise the forces are called
+from Python. Counts per integration are logged (DEBUG).
+
 Discontinuities. The right-hand side may jump at the forces' ``breakpoints_s`` (piecewise
 constant parameters) and, with :func:`apply_pulses`, the velocity jumps at pulse epochs. Each
 arc is therefore integrated in segments between consecutive breakpoints, restarting at each;
-a segment's step is the largest ≤ ``step_s`` that divides it (at least q steps).
+a segment's step is the largest ≤ ``step_s`` that divides it (at least q steps). On the
+compiled path a pulse that falls on a node (past the start-up, more than q nodes from the
+previous one) needs no restart: the state jumps and the back values are those of the orbit
+after the pulse (:func:`leopod.dynamics.gauss_jackson.gauss_jackson_compiled`), which agrees
+with a restart to 1e-7 m over 3 h (tests/dynamics/test_compiled.py) for ~45 fewer evaluations
+per pulse.
 
 Arcs run in both directions from t0 (outputs may precede t0). The trajectory is
 right-continuous in time: at a pulse epoch it holds the state after the pulse.
