@@ -202,3 +202,28 @@ class CompiledForceModel:
                   np.ascontiguousarray(params, dtype=float), self.data, acc, da_dr, da_dv,
                   da_dp)
         return acc, da_dr, da_dv, da_dp
+
+
+def warm_up() -> None:
+    """Compile (and cache) the compiled force model and integrator: a 20-min arc of a small
+    model with every force, partials and pulses. ``make setup`` runs it once, so that the
+    first POD job does not spend its time compiling."""
+    from leopod.dynamics.force_config import ForceModelSettings, build_force_model
+    from leopod.dynamics.forces import apriori_parameters, circular_orbit
+    from leopod.dynamics.integrator import apply_pulses
+    from leopod.dynamics.model_files import resolve_model_paths
+
+    settings = ForceModelSettings.from_config(resolve_model_paths({
+        "gravity": {"field": "satkit:ITU_GRACE16.gfc", "max_degree": 8},
+        "tides": {"solid": True}, "third_body": {}, "relativity": {},
+        "drag": {"area_m2": 1.0, "mass_kg": 500.0, "density": "harris_priester"},
+        "srp": {"area_m2": 1.0, "mass_kg": 500.0}, "empirical": {"interval_s": 600.0}}))
+    model = build_force_model(settings, np.datetime64("2020-01-01T00:00", "ns"), 0.0, 1200.0)
+    state = np.array([6.9e6, 0.0, 0.0, 0.0, 1.0e3, 7.5e3])
+    model.follow(circular_orbit(0.0, state))
+    apply_pulses(model, 0.0, state, apriori_parameters(model), [1200.0], [600.0],
+                 [[1e-6, 0.0, 0.0]])
+
+
+if __name__ == "__main__":
+    warm_up()
