@@ -21,7 +21,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     """Float POD of the arc of ``date`` from the files ``inputs`` into the files ``outputs``.
 
     ``inputs``: lists ``obs``, ``quality``, ``leo``, ``orbit``, ``clock`` and optional
-    ``antex``, ``code_bias`` paths; ``outputs``: the paths of ``ARC_PRODUCTS`` and
+    ``antenna``, ``code_bias`` paths; ``outputs``: the paths of ``ARC_PRODUCTS`` and
     ``ARC_FIGURES``.
     The settings are those of :func:`leopod.estimation.arc.run_arc`.
     """

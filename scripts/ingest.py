@@ -8,9 +8,8 @@ import numpy as np
 
 from leopod.gnss.products import GnssProducts
 from leopod.ingest import apriori_from_sp3, apriori_from_spp, canonical_observations, gnss_at_epochs
-from leopod.io.antex import read_antex
-from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import write_netcdf
+from leopod.io.product_netcdf import read_antenna_product, read_clock_product, read_orbit_product
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import SystemSignals, signal_settings
@@ -19,18 +18,22 @@ from leopod.workflow.log import configure_logging
 log = logging.getLogger(__name__)
 
 
-def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, out_gnss, out_leo,
-         signals: Mapping[str, SystemSignals], pco_body_m, sp3_id) -> None:
+def main(obs_path, orbit_path, clock_path, apriori_path, antenna_path, out_obs, out_gnss,
+         out_leo, signals: Mapping[str, SystemSignals], pco_body_m, sp3_id) -> None:
     """Ingest one RINEX observation file with its GNSS products (paths; optional ones None)
-    into ``out_obs``, ``out_gnss`` and ``out_leo`` (netCDF)."""
+    into ``out_obs``, ``out_gnss`` and ``out_leo`` (netCDF).
+
+    The products are the netCDF files of the gnss_products rule (or SP3, RINEX clock and
+    ANTEX files: :mod:`leopod.io.product_netcdf` reads either); ``apriori_path`` is an SP3
+    file of the LEO."""
     raw = read_rinex_obs(obs_path, systems=list(signals))
     obs = canonical_observations(raw, signals)
     log.info("%s: %d epochs, %d satellites, signals %s", obs_path, obs.sizes["time"],
              obs.sizes["sv"], " ".join(k for k in obs.data_vars if "_" not in k))
     day_start = obs.time.values[0].astype("datetime64[D]")
-    orbit = read_sp3(orbit_path)
+    orbit = read_orbit_product(orbit_path)
     if clock_path:
-        clock = read_rinex_clock(clock_path)
+        clock = read_clock_product(clock_path)
     else:
         log.warning("no clock product: the SP3 clock records of %s are used", orbit_path)
         clock = orbit
@@ -44,12 +47,12 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antex_path, out_obs, ou
     if apriori_path:
         leo = apriori_from_sp3(read_sp3(apriori_path), sp3_id, obs.time.values)
     else:
-        antex = read_antex(antex_path) if antex_path else None
+        antex = read_antenna_product(antenna_path) if antenna_path else None
         leo = apriori_from_spp(obs, products, signals, pco_body_m, antex)
         log.info("code-only orbit: %d of %d epochs, median residual RMS %.2f m, median PDOP %.2f",
                  np.isfinite(leo.pos_m.values[:, 0]).sum(), leo.sizes["time"],
                  float(np.nanmedian(leo.rms_m)), float(np.nanmedian(leo.pdop)))
-    inputs = [p for p in (obs_path, orbit_path, clock_path, apriori_path, antex_path) if p]
+    inputs = [p for p in (obs_path, orbit_path, clock_path, apriori_path, antenna_path) if p]
     write_netcdf(obs, out_obs, step="ingest", inputs=inputs, time_system="GPS",
                  title="canonical GNSS observations")
     write_netcdf(gnss, out_gnss, step="ingest", inputs=inputs, time_system="GPS",
@@ -63,7 +66,7 @@ def run(sm) -> None:
     """Call :func:`main` with the job's files and settings."""
     configure_logging(sm)
     main(obs_path=sm.input.obs, orbit_path=sm.input.orbit, clock_path=sm.input.get("clock"),
-         apriori_path=sm.input.get("apriori"), antex_path=sm.input.get("antex"),
+         apriori_path=sm.input.get("apriori"), antenna_path=sm.input.get("antenna"),
          out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
          signals=signal_settings(sm.params.signals), pco_body_m=sm.params.pco_body_m,
          sp3_id=sm.params.sp3_id)

@@ -78,13 +78,16 @@ def test_overlap_main_from_plain_paths(tmp_path):
 
 
 @pytest.mark.shared
-def test_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path):
+def test_products_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path):
     d = shared_data / "grace-a_2007-080"
     signals = signal_settings({"G": {"phase": ["L1C", "L2W"], "code": ["C1C", "C1W", "C2W"],
                                      "pod_code": ["C1W", "C2W"]}})
-    out = {k: tmp_path / f"{k}.nc" for k in ("obs", "gnss", "leo")}
-    _script("ingest").main(d / "graa0800.07o.gz", d / "cod14193.sp3.gz", d / "cod14193.clk.gz",
-                           None, d / "igs05_1402.atx.gz", out["obs"], out["gnss"], out["leo"],
+    out = {k: tmp_path / f"{k}.nc" for k in ("obs", "gnss", "leo", "orbit", "clock", "antenna")}
+    _script("gnss_products").main("2007-080", d / "cod14193.sp3.gz", d / "cod14193.clk.gz",
+                                  d / "igs05_1402.atx.gz", out["orbit"], out["clock"],
+                                  out["antenna"], systems=["G"])
+    _script("ingest").main(d / "graa0800.07o.gz", out["orbit"], out["clock"], None,
+                           out["antenna"], out["obs"], out["gnss"], out["leo"],
                            signals=signals,
                            pco_body_m={"L1": [0.0, 0.0, -0.4514], "L2": [0.0, 0.0, -0.4757]},
                            sp3_id=None)

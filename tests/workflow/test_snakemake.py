@@ -27,6 +27,7 @@ from leopod.io.sp3 import read_sp3
 from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.validation.compare import difference_rtn, rms_rtn
+from leopod.workflow.boundary import mock_snakemake
 from leopod.workflow.config import validated
 
 REPO = Path(__file__).resolve().parents[2]
@@ -78,6 +79,48 @@ def test_default_dry_run_has_three_days(tmp_path):
     # Snakemake's benchmark files go beside the logs, apart from the scripts of benchmarks/
     benchmarks = re.findall(r"^\s*benchmark: (\S+)$", out, flags=re.M)
     assert benchmarks and all(b.startswith("logs/benchmarks/") for b in benchmarks)
+
+
+def _job_files(sm) -> list[str]:
+    return [str(p) for p in sm.input]
+
+
+def test_the_gnss_products_are_parsed_once_per_day_and_read_as_netcdf(monkeypatch):
+    # the gnss_products rule reads the day's SP3 and clock files; ingest and the POD arcs
+    # (float and fixed) read its netCDF files, never the text files
+    monkeypatch.chdir(Path.cwd())           # mock_snakemake moves to the repository root
+    products = mock_snakemake("gnss_products", date="2019-002")
+    assert products.input.orbit == "resources/simulate/gnss/2019-002.sp3"
+    assert products.input.clock == "resources/simulate/gnss/2019-002_int.clk"
+    assert dict(products.output.items()) == {"orbit": "results/gnss_products/2019-002_orbit.nc",
+                                             "clock": "results/gnss_products/2019-002_clock.nc"}
+    assert products.params.systems == ["G"]
+    ingest = mock_snakemake("ingest", sat="hy2b-sim", date="2019-002")
+    assert ingest.input.orbit == "results/gnss_products/2019-002_orbit.nc"
+    assert ingest.input.clock == "results/gnss_products/2019-002_clock.nc"
+    jobs = [ingest]
+    for rule in ("float_pod", "fixed_pod"):
+        sm = mock_snakemake(rule, sat="hy2b-sim", date="2019-002")
+        days = ("2019-001", "2019-002", "2019-003")
+        assert list(sm.input.orbit) == [f"results/gnss_products/{d}_orbit.nc" for d in days]
+        assert list(sm.input.clock) == [f"results/gnss_products/{d}_clock.nc" for d in days]
+        assert "antenna" not in dict(sm.input.items())         # no ANTEX in this campaign
+        jobs.append(sm)
+    for sm in jobs:
+        assert not [p for p in _job_files(sm) if p.endswith((".sp3", ".clk", ".atx"))]
+
+
+@pytest.mark.shared
+def test_the_satellite_antennas_reach_the_pod_as_netcdf(shared, monkeypatch):
+    monkeypatch.chdir(Path.cwd())
+    configs = ("config/grace-a-2007.yaml",)
+    products = mock_snakemake("gnss_products", configfiles=configs, date="2007-080")
+    assert products.input.antex == "resources/locate/products.antex/2007-080/igs05_1402.atx.gz"
+    assert products.output.antenna == "results/gnss_products/2007-080_antenna.nc"
+    for rule in ("ingest", "float_pod"):
+        sm = mock_snakemake(rule, configfiles=configs, sat="grace-a", date="2007-080")
+        assert sm.input.antenna == "results/gnss_products/2007-080_antenna.nc"
+        assert not [p for p in _job_files(sm) if p.endswith((".sp3.gz", ".clk.gz", ".atx.gz"))]
 
 
 @pytest.mark.shared

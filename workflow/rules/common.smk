@@ -171,19 +171,42 @@ def simulation_product_files(wildcards):
     return [] if products is None else ProductSet.from_config(products).files
 
 
-def ingest_inputs(wildcards):
-    """Observation, GNSS product and optional a-priori orbit files of one satellite-day."""
-    sat, date = wildcards.sat, wildcards.date
-    files = {
-        "obs": expand_template(sat_file(sat, "observations"), date, sat),
-        "orbit": expand_template(product_file("gnss_orbit"), date, sat),
-    }
+def gnss_product_inputs(wildcards):
+    """The SP3, clock (if any) and ANTEX (if any) files of a day."""
+    files = {"orbit": expand_template(product_file("gnss_orbit"), wildcards.date)}
+    for key, name in (("clock", "gnss_clock"), ("antex", "antex")):
+        if product_file(name):
+            files[key] = expand_template(product_file(name), wildcards.date)
+    return files
+
+
+def gnss_product_outputs():
+    """netCDF files of the gnss_products rule: orbit always, clock and satellite antennas
+    when the campaign has a clock product and an ANTEX file."""
+    base = "results/gnss_products/{date}"
+    files = {"orbit": f"{base}_orbit.nc"}
     if product_file("gnss_clock"):
-        files["clock"] = expand_template(product_file("gnss_clock"), date, sat)
+        files["clock"] = f"{base}_clock.nc"
+    if product_file("antex"):
+        files["antenna"] = f"{base}_antenna.nc"
+    return files
+
+
+def day_products(days, *keys):
+    """{key: [netCDF product of every day]} of the gnss_products rule (keys it writes)."""
+    outputs = rules.gnss_products.output
+    return {k: [fill(getattr(outputs, k), date=d) for d in days] for k in keys
+            if hasattr(outputs, k)}
+
+
+def ingest_inputs(wildcards):
+    """Observation file, the day's GNSS products (netCDF) and the optional a-priori orbit of
+    one satellite-day."""
+    sat, date = wildcards.sat, wildcards.date
+    files = {"obs": expand_template(sat_file(sat, "observations"), date, sat)}
+    files.update({k: v[0] for k, v in day_products([date], "orbit", "clock", "antenna").items()})
     if sat_file(sat, "apriori_orbit"):
         files["apriori"] = expand_template(sat_file(sat, "apriori_orbit"), date, sat)
-    if product_file("antex"):
-        files["antex"] = expand_template(product_file("antex"), date, sat)
     return files
 
 
@@ -196,7 +219,8 @@ def code_bias_inputs(wildcards):
 
 
 def float_pod_inputs(wildcards):
-    """Ingest/quality outputs and GNSS products of the days of the arc of a satellite-day."""
+    """Ingest/quality outputs and GNSS products (netCDF) of the days of the arc of a
+    satellite-day; the satellite antennas of the day."""
     if not product_file("gnss_clock"):
         raise ValueError("float_pod needs a GNSS clock product (products.gnss_clock)")
     days = arc_days(CONFIG, wildcards.date)
@@ -205,11 +229,11 @@ def float_pod_inputs(wildcards):
         "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
         "leo": expand(rules.ingest.output.leo, sat=sat, date=days),
         "quality": expand(rules.quality.output.nc, sat=sat, date=days),
-        "orbit": [expand_template(product_file("gnss_orbit"), d, sat) for d in days],
-        "clock": [expand_template(product_file("gnss_clock"), d, sat) for d in days],
+        **day_products(days, "orbit", "clock"),
+        **day_products([wildcards.date], "antenna"),
     }
-    if product_file("antex"):
-        files["antex"] = expand_template(product_file("antex"), wildcards.date, sat)
+    if "antenna" in files:
+        files["antenna"] = files["antenna"][0]
     files.update(applied_code_bias_map(wildcards))
     return files
 

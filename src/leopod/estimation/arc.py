@@ -33,10 +33,8 @@ from leopod.estimation.outputs import (
 )
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.gnss.products import GnssProducts
-from leopod.io.antex import read_antex
-from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import merge_days
-from leopod.io.sp3 import read_sp3
+from leopod.io.product_netcdf import read_antenna_product, read_clock_product, read_orbit_product
 from leopod.settings import Settings
 from leopod.signals import SystemSignals
 from leopod.time.calendar import parse_date_id, seconds_since
@@ -88,9 +86,11 @@ class ArcData:
         Ingest observations, quality outputs and a-priori orbits of the arc's days in time
         order (the day and its neighbours).
     orbit, clock : xarray.Dataset
-        GNSS orbits (SP3) and clocks (RINEX clock) covering the arc.
+        GNSS orbits and clocks covering the arc (schemas of :func:`leopod.io.sp3.read_sp3`
+        and :func:`leopod.io.clock.read_rinex_clock`).
     antex : leopod.io.antex.AntexFile or None
-        GNSS satellite antenna model.
+        GNSS satellite antenna model (the whole ANTEX file, or the satellite entries kept by
+        the gnss_products rule: :func:`leopod.io.product_netcdf.read_antenna_product`).
     code_maps : xarray.Dataset or None
         Code-bias maps (:mod:`leopod.codebias`).
     files : list of str
@@ -109,20 +109,25 @@ class ArcData:
     @classmethod
     def read(cls, files: Mapping) -> ArcData:
         """Read the files of an arc: ``obs``, ``quality``, ``leo`` (daily netCDF), ``orbit``
-        (SP3) and ``clock`` (RINEX clock) lists of paths, optional ``antex`` and
-        ``code_bias`` (maps) paths; other keys are ignored."""
+        and ``clock`` (daily GNSS products) lists of paths, optional ``antenna`` (satellite
+        antennas) and ``code_bias`` (maps) paths; other keys are ignored.
+
+        The products are the netCDF files of the gnss_products rule, parsed once per day
+        (``.nc``), or the SP3, RINEX clock and ANTEX files themselves
+        (:mod:`leopod.io.product_netcdf`).
+        """
         obs, quality, leo = files["obs"], files["quality"], files["leo"]
         orbit, clock = files["orbit"], files["clock"]
-        antex, code_bias = files.get("antex"), files.get("code_bias")
+        antenna, code_bias = files.get("antenna"), files.get("code_bias")
         return cls(obs=[xr.load_dataset(p) for p in obs],
                    quality=[xr.load_dataset(p) for p in quality],
                    leo=[xr.load_dataset(p) for p in leo],
-                   orbit=merge_days([read_sp3(p) for p in orbit]),
-                   clock=merge_days([read_rinex_clock(p) for p in clock]),
-                   antex=read_antex(antex) if antex else None,
+                   orbit=merge_days([read_orbit_product(p) for p in orbit]),
+                   clock=merge_days([read_clock_product(p) for p in clock]),
+                   antex=read_antenna_product(antenna) if antenna else None,
                    code_maps=xr.load_dataset(code_bias) if code_bias else None,
                    files=[*map(str, obs), *map(str, quality), *map(str, leo), *map(str, orbit),
-                          *map(str, clock)])
+                          *map(str, clock), *([str(antenna)] if antenna else [])])
 
 
 @dataclass(eq=False)

@@ -263,12 +263,17 @@ class AntexFile:
         ("A" absolute / "R" relative), ``reference_antenna``.
     antennas : list of AntennaPattern
         Every antenna entry, in file order.
+    window : (numpy.datetime64, numpy.datetime64) or None
+        GPS-time span outside which :meth:`satellite` refuses to choose an entry (a subset of
+        a file kept for some days, :mod:`leopod.io.product_netcdf`); None: any epoch.
     """
 
-    def __init__(self, path: Path, attrs: dict, antennas: list[AntennaPattern]):
+    def __init__(self, path: Path, attrs: dict, antennas: list[AntennaPattern],
+                 window: tuple[np.datetime64, np.datetime64] | None = None):
         self.path = path
         self.attrs = attrs
         self.antennas = antennas
+        self.window = window
         self._sat: dict[str, list[AntennaPattern]] = {}
         self._rcv: dict[str, list[AntennaPattern]] = {}
         for ant in antennas:
@@ -310,8 +315,13 @@ class AntexFile:
         KeyError
             If the file has no entry of ``prn`` valid at ``epoch`` (the message names both
             and lists the validity periods the file has for that PRN).
+        ValueError
+            If ``epoch`` lies outside :attr:`window` (the entries valid then were not kept).
         """
         t = np.datetime64(epoch, "ns")
+        if self.window is not None and not (self.window[0] <= t <= self.window[1]):
+            raise ValueError(f"{self.path.name}: satellite antennas are kept for "
+                             f"{self.window[0]} .. {self.window[1]} only, not for {t}")
         entries = self._sat.get(prn, [])
         valid = [a for a in entries
                  if (np.isnat(a.valid_from) or a.valid_from <= t)
