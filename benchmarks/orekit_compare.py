@@ -116,6 +116,7 @@ from pathlib import Path
 import numpy as np
 
 from leopod.dynamics import force_config, pole_tides
+from leopod.dynamics.compiled import CompiledForceModel
 from leopod.dynamics.drag import (
     HP_BULGE_LAG_RAD,
     HarrisPriesterDensity,
@@ -315,7 +316,13 @@ class Leopod:
                                      self.t_ref, 0.0, self.arc_s, environment=self.environment)
 
     def run(self, model, with_partials: bool, step_s: float = 5.0):
-        return integrate(model, 0.0, self.state0, apriori_parameters(model), self.t_out,
+        """Integrate through the compiled force model: the first call integrates once more
+        through the Python one to give the drag its density along the orbit (Drag.follow)."""
+        params = apriori_parameters(model)
+        if CompiledForceModel.of(model) is None:
+            model.follow(integrate(model, 0.0, self.state0, params, self.t_out,
+                                   with_partials=False, step_s=step_s).positions)
+        return integrate(model, 0.0, self.state0, params, self.t_out,
                          with_partials=with_partials, step_s=step_s)
 
 
@@ -643,10 +650,9 @@ def main() -> None:
           f"process), best of {args.repeat} after a warm-up; indicative only (2 shared cores)")
     print(f"  leopod force-model grids {leo_setup:6.2f}   Orekit data + field {ore_setup:6.2f}")
 
-    # compile leopod's kernels (numba cache) and warm Orekit's JIT on a 1-h arc first
+    # compile leopod's kernels (numba cache; the drag's reference orbit) and warm Orekit's JIT
     for partials in (False, True):
-        integrate(model, 0.0, state0, apriori_parameters(model), [0.0, 3600.0],
-                  with_partials=partials)
+        leo.run(model, partials)
     ore.run(FULL, arc_s=3600.0)
 
     def leo_run(partials):
