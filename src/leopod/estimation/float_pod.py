@@ -704,19 +704,23 @@ class FixedPod:
         Returns
         -------
         PodResult
-            One iteration; ``converged`` if the largest position correction is below
-            ``screen_below_m``, where the linearisation error is negligible.
+            One iteration; ``converged`` if the linearisation error ``|Δr|²/r`` (the next
+            Gauss–Newton correction) of the largest position correction |Δr| is below
+            ``tolerance_m``: for corrections up to ~80 m.
         """
         prob = self._prob
         state = prob.load(self._start)       # every solve starts from the float estimates
         sol = _solve_linearised(prob, state, self._model, self._g, True, ambiguity_constraints)
-        converged = sol.shift_m < prob.settings.screen_below_m
-        log.info("fixed solution: max position correction %.4f m, rejected %d code / %d phase",
-                 sol.shift_m, int(prob.code_rej.sum()), int(prob.phase_rej.sum()))
+        radius_m = float(np.min(np.linalg.norm(self._traj.states[:, :3], axis=1)))
+        second_order_m = sol.shift_m**2 / radius_m
+        converged = second_order_m < prob.settings.tolerance_m
+        log.info("fixed solution: max position correction %.4f m (linearisation error ~%.1e "
+                 "m), rejected %d code / %d phase", sol.shift_m, second_order_m,
+                 int(prob.code_rej.sum()), int(prob.phase_rej.sum()))
         if not converged:
-            log.warning("fixed solution: correction %.3f m from the float solution, above %.3f "
-                        "m: its linearisation at the float estimates may not be adequate",
-                        sol.shift_m, prob.settings.screen_below_m)
+            log.warning("fixed solution: its correction of %.1f m from the float solution "
+                        "leaves a linearisation error of ~%.1e m, above tolerance_m",
+                        sol.shift_m, second_order_m)
         state = _update(prob, state, sol)
         orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, sol.dx[:prob.k_orbit])
         return _result("fixed POD", prob, state, orbit, self._model, sol, 1, converged)
