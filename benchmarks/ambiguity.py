@@ -35,6 +35,7 @@ from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.estimation.arc import ArcData, run_arc
+from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
 from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
@@ -130,46 +131,41 @@ def code_variants(cfg: dict, date: str) -> None:
                         ["L1C", "L2W"], codes, product.wl_sat_cyc,
                         ArSettings.from_config(cfg["ambiguity"]))
         _summary(label, r.table, arc.residuals, truth_days)
-        fixed = run_arc(date, data, **settings, pco_body_m=pco,
-                        ambiguity_constraints=r.constraints)
+        fixed = run_fixed_arc(date, data, **settings, pco_body_m=pco, table=r.table,
+                              float_solution=FloatSolution(arc.parameters, arc.ambiguities,
+                                                           arc.residuals, arc.orbit),
+                              settings=ArSettings.from_config(cfg["ambiguity"])).arc
         print(f"    float {_rms_cm(arc.orbit, truth, date)}; fixed "
               f"{_rms_cm(fixed.orbit, truth, date)}")
 
 
 def wrong_fix_screening(cfg: dict, date: str, k: int) -> None:
-    from leopod.ambiguity.screening import degraded_passes
-
     days = arc_days(cfg, date)
     res = REPO / "results"
     data = _arc_inputs(days)
     settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     base = res / "float_pod" / SAT / date
-    start = tuple(xr.load_dataset(f"{base}_{n}.nc")
-                  for n in ("parameters", "ambiguities", "residuals"))
+    float_solution = FloatSolution.read(**{n: f"{base}_{n}.nc" for n in
+                                           ("parameters", "ambiguities", "residuals", "orbit")})
     table = xr.load_dataset(res / "ambiguity" / SAT / f"{date}.nc")
-    sel = table.constrained.values == 1
-    pi, pj = table.pass_i.values[sel].astype(int), table.pass_j.values[sel].astype(int)
-    value = table.fixed_if_m.values[sel].copy()
+    constrained = np.flatnonzero(table.constrained.values == 1)
     rng = np.random.default_rng(7)
-    wrong = rng.choice(value.size, k, replace=False)
-    value[wrong] += rng.choice([-1.0, 1.0], k) * start[1].attrs["nl_wavelength_m"]
-    is_wrong = np.zeros(value.size, bool)
-    is_wrong[wrong] = True
-    constraints = (pi, pj, value, np.full(value.size, 1e-3), is_wrong)
-    rounds = cfg["ambiguity"]["max_rejection_rounds"]
-    for r in range(rounds + 1):
-        fixed = run_arc(date, data, **settings,
-                        pco_body_m=cfg["satellites"][SAT]["antenna_pco_body_m"],
-                        ambiguity_constraints=constraints[:4], continue_from=start)
-        bad = degraded_passes(start[2], fixed.residuals)
-        print(f"{date} round {r}: {constraints[0].size} constraints, {int(constraints[4].sum())} "
-              f"wrong by one NL cycle; {bad.size} passes flagged")
-        if bad.size == 0 or r == rounds:
-            break
-        keep = ~(np.isin(constraints[0], bad) | np.isin(constraints[1], bad))
-        constraints = tuple(c[keep] for c in constraints)
+    wrong = rng.choice(constrained, k, replace=False)
+    value = table.fixed_if_m.values.copy()
+    value[wrong] += rng.choice([-1.0, 1.0], k) * float_solution.ambiguities.attrs["nl_wavelength_m"]
+    table["fixed_if_m"] = (table.fixed_if_m.dims, value)
+    ar = dataclasses.replace(ArSettings.from_config(cfg["ambiguity"]), constraint_sigma_m=1e-3)
+    fixed = run_fixed_arc(date, data, **settings,
+                          pco_body_m=cfg["satellites"][SAT]["antenna_pco_body_m"], table=table,
+                          float_solution=float_solution, settings=ar)
+    pairs = {(int(i), int(j)) for i, j in zip(*fixed.constraints[:2], strict=True)}
+    kept_wrong = sum((int(table.pass_i.values[w]), int(table.pass_j.values[w])) in pairs
+                     for w in wrong)
+    print(f"{date}: {constrained.size} constraints, {k} wrong by one NL cycle; after "
+          f"{fixed.dropped_rounds} screening rounds {fixed.constraints[0].size} kept, "
+          f"{kept_wrong} of them wrong")
     truth = xr.load_dataset(SIM / SAT / "truth_orbit.nc")
-    print(f"  fixed orbit vs truth: {_rms_cm(fixed.orbit, truth, date)}")
+    print(f"  fixed orbit vs truth: {_rms_cm(fixed.arc.orbit, truth, date)}")
 
 
 def main() -> None:

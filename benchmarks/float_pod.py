@@ -4,8 +4,8 @@ Prepares the ingest and quality outputs with the workflow if they are missing
 (``snakemake results/quality/grace-a/2007-080.nc --configfile config/grace-a-2007.yaml``),
 then runs the float POD step's library call (:func:`leopod.estimation.arc.run_arc`) with the
 campaign settings of config/grace-a-2007.yaml at 30-s sampling over the 24 h of data and
-prints its wall time, orbit integrations and force evaluations, peak memory, post-fit
-residual RMS, passes and rejections. With
+prints its wall time, peak memory, post-fit residual RMS, passes, rejections, and the orbit
+integrations and force evaluations of the initial fit and of the POD. With
 ``--overlap`` it also solves the sub-arcs 00-14 h and 10-24 h and prints their RTN
 differences over the 4-h overlap (and over its central 2 h, away from the arc ends).
 
@@ -70,7 +70,9 @@ def _summary(label: str, arc, seconds: float | None = None) -> None:
             f"{np.sqrt(np.nanmean(r.code_residual_m**2)):.3f} m ({int(r.code_used.sum())} obs), "
             f"passes {r.ambiguity_m.size}, rejected {int(r.code_rejected.sum())} code / "
             f"{int(r.phase_rejected.sum())} phase, iterations {r.iterations}, "
-            f"sigma0 {r.sigma0:.3f}")
+            f"sigma0 {r.sigma0:.3f}, integrations {r.integrations} "
+            f"({r.force_evaluations} force evaluations) after an initial fit of "
+            f"{arc.fit.integrations} ({arc.fit.force_evaluations}, reduced model)")
     if seconds is not None:
         line += f", wall time {seconds:.1f} s"
     print(line)

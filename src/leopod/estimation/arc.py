@@ -1,11 +1,19 @@
 """One float POD arc from the ingest/quality outputs of its days: the float_pod rule's logic.
 
-Steps: arc limits from the day and the :class:`ArcSettings`; ionosphere-free
-observations (:mod:`leopod.estimation.inputs`); GNSS products of the arc's days merged;
-force model of the estimator; a dynamic fit to the a-priori (code-only or SP3) positions
-gives the initial state (or an earlier solution of the arc is continued: the fixed POD);
-:func:`leopod.estimation.float_pod.float_pod`; output datasets
-(:mod:`leopod.estimation.outputs`).
+Steps (:func:`setup_arc`): arc limits from the day and the :class:`ArcSettings`;
+ionosphere-free observations (:mod:`leopod.estimation.inputs`); GNSS products of the arc's
+days merged; force model of the estimator. Then (:func:`run_arc`) a dynamic fit to the
+a-priori (code-only or SP3) positions gives the initial state;
+:func:`leopod.estimation.float_pod.float_pod`; output datasets (:func:`arc_outputs`,
+:mod:`leopod.estimation.outputs`). The fixed POD (:mod:`leopod.estimation.fixed_arc`) sets
+the arc up the same way.
+
+The initial fit only starts the float POD from metre-level (code-only) positions, so it
+uses a cheap force model (:func:`leopod.dynamics.orbit_fit.starting_forces`: the gravity
+field to ``apriori_fit_degree``, one drag and one SRP scale factor, no empirical
+accelerations) and the longer step that this degree allows
+(:func:`~leopod.dynamics.orbit_fit.starting_step_s`); the float POD's first iteration takes
+the orbit to the full model.
 """
 
 from __future__ import annotations
@@ -19,8 +27,8 @@ import xarray as xr
 
 from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.dynamics.force_config import ForceModelSettings, build_force_model
-from leopod.dynamics.forces import tabulated_orbit
-from leopod.dynamics.orbit_fit import fit_orbit
+from leopod.dynamics.forces import ForceModel, tabulated_orbit
+from leopod.dynamics.orbit_fit import FitResult, fit_orbit, starting_forces, starting_step_s
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
 from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna
 from leopod.estimation.outputs import (
@@ -28,7 +36,6 @@ from leopod.estimation.outputs import (
     orbit_dataset,
     output_epochs,
     parameter_dataset,
-    pod_start,
     residual_dataset,
 )
 from leopod.frames.earth_rotation import itrf_to_gcrf
@@ -39,7 +46,8 @@ from leopod.settings import Settings
 from leopod.signals import SystemSignals
 from leopod.time.calendar import parse_date_id, seconds_since
 
-__all__ = ["ArcData", "ArcOutputs", "ArcSettings", "arc_limits", "run_arc"]
+__all__ = ["ArcData", "ArcOutputs", "ArcProblem", "ArcSettings", "arc_limits", "arc_outputs",
+           "run_arc", "setup_arc"]
 
 log = logging.getLogger(__name__)
 
@@ -60,6 +68,8 @@ class ArcSettings(Settings):
         Step of the written orbit [s].
     apriori_fit_sigma_m : float
         Sigma of the a-priori positions in the initial dynamic fit [m].
+    apriori_fit_degree : int
+        Degree of the gravity field in the initial dynamic fit.
     """
 
     SCHEMA_DEF = "pod"
@@ -70,6 +80,7 @@ class ArcSettings(Settings):
     arc_after_s: float
     output_step_s: float
     apriori_fit_sigma_m: float
+    apriori_fit_degree: int
 
     def limits(self, date: str) -> tuple[np.datetime64, np.datetime64]:
         """Arc start and end of the day ``date`` (:func:`arc_limits`)."""
@@ -132,7 +143,10 @@ class ArcData:
 
 @dataclass(eq=False)
 class ArcOutputs:
-    """Result of :func:`run_arc` and its datasets (schemas in leopod.estimation.outputs)."""
+    """Result of :func:`run_arc` and its datasets (schemas in leopod.estimation.outputs).
+
+    ``fit`` is the initial dynamic fit (None for a solution continued from another).
+    """
 
     result: PodResult
     observations: PodObservations
@@ -140,6 +154,41 @@ class ArcOutputs:
     residuals: xr.Dataset
     parameters: xr.Dataset
     ambiguities: xr.Dataset
+    fit: FitResult | None = None
+
+
+@dataclass(eq=False)
+class ArcProblem:
+    """An arc set up for its POD (:func:`setup_arc`).
+
+    Attributes
+    ----------
+    observations : PodObservations
+    t_ref : datetime64
+        First epoch of the observations: time origin of the force model.
+    products : GnssProducts
+        GNSS orbits and clocks of the POD's system.
+    force_model : ForceModel
+        The estimator's force model over the arc.
+    antennas : dict
+        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m`` keywords of
+        :func:`leopod.estimation.float_pod.float_pod`.
+    apriori_itrf_m : xarray.DataArray (time, xyz)
+        A-priori ITRF positions [m]: the start of the initial fit and the reference of
+        ``apriori_diff_rtn_m``.
+    output_step_s : float
+        Step of the orbit datasets [s].
+    eop : EarthOrientation or None
+    """
+
+    observations: PodObservations
+    t_ref: np.datetime64
+    products: GnssProducts
+    force_model: ForceModel
+    antennas: dict
+    apriori_itrf_m: xr.DataArray
+    output_step_s: float
+    eop: object = None
 
 
 def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
@@ -150,14 +199,11 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
             day + one_day + np.timedelta64(round(arc_after_s * 1e9), "ns"))
 
 
-def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
-            pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None, *,
-            code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
-            limits=None, ambiguity_constraints=None,
-            apriori_orbit: xr.DataArray | None = None,
-            continue_from: tuple[xr.Dataset, xr.Dataset, xr.Dataset] | None = None
-            ) -> ArcOutputs:
-    """Float POD of the arc of ``date`` (module docstring).
+def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
+              forces: ForceModelSettings, pco_body_m: Mapping | None, *,
+              code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
+              limits=None, apriori_orbit: xr.DataArray | None = None) -> ArcProblem:
+    """Observations, GNSS products, antennas and force model of the arc of ``date``.
 
     Parameters
     ----------
@@ -168,7 +214,6 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
     signals : SystemSignals
         Signals of the POD's system (``arc.system``).
     arc : ArcSettings
-    pod : PodSettings
     forces : ForceModelSettings
         The estimator's force model, model files resolved to paths
         (:func:`leopod.dynamics.model_files.resolve_model_paths`).
@@ -182,21 +227,13 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
     eop : EarthOrientation, optional
     limits : (datetime64, datetime64), optional
         Arc start and end instead of those of ``arc`` (e.g. sub-arcs).
-    ambiguity_constraints : tuple, optional
-        Fixed single-difference ambiguities ``(pass_i, pass_j, value_m, sigma_m)``
-        (:func:`leopod.ambiguity.resolve.resolve_arc`): the ambiguity-fixed solution.
     apriori_orbit : xarray.DataArray (time, xyz), optional
-        ITRF positions [m] replacing the ingest a-priori orbit as the start of the dynamic
-        fit and the reference of ``apriori_diff_rtn_m`` (the fixed POD reports fixed minus
-        float this way).
-    continue_from : (parameters, ambiguities, residuals), optional
-        Datasets of an earlier solution of the arc to continue from
-        (:func:`leopod.estimation.outputs.pod_start`; no dynamic fit): the fixed POD
-        continues from the float one.
+        ITRF positions [m] replacing the ingest a-priori orbit (the fixed POD refers to the
+        float orbit this way).
 
     Returns
     -------
-    ArcOutputs
+    ArcProblem
     """
     system = arc.system
     start, end = (arc.limits(date) if limits is None
@@ -233,27 +270,60 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
         apriori = apriori.isel(time=np.sort(first))
     else:
         apriori = apriori_orbit
-    if continue_from is None:
-        fit = fit_orbit(po.times, apriori.reindex(time=po.times).values,
-                        force_model=force_model, t_ref=t_ref,
-                        sigma_obs_m=float(arc.apriori_fit_sigma_m), eop=eop)
-        log.info("initial dynamic fit to the a-priori orbit: RMS R %.2f T %.2f N %.2f m",
-                 *fit.rms_rtn_m)
-        state0, warm = fit.state0_gcrf, None
-    else:
-        state0, warm = None, pod_start(*continue_from, po)
-        ok = np.isfinite(apriori.values).all(axis=1)
-        pos_gcrf, _ = itrf_to_gcrf(apriori.time.values[ok], apriori.values[ok], eop=eop)
-        force_model.follow(tabulated_orbit(seconds_since(apriori.time.values[ok], t_ref),
-                                           pos_gcrf))
-        log.info("continuing from the earlier solution of the arc (warm start)")
-    result = float_pod(po, products, force_model, t_ref, state0, pod, eop=eop,
-                       leo_pco_body_m=leo_pco, sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
-                       ambiguity_constraints=ambiguity_constraints, start=warm)
-    out_times = output_epochs(po.times[0], po.times[-1], float(arc.output_step_s))
-    orbit_ds = orbit_dataset(result, out_times, eop=eop,
-                             apriori_itrf_m=apriori.reindex(time=out_times).values)
+    # forces tabulated along a reference orbit (drag) follow the a-priori one
+    ok = np.isfinite(apriori.values).all(axis=1)
+    pos_gcrf, _ = itrf_to_gcrf(apriori.time.values[ok], apriori.values[ok], eop=eop)
+    force_model.follow(tabulated_orbit(seconds_since(apriori.time.values[ok], t_ref), pos_gcrf))
+    return ArcProblem(observations=po, t_ref=t_ref, products=products,
+                      force_model=force_model,
+                      antennas={"leo_pco_body_m": leo_pco, "sat_pco_body_m": sat_pco,
+                                "sat_pcv_m": sat_pcv},
+                      apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s), eop=eop)
+
+
+def arc_outputs(problem: ArcProblem, result: PodResult,
+                fit: FitResult | None = None) -> ArcOutputs:
+    """The datasets of a solution of the arc (:mod:`leopod.estimation.outputs`)."""
+    po = problem.observations
+    out_times = output_epochs(po.times[0], po.times[-1], problem.output_step_s)
+    orbit_ds = orbit_dataset(result, out_times, eop=problem.eop,
+                             apriori_itrf_m=problem.apriori_itrf_m.reindex(time=out_times).values)
     return ArcOutputs(result=result, observations=po, orbit=orbit_ds,
                       residuals=residual_dataset(result, po),
                       parameters=parameter_dataset(result),
-                      ambiguities=ambiguity_dataset(result, po))
+                      ambiguities=ambiguity_dataset(result, po), fit=fit)
+
+
+def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
+            pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None, *,
+            code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
+            limits=None) -> ArcOutputs:
+    """Float POD of the arc of ``date`` (module docstring).
+
+    Parameters
+    ----------
+    date, data, signals, arc, forces, pco_body_m, code_correction, yaw_flips, eop, limits
+        As for :func:`setup_arc`.
+    pod : PodSettings
+
+    Returns
+    -------
+    ArcOutputs
+    """
+    problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
+                        code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
+                        limits=limits)
+    po = problem.observations
+    degree = arc.apriori_fit_degree
+    fit = fit_orbit(po.times, problem.apriori_itrf_m.reindex(time=po.times).values,
+                    starting_forces(forces, degree), t_ref=problem.t_ref,
+                    sigma_obs_m=float(arc.apriori_fit_sigma_m), eop=eop,
+                    step_s=starting_step_s(degree))
+    log.info("initial dynamic fit to the a-priori orbit (gravity to degree %d, %d force "
+             "parameters, %.0f-s step): RMS R %.2f T %.2f N %.2f m; %d integrations, %d force "
+             "evaluations", degree, fit.force_model.n_params, starting_step_s(degree),
+             *fit.rms_rtn_m, fit.integrations, fit.force_evaluations)
+    problem.force_model.follow(fit.trajectory.positions)    # closer than the a-priori orbit
+    result = float_pod(po, problem.products, problem.force_model, problem.t_ref,
+                       fit.state0_gcrf, pod, eop=eop, **problem.antennas)
+    return arc_outputs(problem, result, fit)

@@ -2,10 +2,12 @@
 
 The single differences that the ambiguity step fixed and chose as independent
 (``constrained`` in its table, :func:`leopod.ambiguity.resolve.resolve_arc`) become tight
-constraints of the float POD (:func:`leopod.estimation.arc.run_arc`), which continues from
-the float solution (warm start, no new dynamic fit). Fixes that raise the phase residuals of
-their passes (:func:`leopod.ambiguity.screening.degraded_passes`) have their constraints
-dropped and the arc is solved again, at most ``max_rejection_rounds`` times.
+constraints of the POD linearised once at the float solution
+(:class:`leopod.estimation.float_pod.FixedPod`: one orbit integration and one observation
+model per arc, at the float estimates, clocks and outliers; no dynamic fit). Fixes that
+raise the phase residuals of their passes (:func:`leopod.ambiguity.screening.degraded_passes`)
+have their constraints dropped and the same linearised system is solved again, at most
+``max_rejection_rounds`` times.
 """
 
 from __future__ import annotations
@@ -21,11 +23,12 @@ from leopod.ambiguity.resolve import ArSettings
 from leopod.ambiguity.screening import degraded_passes, drop_constraints
 from leopod.codebias.apply import CodeCorrection
 from leopod.dynamics.force_config import ForceModelSettings
-from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, run_arc
-from leopod.estimation.float_pod import PodSettings
+from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, arc_outputs, setup_arc
+from leopod.estimation.float_pod import FixedPod, PodSettings
+from leopod.estimation.outputs import pod_start
 from leopod.signals import SystemSignals
 
-__all__ = ["FloatSolution", "FixedArc", "constraints_of", "run_fixed_arc"]
+__all__ = ["FixedArc", "FixedSolutions", "FloatSolution", "constraints_of", "run_fixed_arc"]
 
 log = logging.getLogger(__name__)
 
@@ -39,7 +42,7 @@ class FloatSolution:
     parameters, ambiguities, residuals : xarray.Dataset
         Continued from (:func:`leopod.estimation.outputs.pod_start`).
     orbit : xarray.Dataset
-        Its orbit: the start and the reference (``apriori_diff_rtn_m``) of the fixed one.
+        Its orbit: the reference (``apriori_diff_rtn_m``) of the fixed one.
     """
 
     parameters: xr.Dataset
@@ -51,6 +54,39 @@ class FloatSolution:
     def read(cls, *, parameters, ambiguities, residuals, orbit) -> FloatSolution:
         """Read the float POD's netCDF files."""
         return cls(*(xr.load_dataset(p) for p in (parameters, ambiguities, residuals, orbit)))
+
+
+class FixedSolutions:
+    """The arc linearised once at its float solution (one orbit integration, one observation
+    model); each :meth:`solve` is one solve of that system with a set of constraints.
+
+    Parameters
+    ----------
+    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop, limits
+        As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
+    float_solution : FloatSolution
+    """
+
+    def __init__(self, date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
+                 pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
+                 float_solution: FloatSolution, *,
+                 code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
+                 limits=None):
+        self.problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
+                                 code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
+                                 limits=limits, apriori_orbit=float_solution.orbit.pos_itrf_m)
+        start = pod_start(float_solution.parameters, float_solution.ambiguities,
+                          float_solution.residuals, self.problem.observations)
+        p = self.problem
+        self._pod = FixedPod(p.observations, p.products, p.force_model, p.t_ref, pod, start,
+                             eop=eop, **p.antennas)
+
+    def solve(self, constraints: tuple | None = None) -> ArcOutputs:
+        """The solution with ``(pass_i, pass_j, value_m, sigma_m)`` (:func:`constraints_of`;
+        None or none: the float solution again), and its datasets."""
+        if constraints is not None and constraints[0].size == 0:
+            constraints = None
+        return arc_outputs(self.problem, self._pod.solve(constraints))
 
 
 @dataclass(eq=False)
@@ -88,7 +124,7 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
     Parameters
     ----------
     date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop
-        As for :func:`leopod.estimation.arc.run_arc`.
+        As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
     table : xarray.Dataset
         Single differences of the ambiguity step.
     float_solution : FloatSolution
@@ -104,15 +140,9 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
              constraints[0].size, table.attrs.get("ar_product"))
     if constraints[0].size == 0:
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
-    start = (float_solution.parameters, float_solution.ambiguities, float_solution.residuals)
-
-    def solve(fixes):
-        return run_arc(date, data, signals, arc, pod, forces, pco_body_m,
-                       code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
-                       ambiguity_constraints=fixes if fixes[0].size else None,
-                       apriori_orbit=float_solution.orbit.pos_itrf_m, continue_from=start)
-
-    solution = solve(constraints)
+    fixed = FixedSolutions(date, data, signals, arc, pod, forces, pco_body_m, float_solution,
+                           code_correction=code_correction, yaw_flips=yaw_flips, eop=eop)
+    solution = fixed.solve(constraints)
     rounds = 0
     for _ in range(settings.max_rejection_rounds):
         bad = degraded_passes(float_solution.residuals, solution.residuals,
@@ -124,7 +154,7 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
         log.warning("phase residuals of %d passes grew by more than x%.1f with the fixes: "
                     "%d of %d constraints dropped, solving again", bad.size,
                     settings.max_residual_ratio, before - constraints[0].size, before)
-        solution = solve(constraints)
+        solution = fixed.solve(constraints)
         rounds += 1
     log.info("%d constraints in the fixed solution", constraints[0].size)
     return FixedArc(arc=solution, constraints=constraints, dropped_rounds=rounds)

@@ -20,7 +20,13 @@ receiver clock of the previous iteration), and solves for corrections. Outliers 
 separately for code and phase once the orbit correction is below ``screen_below_m``:
 observations whose normalised residual exceeds ``outlier_k`` times the robust (MAD) scale
 of their type are rejected, repeatedly, and the system is solved again. Iterations stop
-when the largest position correction over the arc is below ``tolerance_m``.
+when the largest position correction over the arc is below ``tolerance_m``; the orbit of
+the solution is then the last integrated one plus that correction through its partials
+(:class:`leopod.estimation.orbit_correction.CorrectedOrbit`: a second-order error of
+~|Δr|²/r, 1e-13 m for a correction below 1 mm), not a new integration.
+
+The ambiguity-fixed solution (:class:`FixedPod`) is one linearisation at the converged float
+solution, solved once per set of ambiguity constraints.
 
 Weights: ``σ(e) = σ0`` above ``weight_elevation_deg`` and ``σ0 / (2 sin e)`` below
 (continuous at 30°), e the antenna-frame elevation (floored at 1°).
@@ -46,13 +52,14 @@ from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, puls
 from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
+from leopod.estimation.orbit_correction import CorrectedOrbit
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.gnss.products import GnssProducts
 from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 from leopod.time.eop import EarthOrientation
 
-__all__ = ["PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
+__all__ = ["FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
            "pulse_epochs"]
 
 log = logging.getLogger(__name__)
@@ -148,9 +155,8 @@ class PodObservations:
 class PodStart:
     """Estimates of an earlier solution of the same arc to continue from (warm start).
 
-    The ambiguity-fixed solution starts from the converged float one: its corrections are
-    the (cm-level) effect of the constraints, so two linearisations suffice and no dynamic
-    fit to an a-priori orbit is needed.
+    The ambiguity-fixed solution (:class:`FixedPod`) is linearised at the converged float
+    one: its corrections are the (cm-level) effect of the constraints.
 
     Attributes
     ----------
@@ -194,8 +200,8 @@ class PodResult:
         Float IF ambiguities [m] (including receiver/satellite phase biases).
     ambiguity_pass : ndarray of int, shape (a,)
         Pass index (``PodObservations.pass_index`` value) of each ambiguity.
-    trajectory : Trajectory
-        Final orbit (GCRF), with partials.
+    orbit : CorrectedOrbit
+        Final orbit (GCRF): the last integrated orbit and the last correction.
     pulses : PseudoStochasticPulses or None
     force_model : ForceModel
     force_parameters : ndarray
@@ -213,7 +219,12 @@ class PodResult:
     sigma0 : float
         A-posteriori standard deviation of unit weight.
     iterations : int
+        Linearisations solved.
     converged : bool
+    integrations : int
+        Orbit integrations (with the variational equations) of the run.
+    force_evaluations : int
+        Force-model evaluations of these integrations.
     """
 
     t_ref: np.datetime64
@@ -224,7 +235,7 @@ class PodResult:
     ambiguity_m: np.ndarray
     ambiguity_sigma_m: np.ndarray
     ambiguity_pass: np.ndarray
-    trajectory: Trajectory = field(repr=False)
+    orbit: CorrectedOrbit = field(repr=False)
     pulses: PseudoStochasticPulses | None
     force_model: ForceModel = field(repr=False)
     force_parameters: np.ndarray
@@ -239,6 +250,8 @@ class PodResult:
     sigma0: float
     iterations: int
     converged: bool
+    integrations: int
+    force_evaluations: int
 
     def orbit_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """GCRF state and formal position covariance at epochs [s since ``t_ref``].
@@ -246,19 +259,19 @@ class PodResult:
         Returns
         -------
         states : ndarray, shape (m, 6)
+            Position [m] and velocity [m/s] of :attr:`orbit`.
         cov_pos : ndarray, shape (m, 3, 3)
             Formal GCRF position covariance [m²] from the arc-parameter covariance.
         partials : ndarray, shape (m, 3, k)
             Position partials of the arc parameters.
         """
-        traj = self.trajectory.at(t_s)
-        g = _position_partials(traj, self.trajectory, self.pulses, self._est_columns,
-                               len(self.parameter_names))
-        k = g.shape[2]
+        states, g = self.orbit.at(t_s)
+        k = len(self.parameter_names)
+        g = g[:, :3]
+        if g.shape[2] < k:                       # PCO-Z column: no orbit partial
+            g = np.concatenate([g, np.zeros(g.shape[:2] + (k - g.shape[2],))], axis=2)
         cov = np.einsum("mil,mjl->mij", g @ self.covariance[:k, :k], g)
-        return traj.states, cov, g
-
-    _est_columns: np.ndarray = field(default=None, repr=False)
+        return states, cov, g
 
 
 def pulse_epochs(t_start_s: float, t_end_s: float, interval_s: float | None) -> np.ndarray:
@@ -337,18 +350,23 @@ class _Problem:
         self.phase_ok = (obs.pass_index >= 0) & np.isfinite(obs.phase_m)
         self.code_rej = np.zeros(obs.epoch.size, bool)
         self.phase_rej = np.zeros(obs.epoch.size, bool)
+        self.integrations = 0
+        self.force_evaluations = 0
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
-        """The orbit at the current estimates; forces tabulated along a reference orbit
-        (drag) follow it from then on."""
+        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs; forces
+        tabulated along a reference orbit (drag) follow it from then on."""
+        t_out = np.append(t_eval, self.t_nom_s[-1])
         if self.pulses is None:
-            traj = integrate(self.fm, self.t0, state0, self.params, t_eval)
+            traj = integrate(self.fm, self.t0, state0, self.params, t_out)
         else:
-            traj = apply_pulses(self.fm, self.t0, state0, self.params, t_eval, self.pulses,
+            traj = apply_pulses(self.fm, self.t0, state0, self.params, t_out, self.pulses,
                                 self.dv)
+        self.integrations += 1
+        self.force_evaluations += traj.n_evaluations
         self.fm.follow(traj.positions)
-        return traj
+        return traj.at(t_eval)
 
     def current_vector(self, state0: np.ndarray) -> np.ndarray:
         parts = [state0, self.params[self.est], self.dv.ravel()]
@@ -357,7 +375,8 @@ class _Problem:
         return np.concatenate(parts)
 
     def load(self, start: PodStart) -> np.ndarray:
-        """Take the estimates of ``start``; returns the initial state."""
+        """Take the estimates, clocks and outliers of ``start`` (nothing of earlier solves);
+        returns the initial state."""
         if list(start.parameter_names) != self.names:
             raise ValueError("warm start: the arc parameters differ from those of the earlier "
                              "solution (force model, pulses or PCO settings changed)")
@@ -367,8 +386,10 @@ class _Problem:
         self.dv = est[6 + n_e:self.k_orbit].reshape(self.dv.shape).copy()
         if self.settings.estimate_pco_z:
             self.pco_dz = float(est[self.k_orbit])
+        self.ambiguity = np.zeros_like(self.ambiguity)
         self.ambiguity[np.asarray(start.ambiguity_pass, dtype=int)] = start.ambiguity_m
-        self.clk_rx_m = np.where(np.isfinite(start.clk_rx_m), start.clk_rx_m, self.clk_rx_m)
+        self.clk_rx_m = np.where(np.isfinite(start.clk_rx_m), start.clk_rx_m,
+                                 self.obs.clk_rx_m)
         self.code_rej = np.asarray(start.code_rejected, dtype=bool).copy()
         self.phase_rej = np.asarray(start.phase_rejected, dtype=bool).copy()
         return est[:6].copy()
@@ -485,11 +506,98 @@ def _constrain_differences(ne, k: int, active: np.ndarray, ambiguity: np.ndarray
     np.add.at(ne.rhs, cj, -w * misclosure)
 
 
+@dataclass
+class _Solution:
+    """One solve of the linearised system (after its screening)."""
+
+    rows: Rows
+    pair: np.ndarray
+    is_phase: np.ndarray
+    active: np.ndarray
+    dx: np.ndarray
+    cov: np.ndarray
+    clocks: np.ndarray
+    residuals: np.ndarray
+    shift_m: float
+
+
+def _solve_linearised(prob: _Problem, state: np.ndarray, model: ModelResult, g: np.ndarray,
+                      screening: bool, ambiguity_constraints=None) -> _Solution:
+    """Solve at one linearisation, again after each screening round that rejects some."""
+    while True:
+        rows, pair, is_phase, active = prob.rows(model, g)
+        ne = accumulate(rows)
+        if ambiguity_constraints is not None:
+            _constrain_differences(ne, prob.k, active, prob.ambiguity, ambiguity_constraints)
+        dx, cov = solve(ne, np.concatenate([prob.constraint_weight, np.zeros(active.size)]),
+                        np.concatenate([prob.constraint_rhs(state), np.zeros(active.size)]))
+        clocks, res = epoch_clocks(rows, dx)
+        if not screening or prob.screen(rows, res, pair, is_phase) == 0:
+            break
+    shift = float(np.max(np.linalg.norm(np.einsum("mik,k->mi", g[:, :, :prob.k],
+                                                  dx[:prob.k]), axis=1)))
+    return _Solution(rows=rows, pair=pair, is_phase=is_phase, active=active, dx=dx, cov=cov,
+                     clocks=clocks, residuals=res, shift_m=shift)
+
+
+def _update(prob: _Problem, state: np.ndarray, sol: _Solution) -> np.ndarray:
+    """Apply a solution's corrections to the estimates; returns the new initial state."""
+    prob.ambiguity[sol.active] += sol.dx[prob.k:]
+    prob.clk_rx_m = np.where(np.isfinite(sol.clocks), sol.clocks, prob.clk_rx_m)
+    return prob.apply(state, sol.dx)
+
+
+def _result(label: str, prob: _Problem, state: np.ndarray, orbit: CorrectedOrbit,
+            model: ModelResult, sol: _Solution, iterations: int, converged: bool) -> PodResult:
+    """PodResult of the estimates ``state`` (and ``prob``'s) after the solution ``sol``."""
+    rows, res, pair, is_phase, active = sol.rows, sol.residuals, sol.pair, sol.is_phase, sol.active
+    dof = max(rows.epoch.size - prob.k - active.size - np.unique(rows.epoch).size, 1)
+    v_pv = float(np.sum(rows.weight * res**2))
+    sigma0 = float(np.sqrt(v_pv / dof))
+    cov = sol.cov * sigma0**2
+    n = prob.obs.epoch.size
+    code_res = np.full(n, np.nan)
+    phase_res = np.full(n, np.nan)
+    code_res[pair[~is_phase]] = res[~is_phase]
+    phase_res[pair[is_phase]] = res[is_phase]
+    code_used = np.zeros(n, bool)
+    phase_used = np.zeros(n, bool)
+    code_used[pair[~is_phase]] = True
+    phase_used[pair[is_phase]] = True
+    sig = np.sqrt(np.diag(cov))
+    log.info("%s: sigma0 %.3f, code RMS %.3f m, phase RMS %.4f m, %d passes; %d integrations, "
+             "%d force evaluations", label, sigma0, np.sqrt(np.mean(res[~is_phase]**2)),
+             np.sqrt(np.mean(res[is_phase]**2)), active.size, prob.integrations,
+             prob.force_evaluations)
+    return PodResult(
+        t_ref=prob.t_ref, parameter_names=prob.names,
+        estimates=prob.current_vector(state), sigmas=sig[:prob.k],
+        covariance=cov, ambiguity_m=prob.ambiguity[active],
+        ambiguity_sigma_m=sig[prob.k:], ambiguity_pass=active, orbit=orbit,
+        pulses=prob.pulses, force_model=prob.fm, force_parameters=prob.params.copy(),
+        clk_rx_m=sol.clocks, model=model, code_residual_m=code_res, phase_residual_m=phase_res,
+        code_used=code_used, phase_used=phase_used, code_rejected=prob.code_rej.copy(),
+        phase_rejected=prob.phase_rej.copy(), sigma0=sigma0, iterations=iterations,
+        converged=converged, integrations=prob.integrations,
+        force_evaluations=prob.force_evaluations)
+
+
+def _announce(label: str, prob: _Problem) -> None:
+    """Log the size of the problem; fail without code observations."""
+    log.info("%s: %d epochs, %d code and %d phase observations, %d passes, %d arc parameters "
+             "(%d pulses)", label, prob.obs.times.size, int(prob.code_ok.sum()),
+             int(prob.phase_ok.sum()), prob.ambiguity.size, prob.k,
+             0 if prob.pulses is None else prob.pulses.epochs_s.size)
+    if not prob.code_ok.any():
+        raise ValueError("float POD: no usable code observation in the arc (all missing, "
+                         "rejected, or dropped by a code-bias map without values: see "
+                         "code_bias.min_count and code_bias.empty_cells)")
+
+
 def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceModel, t_ref,
               state0_gcrf: np.ndarray, settings: PodSettings, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
-              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
-              ambiguity_constraints=None, start: PodStart | None = None) -> PodResult:
+              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None) -> PodResult:
     """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -501,9 +609,9 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         Arc force model, time origin ``t_ref``.
     t_ref : datetime64
         Time origin of the force model (GPS time label).
-    state0_gcrf : array_like, shape (6,) or None
+    state0_gcrf : array_like, shape (6,)
         A-priori GCRF state at ``t_ref`` (e.g. a dynamic fit to a code-only orbit,
-        :func:`leopod.dynamics.orbit_fit.fit_orbit`); None with ``start``.
+        :func:`leopod.dynamics.orbit_fit.fit_orbit`).
     settings : PodSettings
     eop : EarthOrientation, optional
     leo_pco_body_m : array_like, shape (3,), optional
@@ -512,94 +620,109 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         Ionosphere-free GNSS antenna PCO per ``obs.sv`` (body frame) [m].
     sat_pcv_m : callable, optional
         ``f(sat_index, nadir_deg) -> m``: ionosphere-free GNSS antenna PCV.
-    ambiguity_constraints : (pass_i, pass_j, value_m, sigma_m), optional
-        Pseudo-observations ``B_i − B_j = value ± sigma`` of the ambiguities of passes
-        ``pass_i``/``pass_j`` (values of ``obs.pass_index``): the fixed single-differenced
-        ambiguities of the ambiguity-fixed solution (Peng et al. 2021, sec. III-B). Constraints on
-        passes without used phase are skipped.
-    start : PodStart, optional
-        Continue from an earlier solution of the same arc (its estimates, clocks and
-        outliers; screening active from the first iteration) instead of ``state0_gcrf``.
 
     Returns
     -------
     PodResult
+        Its orbit is the last integration plus the last correction (module docstring), or,
+        without convergence, an integration at the final estimates.
     """
     prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
                     sat_pco_body_m, sat_pcv_m)
-    screening = start is not None
-    state = (prob.load(start) if start is not None
-             else np.asarray(state0_gcrf, dtype=float).copy())
-    log.info("float POD: %d epochs, %d code and %d phase observations, %d passes, "
-             "%d arc parameters (%d pulses)", obs.times.size, int(prob.code_ok.sum()),
-             int(prob.phase_ok.sum()), prob.ambiguity.size, prob.k,
-             0 if prob.pulses is None else prob.pulses.epochs_s.size)
-    if not prob.code_ok.any():
-        raise ValueError("float POD: no usable code observation in the arc (all missing, "
-                         "rejected, or dropped by a code-bias map without values: see "
-                         "code_bias.min_count and code_bias.empty_cells)")
+    state = np.asarray(state0_gcrf, dtype=float).copy()
+    _announce("float POD", prob)
+    screening = False
     converged = False
     for iteration in range(1, settings.max_iterations + 1):
         traj, model, g = prob.linearise(state)
-        if iteration == 1 and start is None:
+        if iteration == 1:
             log.info("rejected %d code observations with gross errors (> %.0f m)",
                      prob.reject_gross_code(model), settings.gross_code_m)
-        while True:
-            rows, pair, is_phase, active = prob.rows(model, g)
-            ne = accumulate(rows)
-            if ambiguity_constraints is not None:
-                _constrain_differences(ne, prob.k, active, prob.ambiguity, ambiguity_constraints)
-            dx, cov = solve(ne, np.concatenate([prob.constraint_weight, np.zeros(active.size)]),
-                            np.concatenate([prob.constraint_rhs(state), np.zeros(active.size)]))
-            clocks, res = epoch_clocks(rows, dx)
-            if not screening or prob.screen(rows, res, pair, is_phase) == 0:
-                break
-        shift = np.max(np.linalg.norm(np.einsum("mik,k->mi", g[:, :, :prob.k], dx[:prob.k]),
-                                      axis=1))
-        code_rms = np.sqrt(np.mean(res[~is_phase]**2))
-        phase_rms = np.sqrt(np.mean(res[is_phase]**2))
+        sol = _solve_linearised(prob, state, model, g, screening)
+        res, is_phase = sol.residuals, sol.is_phase
         log.info("iteration %d: max position correction %.4f m, code RMS %.3f m, phase RMS "
-                 "%.4f m, rejected %d code / %d phase", iteration, shift, code_rms, phase_rms,
+                 "%.4f m, rejected %d code / %d phase", iteration, sol.shift_m,
+                 np.sqrt(np.mean(res[~is_phase]**2)), np.sqrt(np.mean(res[is_phase]**2)),
                  int(prob.code_rej.sum()), int(prob.phase_rej.sum()))
-        state = prob.apply(state, dx)
-        prob.ambiguity[active] += dx[prob.k:]
-        prob.clk_rx_m = np.where(np.isfinite(clocks), clocks, prob.clk_rx_m)
-        if shift < settings.screen_below_m and not screening:
+        state = _update(prob, state, sol)
+        if sol.shift_m < settings.screen_below_m and not screening:
             screening = True
             continue
-        if screening and shift < settings.tolerance_m:
+        if screening and sol.shift_m < settings.tolerance_m:
             converged = True
             break
-    if not converged:
+    if converged:
+        orbit = CorrectedOrbit(traj, prob.pulses, prob.est, sol.dx[:prob.k_orbit])
+    else:
         log.warning("float POD: not converged after %d iterations", settings.max_iterations)
-    dt_rx_s = np.nan_to_num(prob.clk_rx_m) / C_LIGHT_M_S
-    traj = prob.integrate(state, np.union1d(prob.t_nom_s - dt_rx_s, prob.t_nom_s))
-    dof = max(rows.epoch.size - prob.k - active.size - np.unique(rows.epoch).size, 1)
-    v_pv = float(np.sum(rows.weight * res**2))
-    sigma0 = float(np.sqrt(v_pv / dof))
-    cov = cov * sigma0**2
-    n = obs.epoch.size
-    code_res = np.full(n, np.nan)
-    phase_res = np.full(n, np.nan)
-    code_res[pair[~is_phase]] = res[~is_phase]
-    phase_res[pair[is_phase]] = res[is_phase]
-    code_used = np.zeros(n, bool)
-    phase_used = np.zeros(n, bool)
-    code_used[pair[~is_phase]] = True
-    phase_used[pair[is_phase]] = True
-    sig = np.sqrt(np.diag(cov))
-    log.info("float POD: sigma0 %.3f, code RMS %.3f m, phase RMS %.4f m, %d passes",
-             sigma0, np.sqrt(np.mean(res[~is_phase]**2)), np.sqrt(np.mean(res[is_phase]**2)),
-             active.size)
-    result = PodResult(
-        t_ref=prob.t_ref, parameter_names=prob.names,
-        estimates=prob.current_vector(state), sigmas=sig[:prob.k],
-        covariance=cov, ambiguity_m=prob.ambiguity[active],
-        ambiguity_sigma_m=sig[prob.k:], ambiguity_pass=active, trajectory=traj,
-        pulses=prob.pulses, force_model=force_model, force_parameters=prob.params.copy(),
-        clk_rx_m=clocks, model=model, code_residual_m=code_res, phase_residual_m=phase_res,
-        code_used=code_used, phase_used=phase_used, code_rejected=prob.code_rej.copy(),
-        phase_rejected=prob.phase_rej.copy(), sigma0=sigma0, iterations=iteration,
-        converged=converged)
-    result._est_columns = prob.est
-    return result
+        t_eval = prob.t_nom_s - np.nan_to_num(prob.clk_rx_m) / C_LIGHT_M_S
+        orbit = CorrectedOrbit(prob.integrate(state, t_eval), prob.pulses, prob.est,
+                               np.zeros(prob.k_orbit))
+    return _result("float POD", prob, state, orbit, model, sol, iteration, converged)
+
+
+class FixedPod:
+    """Ambiguity-fixed solutions of an arc in one linearisation at its float solution.
+
+    The constraints of fixed single-difference ambiguities (Peng et al. 2021, sec. III-B)
+    move the converged float solution by their effect only, at the cm level. So the
+    observation equations are built once, at the float estimates (orbit integrated with its
+    variational equations at the float parameters, observation model at the float receiver
+    clocks), and each set of constraints is one solve of that system, with the outlier
+    screening of :func:`float_pod` continued from the float outliers; the orbit is the
+    integrated one plus the correction through its partials (:class:`CorrectedOrbit`). The
+    linearisation error is of the order of ``|Δr|²/r``: (1 cm)²/7000 km ≈ 1.4e-11 m for
+    the cm-level float-to-fixed correction, so iterating further (a new integration at
+    the fixed estimates, as the fixed POD did before) changes nothing that matters
+    (tests/estimation/test_fixed_pod.py: 6e-7 m, the reproducibility of an integration).
+    The receiver clocks that set the reception epochs are the float ones: a clock change of
+    1 cm moves them by 33 ps, the orbit by 0.3 µm.
+
+    Parameters
+    ----------
+    obs, products, force_model, t_ref, settings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m
+        As for :func:`float_pod` (the same as for the float solution).
+    start : PodStart
+        The float solution of the arc.
+    """
+
+    def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
+                 t_ref, settings: PodSettings, start: PodStart, *,
+                 eop: EarthOrientation | None = None, leo_pco_body_m=None,
+                 sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None):
+        self._prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
+                              sat_pco_body_m, sat_pcv_m)
+        self._start = start
+        _announce("fixed POD (linearised at the float solution)", self._prob)
+        self._traj, self._model, self._g = self._prob.linearise(self._prob.load(start))
+
+    def solve(self, ambiguity_constraints=None) -> PodResult:
+        """The solution with the constraints ``(pass_i, pass_j, value_m, sigma_m)``.
+
+        Pseudo-observations ``B_i − B_j = value ± sigma`` of the ambiguities of passes
+        ``pass_i``/``pass_j`` (values of ``obs.pass_index``); constraints on passes without
+        used phase are skipped; None: no constraint (the float solution again).
+
+        Returns
+        -------
+        PodResult
+            One iteration; ``converged`` if the linearisation error ``|Δr|²/r`` (the next
+            Gauss–Newton correction) of the largest position correction |Δr| is below
+            ``tolerance_m``: for corrections up to ~80 m.
+        """
+        prob = self._prob
+        state = prob.load(self._start)       # every solve starts from the float estimates
+        sol = _solve_linearised(prob, state, self._model, self._g, True, ambiguity_constraints)
+        radius_m = float(np.min(np.linalg.norm(self._traj.states[:, :3], axis=1)))
+        second_order_m = sol.shift_m**2 / radius_m
+        converged = second_order_m < prob.settings.tolerance_m
+        log.info("fixed solution: max position correction %.4f m (linearisation error ~%.1e "
+                 "m), rejected %d code / %d phase", sol.shift_m, second_order_m,
+                 int(prob.code_rej.sum()), int(prob.phase_rej.sum()))
+        if not converged:
+            log.warning("fixed solution: its correction of %.1f m from the float solution "
+                        "leaves a linearisation error of ~%.1e m, above tolerance_m",
+                        sol.shift_m, second_order_m)
+        state = _update(prob, state, sol)
+        orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, sol.dx[:prob.k_orbit])
+        return _result("fixed POD", prob, state, orbit, self._model, sol, 1, converged)

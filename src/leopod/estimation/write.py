@@ -25,6 +25,10 @@ def log_arc(arc: ArcOutputs, label: str) -> None:
     res = arc.result
     log.info("%s: %d iterations (converged: %s), sigma0 %.3f", label, res.iterations,
              res.converged, res.sigma0)
+    fit = ("" if arc.fit is None else f" after an initial fit of {arc.fit.integrations} "
+           f"integrations, {arc.fit.force_evaluations} force evaluations (reduced model)")
+    log.info("%d integrations, %d force evaluations%s", res.integrations,
+             res.force_evaluations, fit)
     log.info("post-fit RMS: phase %.2f mm (%d obs), code %.3f m (%d obs)",
              1e3 * np.sqrt(np.nanmean(res.phase_residual_m**2)), int(res.phase_used.sum()),
              np.sqrt(np.nanmean(res.code_residual_m**2)), int(res.code_used.sum()))

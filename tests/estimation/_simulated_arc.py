@@ -1,0 +1,96 @@
+"""A small simulated POD arc for the estimation tests (float solution and AR table).
+
+One HY-2B-like day of the simulator (leopod.simulate, the default campaign's world with a
+degree-30 truth field: the observations do not depend on the degree, the cost halves),
+ingested and quality-checked in memory as the ingest and quality rules do, and the float
+POD and single-difference ambiguity resolution of a few hours of it with the settings of
+the default campaign (config/config.yaml).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import xarray as xr
+
+from leopod.ambiguity.products import ar_product
+from leopod.ambiguity.resolve import ArSettings, resolve_arc
+from leopod.estimation.arc import ArcData, run_arc
+from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.products import GnssProducts
+from leopod.gnss.quality import QualitySettings, assess_quality
+from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
+from leopod.io.clock import read_rinex_clock
+from leopod.io.rinex_obs import read_rinex_obs
+from leopod.io.sp3 import read_sp3
+from leopod.signals import signal_settings
+from leopod.simulate.campaign import (
+    simulate_gnss_products,
+    simulate_leo_day,
+    simulate_truth,
+    simulate_world_truth,
+)
+from leopod.simulate.settings import SimulationSettings
+from leopod.workflow.config import load_campaign, with_defaults
+from leopod.workflow.settings import pod_settings
+
+REPO = Path(__file__).resolve().parents[2]
+DAY, SAT = "2019-001", "hy2b-sim"
+T0 = np.datetime64("2019-01-01T00:00", "ns")
+
+
+def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0)) -> SimpleNamespace:
+    """Files of :data:`DAY` in ``folder``, and the float POD and AR of ``hours`` of it.
+
+    Returns
+    -------
+    SimpleNamespace
+        ``args`` (positional arguments of run_arc: date, data, signals, arc, pod, forces,
+        pco), ``code_correction``, ``limits``, ``float`` (ArcOutputs), ``table`` (AR table),
+        ``ar`` (ArSettings) and ``truth`` (truth orbit, GCRF/ITRF).
+    """
+    cfg = load_campaign(REPO / "config" / "config.yaml")
+    pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
+    sim = SimulationSettings.from_config(with_defaults("simulate",
+                                                      {"truth": {"gravity_degree": 30}}))
+    truth = simulate_truth(sim, SAT, DAY, DAY)
+    biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
+                                  stations_path=folder / "s.snx")
+    simulate_gnss_products(DAY, sim, DAY, DAY, biases, orbit=folder / "g.sp3",
+                           clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
+                           wl_bias=folder / "g.wsb", osb=folder / "g.bia")
+    simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, pco, rinex3=folder / "o.rnx",
+                     truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc")
+    # ingest and quality (scripts/ingest.py, scripts/quality.py)
+    signals = signal_settings(cfg["signals"])
+    obs = canonical_observations(read_rinex_obs(folder / "o.rnx"), signals)
+    orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk")
+    products = GnssProducts.from_datasets(orbit, clock, T0, max_extrapolation_s=900.0)
+    gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
+    leo = apriori_from_spp(obs, products, signals, pco)
+    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
+                            gnss.pos_m.values - leo.pos_m.values[:, None, :])
+    sig = signals["G"]
+    quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
+                             QualitySettings.from_config(cfg["quality"]))
+    # float POD of the arc and its AR (scripts/float_pod.py, scripts/ambiguity.py)
+    data = ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
+    settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
+    code_correction = settings.pop("code_correction")
+    args = (DAY, data, settings["signals"], settings["arc"], settings["pod"],
+            settings["forces"], pco)
+    limits = tuple(T0 + np.timedelta64(round(3600 * h), "s") for h in hours)
+    arc = run_arc(*args, limits=limits)
+    residuals = arc.residuals
+    product = ar_product(residuals.time.values[residuals.sizes["time"] // 2],
+                         arc.ambiguities.sv.values, sig.phase, sig.pod_code,
+                         wl_bias_path=folder / "g.wsb")
+    ar = ArSettings.from_config(cfg["ambiguity"])
+    resolution = resolve_arc(arc.ambiguities, residuals, obs, "G", sig.phase, sig.pod_code,
+                             product.wl_sat_cyc, ar)
+    with xr.open_dataset(folder / "t.nc") as f:
+        truth_day = f.load()
+    return SimpleNamespace(args=args, code_correction=code_correction, limits=limits,
+                           float=arc, table=resolution.table, ar=ar, truth=truth_day)
