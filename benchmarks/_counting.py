@@ -28,15 +28,16 @@ class IntegrationCounter(logging.Handler):
 
     def __enter__(self) -> IntegrationCounter:
         logger = logging.getLogger(_LOGGER)
-        self._level = logger.level
+        self._saved = logger.level, logger.propagate
         logger.setLevel(logging.DEBUG)
+        logger.propagate = False          # its DEBUG records are counted, not printed
         logger.addHandler(self)
         return self
 
     def __exit__(self, *exc) -> None:
         logger = logging.getLogger(_LOGGER)
         logger.removeHandler(self)
-        logger.setLevel(self._level)
+        logger.level, logger.propagate = self._saved
 
     def __str__(self) -> str:
         return (f"{self.integrations} integrations ({self.compiled} compiled), "

@@ -71,7 +71,7 @@ from leopod.time.eop import EarthOrientation
 
 __all__ = ["DragSettings", "EmpiricalSettings", "EnvironmentSettings", "ForceModelSettings",
            "GravitySettings", "RelativitySettings", "SrpSettings", "ThirdBodySettings",
-           "TideSettings", "build_force_model"]
+           "TideSettings", "arc_environment", "build_force_model"]
 
 logger = logging.getLogger(__name__)
 
@@ -334,6 +334,17 @@ def _empirical(cfg: EmpiricalSettings, env: ArcEnvironment) -> Empirical:
     return Empirical(model, apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
+def arc_environment(settings: ForceModelSettings, t_ref, t_start_s: float, t_end_s: float, *,
+                    eop: EarthOrientation | None = None) -> ArcEnvironment:
+    """The grids of Earth rotation, Sun and Moon of an arc (``settings.environment``), for
+    one or several force models of the arc (arguments as :func:`build_force_model`)."""
+    grids = settings.environment
+    return ArcEnvironment(
+        t_ref, t_start_s, t_end_s, eop=eop,
+        ephemeris=None if grids.ephemeris is None else Ephemeris(grids.ephemeris),
+        rotation_step_s=grids.rotation_step_s, ephemeris_step_s=grids.ephemeris_step_s)
+
+
 def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_end_s: float, *,
                       eop: EarthOrientation | None = None,
                       environment: ArcEnvironment | None = None) -> ForceModel:
@@ -356,13 +367,8 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
     ForceModel
         Forces in the order gravity, third bodies, relativity, drag, SRP, empirical.
     """
-    if environment is None:
-        grids = settings.environment
-        environment = ArcEnvironment(
-            t_ref, t_start_s, t_end_s, eop=eop,
-            ephemeris=None if grids.ephemeris is None else Ephemeris(grids.ephemeris),
-            rotation_step_s=grids.rotation_step_s, ephemeris_step_s=grids.ephemeris_step_s)
-    env = environment
+    env = (arc_environment(settings, t_ref, t_start_s, t_end_s, eop=eop) if environment is None
+           else environment)
     forces: list[Force] = []
     forces.append(PointMassGravity() if settings.gravity is None
                   else _gravity(settings.gravity, settings.tides, env))

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from leopod.dynamics.environment import ArcEnvironment
 from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import (
     ForceModel,
@@ -190,8 +191,8 @@ def _observations(times, pos_m, vel_m_s, frame: str, eop):
 def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = "itrf",
               vel_m_s=None, state0_gcrf=None, t_ref=None, sigma_obs_m: float = 0.01,
               max_iterations: int = 10, tolerance: float = 0.01,
-              eop: EarthOrientation | None = None,
-              step_s: float = DEFAULT_STEP_S) -> FitResult:
+              eop: EarthOrientation | None = None, step_s: float = DEFAULT_STEP_S,
+              environment: ArcEnvironment | None = None) -> FitResult:
     """Fit a dynamic orbit to positions by batch least squares (module docstring).
 
     Parameters
@@ -222,6 +223,8 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
         EOP for ITRF -> GCRF and the force model (default: installed IERS data).
     step_s : float
         Integration step [s].
+    environment : ArcEnvironment, optional
+        Grids of Earth rotation, Sun and Moon to share (covering the fitted arc and t_ref).
 
     Returns
     -------
@@ -233,7 +236,8 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
     t_ref = times[0] if t_ref is None else np.datetime64(t_ref, "ns")
     t_s = seconds_since(times, t_ref)
     # from t_ref on: the state is propagated back to it if the first epochs are missing
-    force_model = build_force_model(force_settings, t_ref, min(0.0, t_s[0]), t_s[-1], eop=eop)
+    force_model = build_force_model(force_settings, t_ref, min(0.0, t_s[0]), t_s[-1], eop=eop,
+                                    environment=environment)
     if state0_gcrf is not None:
         state = np.asarray(state0_gcrf, dtype=float).copy()
     elif vel is not None and np.isfinite(vel[0]).all():

@@ -26,7 +26,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.apply import CodeCorrection, correct_codes
-from leopod.dynamics.force_config import ForceModelSettings, build_force_model
+from leopod.dynamics.environment import ArcEnvironment
+from leopod.dynamics.force_config import ForceModelSettings, arc_environment, build_force_model
 from leopod.dynamics.forces import ForceModel, tabulated_orbit
 from leopod.dynamics.orbit_fit import FitResult, fit_orbit, starting_forces, starting_step_s
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
@@ -179,6 +180,8 @@ class ArcProblem:
     output_step_s : float
         Step of the orbit datasets [s].
     eop : EarthOrientation or None
+    environment : ArcEnvironment
+        The grids of ``force_model``, shared by other force models of the arc.
     """
 
     observations: PodObservations
@@ -189,6 +192,7 @@ class ArcProblem:
     apriori_itrf_m: xr.DataArray
     output_step_s: float
     eop: object = None
+    environment: ArcEnvironment | None = None
 
 
 def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
@@ -263,7 +267,9 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
         sat_pco = np.nan_to_num(sat_pco)
     leo_pco = receiver_pco_if(pco_body_m, system, signals)
     t_s = seconds_since(po.times, t_ref)
-    force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop)
+    environment = arc_environment(forces, t_ref, t_s[0], t_s[-1], eop=eop)
+    force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop,
+                                    environment=environment)
     if apriori_orbit is None:
         apriori = xr.concat([leo.pos_m for leo in data.leo], dim="time")
         _, first = np.unique(apriori.time.values, return_index=True)
@@ -278,7 +284,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
                       force_model=force_model,
                       antennas={"leo_pco_body_m": leo_pco, "sat_pco_body_m": sat_pco,
                                 "sat_pcv_m": sat_pcv},
-                      apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s), eop=eop)
+                      apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s), eop=eop,
+                      environment=environment)
 
 
 def arc_outputs(problem: ArcProblem, result: PodResult,
@@ -318,7 +325,7 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
     fit = fit_orbit(po.times, problem.apriori_itrf_m.reindex(time=po.times).values,
                     starting_forces(forces, degree), t_ref=problem.t_ref,
                     sigma_obs_m=float(arc.apriori_fit_sigma_m), eop=eop,
-                    step_s=starting_step_s(degree))
+                    step_s=starting_step_s(degree), environment=problem.environment)
     log.info("initial dynamic fit to the a-priori orbit (gravity to degree %d, %d force "
              "parameters, %.0f-s step): RMS R %.2f T %.2f N %.2f m; %d integrations, %d force "
              "evaluations", degree, fit.force_model.n_params, starting_step_s(degree),
