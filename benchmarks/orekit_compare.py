@@ -278,6 +278,12 @@ class CipBulgeHarrisPriester(HarrisPriesterDensity):
         return rho, drho_dh * (up_ef @ rot) + drho_dcos * (apex - cos_psi * pos / rn) / rn
 
 
+    def many(self, t_tt_s, pos_m, rot_gcrf_to_ef, sun_m):
+        """The variant at n epochs (the density along an orbit of the compiled force model)."""
+        rows = [self(*args) for args in zip(t_tt_s, pos_m, rot_gcrf_to_ef, sun_m)]
+        return np.array([r[0] for r in rows]), np.array([r[1] for r in rows]).reshape(-1, 3)
+
+
 class OrekitHeightHarrisPriester(CipBulgeHarrisPriester):
     """:class:`CipBulgeHarrisPriester` with Orekit's approximate height."""
 

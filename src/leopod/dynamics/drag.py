@@ -229,7 +229,7 @@ def _geodetic_ef(pos_ef_m: np.ndarray) -> tuple[float, float, float, np.ndarray]
 # --------------------------------------------------------------------------- Harris–Priester
 
 
-def harris_priester_density(height_m: float, cos_psi: float, exponent: float = 6.0):
+def harris_priester_density(height_m, cos_psi, exponent: float = 6.0):
     """Modified Harris–Priester density and its derivatives (M&G 2000, sec. 3.5.2).
 
     ``ρ = ρ_m(h) + (ρ_M(h) − ρ_m(h)) cos^n(ψ/2)``, ρ_m and ρ_M interpolated exponentially in
@@ -238,20 +238,20 @@ def harris_priester_density(height_m: float, cos_psi: float, exponent: float = 6
 
     Parameters
     ----------
-    height_m : float
+    height_m : float or array_like, shape (n,)
         Height above the ellipsoid [m], 100–1000 km (0 is returned above 1000 km).
-    cos_psi : float
+    cos_psi : float or array_like, shape (n,)
         Cosine of the angle between the position and the bulge apex.
     exponent : float
         n: 2 for low-inclination, 6 for polar orbits (M&G sec. 3.5.2).
 
     Returns
     -------
-    rho : float
+    rho : float or ndarray, shape (n,)
         Density [kg/m³].
-    drho_dh : float
+    drho_dh : float or ndarray, shape (n,)
         ∂ρ/∂h [kg/m⁴].
-    drho_dcos : float
+    drho_dcos : float or ndarray, shape (n,)
         ∂ρ/∂cos ψ [kg/m³].
 
     Raises
@@ -259,24 +259,28 @@ def harris_priester_density(height_m: float, cos_psi: float, exponent: float = 6
     ValueError
         Below 100 km (outside the model).
     """
-    h_km = height_m / 1000.0
-    if h_km < _HP_H_KM[0]:
-        raise ValueError(f"Harris-Priester: height {h_km:.1f} km below 100 km")
-    if h_km >= _HP_H_KM[-1]:
-        return 0.0, 0.0, 0.0
-    i = int(np.searchsorted(_HP_H_KM, h_km, side="right")) - 1
+    scalar = np.ndim(height_m) == 0 and np.ndim(cos_psi) == 0
+    h_km, cos = np.broadcast_arrays(np.atleast_1d(np.asarray(height_m, dtype=float)) / 1000.0,
+                                    np.atleast_1d(np.asarray(cos_psi, dtype=float)))
+    if np.any(h_km < _HP_H_KM[0]):
+        raise ValueError(f"Harris-Priester: height {h_km.min():.1f} km below 100 km")
+    inside = h_km < _HP_H_KM[-1]
+    i = np.minimum(np.searchsorted(_HP_H_KM, h_km, side="right") - 1, _HP_H_KM.size - 2)
     dh = _HP_H_KM[i] - _HP_H_KM[i + 1]
     scale_min_km = dh / np.log(_HP_MIN[i + 1] / _HP_MIN[i])
     scale_max_km = dh / np.log(_HP_MAX[i + 1] / _HP_MAX[i])
     rho_min = _HP_MIN[i] * np.exp((_HP_H_KM[i] - h_km) / scale_min_km)
     rho_max = _HP_MAX[i] * np.exp((_HP_H_KM[i] - h_km) / scale_max_km)
     half = 0.5 * exponent
-    c2 = max(0.5 + 0.5 * cos_psi, 0.0)  # cos²(ψ/2)
+    c2 = np.maximum(0.5 + 0.5 * cos, 0.0)  # cos²(ψ/2)
     weight = c2**half
     rho = rho_min + (rho_max - rho_min) * weight
     drho_dh = -(rho_min / scale_min_km * (1.0 - weight) + rho_max / scale_max_km * weight) / 1e3
-    drho_dcos = (rho_max - rho_min) * half * c2 ** (half - 1.0) * 0.5 if c2 > 0.0 else 0.0
-    return float(rho), float(drho_dh), float(drho_dcos)
+    lit = c2 > 0.0
+    drho_dcos = np.where(lit, (rho_max - rho_min) * half * np.where(lit, c2, 1.0) ** (half - 1.0)
+                         * 0.5, 0.0)
+    out = tuple(np.where(inside, x, 0.0) for x in (rho, drho_dh, drho_dcos))
+    return tuple(float(x[0]) for x in out) if scalar else out
 
 
 class HarrisPriesterDensity:
@@ -305,23 +309,29 @@ class HarrisPriesterDensity:
         sun_m : ndarray, shape (3,)
             GCRF Sun position [m] (its right ascension + 30° and declination give the apex).
         """
-        pos = np.asarray(pos_m, dtype=float)
-        rot = np.asarray(rot_gcrf_to_ef, dtype=float)
-        _, _, height, up_ef = _geodetic_ef(rot @ pos)
-        sun = np.asarray(sun_m, dtype=float)
-        cl, sl = np.cos(HP_BULGE_LAG_RAD), np.sin(HP_BULGE_LAG_RAD)
-        apex = np.array([cl * sun[0] - sl * sun[1], sl * sun[0] + cl * sun[1], sun[2]])
-        apex /= np.linalg.norm(apex)
-        rn = np.linalg.norm(pos)
-        cos_psi = float(pos @ apex) / rn
-        rho, drho_dh, drho_dcos = harris_priester_density(height, cos_psi, self.exponent)
-        grad = drho_dh * (up_ef @ rot) + drho_dcos * (apex - cos_psi * pos / rn) / rn
-        return rho, grad
+        rho, grad = self.many([t_tt_s], np.reshape(pos_m, (1, 3)),
+                              np.reshape(rot_gcrf_to_ef, (1, 3, 3)), np.reshape(sun_m, (1, 3)))
+        return float(rho[0]), grad[0]
 
     def many(self, t_tt_s, pos_m, rot_gcrf_to_ef, sun_m):
         """:meth:`__call__` at n epochs: ρ (n,) [kg/m³] and ∇ρ (n, 3) [kg/m⁴]."""
-        rows = [self(t, p, r, s) for t, p, r, s in zip(t_tt_s, pos_m, rot_gcrf_to_ef, sun_m)]
-        return np.array([r[0] for r in rows]), np.array([r[1] for r in rows]).reshape(-1, 3)
+        pos = np.asarray(pos_m, dtype=float)
+        rot = np.asarray(rot_gcrf_to_ef, dtype=float)
+        lon, lat, height = erfa.gc2gd(_ERFA_WGS84, np.einsum("nij,nj->ni", rot, pos))
+        up_ef = np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)],
+                         axis=-1)
+        sun = np.asarray(sun_m, dtype=float)
+        cl, sl = np.cos(HP_BULGE_LAG_RAD), np.sin(HP_BULGE_LAG_RAD)
+        apex = np.stack([cl * sun[:, 0] - sl * sun[:, 1], sl * sun[:, 0] + cl * sun[:, 1],
+                         sun[:, 2]], axis=-1)
+        apex /= np.linalg.norm(apex, axis=1)[:, None]
+        rn = np.linalg.norm(pos, axis=1)
+        cos_psi = np.sum(pos * apex, axis=1) / rn
+        rho, drho_dh, drho_dcos = harris_priester_density(height, cos_psi, self.exponent)
+        grad = (drho_dh[:, None] * np.einsum("ni,nij->nj", up_ef, rot)
+                + drho_dcos[:, None] * (apex - cos_psi[:, None] * pos / rn[:, None])
+                / rn[:, None])
+        return rho, grad
 
 
 # ------------------------------------------------------------------------------------- MSIS
