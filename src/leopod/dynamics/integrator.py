@@ -65,6 +65,7 @@ import logging
 from dataclasses import dataclass, field
 from itertools import pairwise
 
+import numba
 import numpy as np
 from scipy.integrate import solve_ivp
 
@@ -476,7 +477,33 @@ def apply_pulses(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
                       dict(zip(epochs.tolist(), dv, strict=True)), **options)
 
 
-def pulse_partials(trajectory: Trajectory, pulse_epochs_s, t_out_s=None) -> np.ndarray:
+@numba.njit(cache=True)
+def _pulse_columns(t_s, stm, epochs_s, t0_s, back, out):  # pragma: no cover - numba
+    """``out[j, :, 3i:3i+3] = ±Φ(t_j, t0)[:r] back_i`` where pulse i acts at ``t_j`` (else
+    kept 0), ``r = out.shape[1]`` leading rows of the state.
+
+    A pulse after t0 acts at ``t ≥ t_i`` (+), one before t0 at ``t < t_i`` (−).
+    """
+    for j in range(t_s.size):
+        for i in range(epochs_s.size):
+            if epochs_s[i] > t0_s:
+                if t_s[j] < epochs_s[i]:
+                    continue
+                sign = 1.0
+            else:
+                if t_s[j] >= epochs_s[i]:
+                    continue
+                sign = -1.0
+            for a in range(out.shape[1]):
+                for c in range(3):
+                    acc = 0.0
+                    for b in range(6):
+                        acc += stm[j, a, b] * back[i, b, c]
+                    out[j, a, 3 * i + c] = sign * acc
+
+
+def pulse_partials(trajectory: Trajectory, pulse_epochs_s, t_out_s=None, *,
+                   position_only: bool = False) -> np.ndarray:
     """Partials of the state w.r.t. velocity pulses in R, T, N, from the STM alone.
 
     A pulse ``Δv_i`` at ``t_i`` (Jäggi et al. 2006, J. Geod. 80:47–60; Wang et al. 2024, sec. 2.1,
@@ -485,7 +512,8 @@ def pulse_partials(trajectory: Trajectory, pulse_epochs_s, t_out_s=None) -> np.n
     re-integration. For ``t_i > t0`` this applies to ``t ≥ t_i`` (zero before); for a pulse
     before t0 (backward arc) the state at t0 is held fixed, so it is
     ``−Φ(t, t_i) [0; M(t_i)]`` for ``t < t_i`` (zero after), consistent with
-    :func:`apply_pulses`. ``M(t_i)`` are the RTN axes of the trajectory at ``t_i``.
+    :func:`apply_pulses`. ``M(t_i)`` are the RTN axes of the trajectory at ``t_i``. Only the
+    non-zero blocks are computed (compiled loop over epochs and pulses).
 
     Parameters
     ----------
@@ -495,6 +523,8 @@ def pulse_partials(trajectory: Trajectory, pulse_epochs_s, t_out_s=None) -> np.n
         Pulse epochs [TT s]; none may equal t0.
     t_out_s : array_like, shape (m,), optional
         Epochs [TT s] (default: ``trajectory.t_s``).
+    position_only : bool, optional
+        Return the position rows only (``∂r(t)/∂Δv``, shape (m, 3, 3 n)).
 
     Returns
     -------
@@ -514,9 +544,7 @@ def pulse_partials(trajectory: Trajectory, pulse_epochs_s, t_out_s=None) -> np.n
         rhs[i, 3:] = rtn_basis(state[:3], state[3:])
     # Φ(t_i, t0)⁻¹ [0; M]  (n, 6, 3)
     back = np.linalg.solve(at_pulse.stm, rhs)
-    after = epochs > trajectory.t0_s
-    t = out_traj.t_s
-    sign = np.where(after[None, :], (t[:, None] >= epochs[None, :]).astype(float),
-                    -(t[:, None] < epochs[None, :]).astype(float))           # (m, n)
-    partials = np.einsum("mab,nbc->mnac", out_traj.stm, back) * sign[:, :, None, None]
-    return partials.transpose(0, 2, 1, 3).reshape(t.size, 6, 3 * epochs.size)
+    partials = np.zeros((out_traj.t_s.size, 3 if position_only else 6, 3 * epochs.size))
+    _pulse_columns(out_traj.t_s, np.ascontiguousarray(out_traj.stm), epochs,
+                   float(trajectory.t0_s), back, partials)
+    return partials

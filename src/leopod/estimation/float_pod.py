@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from leopod.astro.sun import sun_position_ef
-from leopod.constants import C_LIGHT_M_S
+from leopod.constants import C_LIGHT_M_S, ERA_RATE_RAD_S
 from leopod.dynamics.forces import (
     ForceModel,
     PseudoStochasticPulses,
@@ -66,6 +66,9 @@ log = logging.getLogger(__name__)
 
 _MAD_TO_SIGMA = 1.4826
 _MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
+#: Largest shift of the reception times [ns] over which the ITRF -> GCRF matrices are carried
+#: by the Earth rotation angle alone (_ReceptionRotation).
+_ROTATION_CARRY_NS = 1000
 
 
 @dataclass(frozen=True)
@@ -282,16 +285,56 @@ def pulse_epochs(t_start_s: float, t_end_s: float, interval_s: float | None) -> 
     return t_start_s + interval_s * np.arange(1, n + 1)
 
 
-def _position_partials(traj: Trajectory, full: Trajectory, pulses, est: np.ndarray,
-                       k: int) -> np.ndarray:
-    """∂r/∂(state, estimated force parameters, pulses) at the epochs of ``traj`` (m, 3, k')."""
-    parts = [traj.stm[:, :3, :], traj.sensitivity[:, :3, est]]
+def _position_partials(traj: Trajectory, pulses, est: np.ndarray, k: int) -> np.ndarray:
+    """∂r/∂(state, estimated force parameters, pulses) at the epochs of ``traj`` (m, 3, k).
+
+    The pulse partials come from the dense interpolant that ``traj`` carries (the whole arc),
+    at its own epochs. Columns after the orbit parameters (PCO-Z) are zero.
+    """
+    g = np.zeros((traj.t_s.size, 3, k))
+    g[:, :, :6] = traj.stm[:, :3, :]
+    n_e = int(np.count_nonzero(est))
+    g[:, :, 6:6 + n_e] = traj.sensitivity[:, :3, est]
     if pulses is not None and pulses.epochs_s.size:
-        parts.append(pulse_partials(full, pulses, traj.t_s)[:, :3, :])
-    g = np.concatenate(parts, axis=2)
-    if g.shape[2] < k:                       # PCO-Z column: no orbit partial
-        g = np.concatenate([g, np.zeros(g.shape[:2] + (k - g.shape[2],))], axis=2)
+        g[:, :, 6 + n_e:6 + n_e + 3 * pulses.epochs_s.size] = pulse_partials(
+            traj, pulses, position_only=True)
     return g
+
+
+class _ReceptionRotation:
+    """ITRF -> GCRF matrices at the reception times of the iterations of one arc.
+
+    The reception times move between iterations by the change of the receiver clock (a few
+    ns once the code-only clock is replaced). Matrices computed at earlier times ``t`` are
+    carried to ``t + δ`` by the Earth rotation, ``R(t + δ) = R(t) R3(−ω δ)`` (ω the rate of
+    the Earth rotation angle); they are recomputed with
+    :func:`leopod.frames.earth_rotation.gcrf_from_itrf_matrices` once any ``|δ|`` exceeds
+    ``_ROTATION_CARRY_NS`` (1 µs). Neglected over 1 µs: the tilt of the rotation axis from
+    ITRF Z (polar motion, < 2.5e-6 rad, times ω δ < 7.3e-11 rad: < 2e-16 rad), the rates of
+    precession-nutation and polar motion (< 1e-11 rad/s: < 1e-17 rad) and of UT1 − TAI
+    (1e-8 relative), all far below the ~3e-14 rad resolution of the Earth rotation angle of
+    ``erfa.era00`` in the direct computation.
+    """
+
+    def __init__(self, eop: EarthOrientation | None):
+        self.eop = eop
+        self.times: np.ndarray | None = None
+        self.rot: np.ndarray | None = None
+
+    def __call__(self, times: np.ndarray) -> np.ndarray:
+        """Matrices (m, 3, 3) at ``times`` (datetime64[ns], shape (m,), same epochs)."""
+        if self.times is not None:
+            shift_ns = (times - self.times).astype(np.int64)
+            if np.abs(shift_ns).max(initial=0) <= _ROTATION_CARRY_NS:
+                angle = ERA_RATE_RAD_S * 1e-9 * shift_ns
+                c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+                rot = self.rot.copy()
+                rot[:, :, 0] = c * self.rot[:, :, 0] + s * self.rot[:, :, 1]
+                rot[:, :, 1] = c * self.rot[:, :, 1] - s * self.rot[:, :, 0]
+                return rot
+        self.rot, _ = gcrf_from_itrf_matrices(times, eop=self.eop)
+        self.times = times
+        return self.rot
 
 
 def _sigma(el_deg: np.ndarray, sigma0: float, knee_deg: float) -> np.ndarray:
@@ -310,6 +353,7 @@ class _Problem:
                  t_ref, settings: PodSettings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m):
         self.obs, self.products, self.fm, self.settings = obs, products, force_model, settings
         self.eop = eop
+        self.rotation = _ReceptionRotation(eop)
         self.leo_pco = (np.zeros(3) if leo_pco_body_m is None
                         else np.asarray(leo_pco_body_m, dtype=float).copy())
         self.sat_pco, self.sat_pcv = sat_pco_body_m, sat_pcv_m
@@ -414,14 +458,14 @@ class _Problem:
         t_eval = self.t_nom_s - dt_rx_s
         traj = self.integrate(state0, t_eval)
         times_true = self.obs.times - (dt_rx_s * 1e9).round().astype("timedelta64[ns]")
-        rot, _ = gcrf_from_itrf_matrices(times_true, eop=self.eop)
+        rot = self.rotation(times_true)
         pco = self.leo_pco + np.array([0.0, 0.0, self.pco_dz])
         model = compute_model(self.pairs, self.t_nom_prod_s - dt_rx_s, traj.states[:, :3],
                               traj.states[:, 3:], rot, self.products, self.sun,
                               leo_pco_body_m=pco, sat_pco_body_m=self.sat_pco,
                               sat_pcv_m=self.sat_pcv,
                               nl_wavelength_m=self.obs.nl_wavelength_m)
-        g = _position_partials(traj, traj, self.pulses, self.est, self.k)
+        g = _position_partials(traj, self.pulses, self.est, self.k)
         return traj, model, g
 
     def rows(self, model: ModelResult, g: np.ndarray):
@@ -441,10 +485,9 @@ class _Problem:
         pair = np.concatenate([ic, ip])
         is_phase = np.concatenate([np.zeros(ic.size, bool), np.ones(ip.size, bool)])
         ep = self.obs.epoch[pair]
-        a_o = -np.einsum("ni,nik->nk", model.los_gcrf[pair], g[ep])
-        if s.estimate_pco_z:
-            a_o[:, self.k_orbit] = -np.sum(model.los_gcrf[pair] * model.z_body_gcrf[pair],
-                                           axis=-1)
+        if s.estimate_pco_z:            # the antenna moves along body +Z with the PCO
+            g = g.copy()
+            g[self.obs.epoch, :, self.k_orbit] = model.z_body_gcrf
         computed = np.where(is_phase, model.phase_m[pair], model.code_m[pair])
         observed = np.where(is_phase, self.obs.phase_m[pair], self.obs.code_m[pair])
         amb = np.where(is_phase, column[self.obs.pass_index[pair]], -1)
@@ -452,8 +495,9 @@ class _Problem:
         sigma = np.where(is_phase,
                          _sigma(model.el_deg[pair], s.phase_sigma_m, s.weight_elevation_deg),
                          _sigma(model.el_deg[pair], s.code_sigma_m, s.weight_elevation_deg))
-        rows = Rows(a_o=a_o, amb=amb, epoch=ep, misclosure=observed - computed - amb_value,
-                    weight=1.0 / sigma**2, n_epochs=self.obs.times.size, n_amb=active.size)
+        rows = Rows(direction=-model.los_gcrf[pair], partials=g, amb=amb, epoch=ep,
+                    misclosure=observed - computed - amb_value, weight=1.0 / sigma**2,
+                    n_amb=active.size)
         return rows, pair, is_phase, active
 
     def reject_gross_code(self, model: ModelResult) -> int:

@@ -18,6 +18,22 @@ This equals the normal equations of the rows projected onto the complement of th
 recovered afterwards as ``c_e = (EᵀW(l − H x))_e / S_e``. The ambiguity blocks are built from
 sparse matrices: a row touches one ambiguity, an epoch couples only the ambiguities observed
 in it.
+
+Rows factor through the epoch. A GNSS observation depends on the arc parameters only through
+the receiver position at its epoch, so its row of ``A_o`` is ``u_r · P_e``: a direction
+``u_r`` (d,) of the row (for a range, minus the line of sight) times the partials ``P_e``
+(d, k) of the epoch (position partials, shared by all rows of the epoch). ``A_o`` is never
+formed (it would be rows × k doubles). The projection onto the complement of the clocks acts
+on the directions only, ``ũ_r = u_r − ū_e`` with ``ū_e`` the weighted mean direction of the
+epoch, and since ``Σ_{r∈e} w_r ũ_r = 0``::
+
+    N_oo = Σ_e P_eᵀ C_e P_e,  C_e = Σ_{r∈e} w_r ũ_r ũ_rᵀ   (d × d per epoch)
+    N_oa[:, j] = Σ_{r: amb j} w_r P_eᵀ ũ_r,     b_o = Σ_e P_eᵀ Σ_{r∈e} w_r l_r ũ_r.
+
+``N_oo`` is summed over blocks of epochs and only over the leading columns that are non-zero
+in the block (pulses act only after their epoch, piecewise parameters only after the start of
+their interval), which more than halves the work of the dominant product for a POD arc with
+pulses.
 """
 
 from __future__ import annotations
@@ -30,15 +46,26 @@ import scipy.sparse as sp
 
 __all__ = ["NormalEquations", "Rows", "accumulate", "epoch_clocks", "solve"]
 
+#: Blocks of consecutive epochs of the ``N_oo`` sum: one matrix product each (few calls keep
+#: the overhead of threaded BLAS low; 16 blocks do 41 % of the full product on GRACE-A
+#: 2007-080, 64 blocks 40 %).
+_N_BLOCKS = 16
+
 
 @dataclass
 class Rows:
-    """Linearised observation rows.
+    """Linearised observation rows, their arc-parameter partials factored by epoch.
+
+    Row ``r`` of ``A_o`` is ``direction[r] @ partials[epoch[r]]`` (module docstring).
 
     Attributes
     ----------
-    a_o : ndarray, shape (r, k)
-        Partials of the arc parameters.
+    direction : ndarray, shape (r, d)
+        Direction of each row in the space of the epoch's partials (for a GNSS range, minus
+        the unit line of sight, GCRF).
+    partials : ndarray, shape (m, d, k)
+        Partials of the epoch's position-like quantity (d components) w.r.t. the k arc
+        parameters [m per parameter unit].
     amb : ndarray of int, shape (r,)
         Ambiguity column of the row (−1 for code rows).
     epoch : ndarray of int, shape (r,)
@@ -47,22 +74,22 @@ class Rows:
         Observed minus computed [m].
     weight : ndarray, shape (r,)
         ``1/σ²`` [1/m²].
-    n_epochs, n_amb : int
-        Sizes of the clock and ambiguity axes.
+    n_amb : int
+        Size of the ambiguity axis.
     """
 
-    a_o: np.ndarray
+    direction: np.ndarray
+    partials: np.ndarray
     amb: np.ndarray
     epoch: np.ndarray
     misclosure: np.ndarray
     weight: np.ndarray
-    n_epochs: int
     n_amb: int
 
-    def subset(self, keep: np.ndarray) -> Rows:
-        """The rows where ``keep`` is True."""
-        return Rows(self.a_o[keep], self.amb[keep], self.epoch[keep], self.misclosure[keep],
-                    self.weight[keep], self.n_epochs, self.n_amb)
+    @property
+    def n_epochs(self) -> int:
+        """Size of the clock (epoch) axis."""
+        return self.partials.shape[0]
 
     def _incidence(self):
         r = self.epoch.size
@@ -93,27 +120,61 @@ class NormalEquations:
     n_rows: int
 
 
+def _per_epoch(epoch: np.ndarray, values: np.ndarray, m: int) -> np.ndarray:
+    """Sums of ``values`` (r, c) over the rows of each epoch: (m, c)."""
+    return np.stack([np.bincount(epoch, weights=v, minlength=m) for v in values.T], axis=1)
+
+
+def _quadratic_sum(p: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """``Σ_e P_eᵀ C_e P_e`` of ``p`` (m, d, k) and ``c`` (m, d, d): (k, k).
+
+    Summed over ``_N_BLOCKS`` blocks of consecutive epochs, each over the leading columns up
+    to the last one that is non-zero in the block (the columns after it contribute exact
+    zeros).
+    """
+    m, k = p.shape[0], p.shape[2]
+    cp = np.einsum("mij,mjk->mik", c, p)
+    nonzero = np.any(p != 0.0, axis=1)                                   # (m, k)
+    out = np.zeros((k, k))
+    size = max(-(-m // _N_BLOCKS), 1)
+    for start in range(0, m, size):
+        block = slice(start, start + size)
+        columns = np.flatnonzero(nonzero[block].any(axis=0))
+        if columns.size:
+            n = columns[-1] + 1
+            out[:n, :n] += p[block, :, :n].reshape(-1, n).T @ cp[block, :, :n].reshape(-1, n)
+    return out
+
+
 def accumulate(rows: Rows) -> NormalEquations:
     """Normal equations of ``rows`` with the epoch clocks pre-eliminated (module docstring)."""
     e, a = rows._incidence()
     w = rows.weight
     l = rows.misclosure
-    s = np.asarray(e.T @ w).ravel()
+    ep = rows.epoch
+    m, d, k = rows.partials.shape
+    s = np.bincount(ep, weights=w, minlength=m)
     s_inv = np.where(s > 0, 1.0 / np.where(s > 0, s, 1.0), 0.0)
-    wa_o = rows.a_o * w[:, None]
-    g_o = e.T @ wa_o                                                     # (m, k) dense
+    # directions projected onto the complement of the clocks: minus their weighted epoch mean
+    u = rows.direction - (_per_epoch(ep, rows.direction * w[:, None], m) * s_inv[:, None])[ep]
+    wu = u * w[:, None]
+    c = _per_epoch(ep, (wu[:, :, None] * u[:, None, :]).reshape(-1, d * d), m)
+    p = rows.partials.reshape(m * d, k)
+    ph = rows.amb >= 0
+    q_a = sp.csr_matrix((wu[ph].ravel(), ((ep[ph, None] * d + np.arange(d)).ravel(),
+                                          np.repeat(rows.amb[ph], d))),
+                        shape=(m * d, rows.n_amb))                       # (m d, n_a) sparse
     wa = sp.diags(w) @ a                                                 # (r, n_a) sparse
     g_a = (e.T @ wa).tocsr()                                             # (m, n_a) sparse
-    g_l = np.asarray(e.T @ (w * l)).ravel()                              # (m,)
-    k = rows.a_o.shape[1]
+    g_l = np.bincount(ep, weights=w * l, minlength=m)                    # (m,)
     n = np.empty((k + rows.n_amb, k + rows.n_amb))
-    n[:k, :k] = rows.a_o.T @ wa_o - g_o.T @ (g_o * s_inv[:, None])
-    n_oa = np.asarray((wa.T @ rows.a_o).T) - np.asarray((g_a.T @ (g_o * s_inv[:, None])).T)
+    n[:k, :k] = _quadratic_sum(rows.partials, c.reshape(m, d, d))
+    n_oa = np.asarray((q_a.T @ p).T)
     n[:k, k:] = n_oa
     n[k:, :k] = n_oa.T
     n[k:, k:] = (a.T @ wa - g_a.T @ sp.diags(s_inv) @ g_a).toarray()
     b = np.empty(k + rows.n_amb)
-    b[:k] = wa_o.T @ l - g_o.T @ (s_inv * g_l)
+    b[:k] = p.T @ _per_epoch(ep, wu * l[:, None], m).ravel()
     b[k:] = np.asarray(wa.T @ l).ravel() - np.asarray(g_a.T @ (s_inv * g_l)).ravel()
     ltpl = float(np.sum(w * l * l) - np.sum(s_inv * g_l**2))
     return NormalEquations(matrix=n, rhs=b, ltpl=ltpl, n_rows=l.size)
@@ -163,8 +224,9 @@ def epoch_clocks(rows: Rows, dx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     residuals : ndarray, shape (r,)
         ``l − H dx − c_e`` [m].
     """
-    k = rows.a_o.shape[1]
-    reduced = rows.misclosure - rows.a_o @ dx[:k]
+    m, d, k = rows.partials.shape
+    shift = (rows.partials.reshape(m * d, k) @ dx[:k]).reshape(m, d)
+    reduced = rows.misclosure - np.sum(rows.direction * shift[rows.epoch], axis=1)
     ph = rows.amb >= 0
     reduced[ph] -= dx[k + rows.amb[ph]]
     w = rows.weight
