@@ -15,7 +15,9 @@ def _numba_cache_dir() -> str:
     defines a kernel: it keeps stale machine code when a constant imported from
     ``leopod.constants`` or a jitted function of another module changes. Keying the cache
     directory on the whole package makes any source change start from a clean cache.
-    The base is ``$NUMBA_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/leopod/numba``.
+    The base is ``$NUMBA_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/leopod/numba``; a base
+    that already is this directory (inherited from a parent process that imported leopod, such
+    as Snakemake running a job's script) is kept, so that jobs share the cache of ``make setup``.
     """
     package = _Path(__file__).resolve().parent
     digest = _hashlib.sha1()
@@ -25,7 +27,8 @@ def _numba_cache_dir() -> str:
     base = _os.environ.get("NUMBA_CACHE_DIR") or _os.path.join(
         _os.environ.get("XDG_CACHE_HOME", _os.path.join(_os.path.expanduser("~"), ".cache")),
         "leopod", "numba")
-    return _os.path.join(base, digest.hexdigest()[:16])
+    key = digest.hexdigest()[:16]
+    return base if _os.path.basename(_os.path.normpath(base)) == key else _os.path.join(base, key)
 
 
 _CACHE_DIR = _numba_cache_dir()
