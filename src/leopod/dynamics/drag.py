@@ -218,12 +218,12 @@ def drag_plates(pos_m, vel_m_s, density_kg_m3: float, grad_density_kg_m4, normal
 # ---------------------------------------------------------------------------- geodetic helper
 
 
-def _geodetic_ef(pos_ef_m: np.ndarray) -> tuple[float, float, float, np.ndarray]:
-    """WGS84 longitude [rad], latitude [rad], height [m] and unit up vector (Earth-fixed)."""
+def _geodetic_ef(pos_ef_m: np.ndarray):
+    """WGS84 longitude [rad], latitude [rad], height [m] and unit up vector of Earth-fixed
+    positions (3,) or (n, 3) [m] (up: shape (3,) or (n, 3))."""
     lon, lat, h = erfa.gc2gd(_ERFA_WGS84, pos_ef_m)
-    cl = np.cos(lat)
-    up = np.array([cl * np.cos(lon), cl * np.sin(lon), np.sin(lat)])
-    return float(lon), float(lat), float(h), up
+    up = np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=-1)
+    return lon, lat, h, up
 
 
 # --------------------------------------------------------------------------- Harris–Priester
@@ -317,9 +317,7 @@ class HarrisPriesterDensity:
         """:meth:`__call__` at n epochs: ρ (n,) [kg/m³] and ∇ρ (n, 3) [kg/m⁴]."""
         pos = np.asarray(pos_m, dtype=float)
         rot = np.asarray(rot_gcrf_to_ef, dtype=float)
-        lon, lat, height = erfa.gc2gd(_ERFA_WGS84, np.einsum("nij,nj->ni", rot, pos))
-        up_ef = np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)],
-                         axis=-1)
+        _, _, height, up_ef = _geodetic_ef(np.einsum("nij,nj->ni", rot, pos))
         sun = np.asarray(sun_m, dtype=float)
         cl, sl = np.cos(HP_BULGE_LAG_RAD), np.sin(HP_BULGE_LAG_RAD)
         apex = np.stack([cl * sun[:, 0] - sl * sun[:, 1], sl * sun[:, 0] + cl * sun[:, 1],
@@ -443,9 +441,7 @@ class MsisDensity:
         """:meth:`__call__` at n epochs in one pymsis call: ρ (n,) [kg/m³], ∇ρ (n, 3) [kg/m⁴]."""
         rot = np.asarray(rot_gcrf_to_ef, dtype=float)
         pos_ef = np.einsum("nij,nj->ni", rot, np.asarray(pos_m, dtype=float))
-        lon, lat, height = erfa.gc2gd(_ERFA_WGS84, pos_ef)
-        up_ef = np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)],
-                         axis=-1)
+        lon, lat, height, up_ef = _geodetic_ef(pos_ef)
         t_utc = np.array([_tt_to_utc(float(t), self._leap_cache) for t in t_tt_s])
         f107, f107a, ap = self._msis_inputs(self.space_weather, t_utc)
         dh = self.step_km
