@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 from _synthetic import smooth_map
 
-from leopod.codebias.estimate import MapSettings, _solve_datum, estimate_map
+from leopod.codebias.estimate import (
+    MapSettings,
+    _solve_datum,
+    _solve_datum_regular,
+    estimate_map,
+)
 from leopod.codebias.grid import AntennaGrid
 from leopod.codebias.products import mp_statistics
 from leopod.codebias.samples import MpSamples
@@ -113,3 +118,21 @@ def test_datum_solution_and_defect_detection():
     assert np.allclose(x[:2], [0.5, -0.5])
     # covariance of x0 = -x1 = d/2 with var(d) = 1 (N00 = 1): var(x0) = 1/4
     assert np.allclose(cov_diag[:2], 0.25)
+
+
+def test_cholesky_datum_solution_equals_the_eigen_one():
+    # analytic truth: for N with the datum as its only defect, M = N + c w wᵀ is positive
+    # definite and both factorisations give x = M⁻¹ b and diag(M⁻¹) - 1/c
+    rng = np.random.default_rng(4)
+    a = rng.normal(size=(40, 6))
+    a -= a.mean(axis=1, keepdims=True)  # rows of differences: the constant is the defect
+    n = a.T @ a
+    b = a.T @ rng.normal(size=40)
+    w = np.full(6, 1 / 6)
+    x_e, cov_e, undetermined = _solve_datum(n, b, w)
+    x_c, cov_c = _solve_datum_regular(n, b, w, covariance=True)
+    assert not undetermined.any()
+    assert abs(w @ x_c) < 1e-12
+    np.testing.assert_allclose(x_c, x_e, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(cov_c, cov_e, rtol=1e-10)
+    assert _solve_datum_regular(n, b, w, covariance=False)[1] is None

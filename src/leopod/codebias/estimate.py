@@ -191,6 +191,22 @@ def _solve_datum(n: np.ndarray, b: np.ndarray, w: np.ndarray, rel_tol: float = 1
     return x, cov_diag, undetermined
 
 
+def _solve_datum_regular(n: np.ndarray, b: np.ndarray, w: np.ndarray, *, covariance: bool):
+    """:func:`_solve_datum` for an ``N`` whose only defect is the datum, by Cholesky.
+
+    ``M = N + c w wᵀ`` is then positive definite: ``x`` from its Cholesky factor ``L`` and
+    ``diag(M⁻¹)`` as the column sums of ``(L⁻¹)²`` (about a tenth of the eigendecomposition's
+    cost). Returns ``x`` and, if ``covariance``, the diagonal of its covariance (else None).
+    """
+    c = np.trace(n)
+    chol = sla.cholesky(n + c * np.outer(w, w), lower=True)
+    x = sla.cho_solve((chol, True), b)
+    if not covariance:
+        return x, None
+    inv_l = sla.solve_triangular(chol, np.eye(chol.shape[0]), lower=True)
+    return x, np.sum(inv_l**2, axis=0) - 1.0 / c
+
+
 def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings) -> MapFit:
     """Code-bias map from multipath observations (module docstring).
 
@@ -257,7 +273,15 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings) -> MapFi
         n, b = _reduced_normals(a_act, g, w, y_u)
         if reg is not None:
             n += reg
-        x, cov_diag, undetermined = _solve_datum(n, b, datum)
+        regular = it > 0 and not undetermined.any()  # same observations, same defects
+        try:
+            if regular:
+                x, cov_diag = _solve_datum_regular(n, b, datum,
+                                                   covariance=it == settings.iterations)
+        except np.linalg.LinAlgError:  # a defect spread too thin to mark any node
+            regular = False
+        if not regular:
+            x, cov_diag, undetermined = _solve_datum(n, b, datum)
         fitted = a_act @ x
         resid = y_u - fitted - _pass_mean(y_u - fitted, g, w)
         if it < settings.iterations:
