@@ -67,7 +67,6 @@ from itertools import pairwise
 
 import numba
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from leopod.dynamics.compiled import CompiledForceModel, fill_acceleration
 from leopod.dynamics.forces import ForceModel, PseudoStochasticPulses, extended_orbit
@@ -155,6 +154,8 @@ def _dop853_segment(rhs: _Rhs, t_start: float, t_end: float, y0: np.ndarray, rto
     sqrt(C) is passed as atol with scipy's smallest rtol, so that the steps are those of a
     state-only integration.
     """
+    from scipy.integrate import solve_ivp  # comparison only: spares every job its import
+
     n_col = y0.shape[1]
     shape = (6, n_col)
     work = np.empty((3, n_col))

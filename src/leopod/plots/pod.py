@@ -26,7 +26,7 @@ import matplotlib.transforms as mtransforms
 import numpy as np
 import xarray as xr
 
-from leopod.plots import save_figure
+from leopod.plots import dots, save_figure
 
 __all__ = [
     "ARC_FIGURES",
@@ -142,14 +142,13 @@ def plot_residuals_time(res: xr.Dataset, path, title: str = "", solution: str = 
     """
     hours, xlabel = _hours_of_day(res.time.values)
     n_sv = res.sizes["sv"]
-    colour_index = np.broadcast_to(np.arange(n_sv), (hours.size, n_sv))
-    t = np.broadcast_to(hours[:, None], (hours.size, n_sv))
+    colours = plt.get_cmap("tab20")(np.arange(n_sv) / max(n_sv - 1, 1))
     fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
     for ax, (kind, scale, unit) in zip(axes, _PANELS):
         r = res[f"{kind}_residual_m"].values * scale
         ok = np.isfinite(r)
-        ax.scatter(t[ok], r[ok], c=colour_index[ok], cmap="tab20", vmin=0, vmax=max(n_sv - 1, 1),
-                   s=2, rasterized=True)
+        for j in np.flatnonzero(ok.any(axis=0)):
+            dots(ax, hours[ok[:, j]], r[ok[:, j], j], size_pt2=2.0, color=colours[j])
         rejected = (res[f"{kind}_rejected"].values == 1).any(axis=1)
         ax.plot(hours[rejected], np.zeros(np.count_nonzero(rejected)), "|", color="red", ms=6,
                 transform=mtransforms.blended_transform_factory(ax.transData, ax.transAxes))
@@ -188,7 +187,7 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "",
     for ax, (kind, scale, unit) in zip(axes, _PANELS):
         r = res[f"{kind}_residual_m"].values * scale
         ok = np.isfinite(r) & np.isfinite(el)
-        ax.scatter(el[ok], r[ok], s=1, alpha=0.25, color="tab:blue", rasterized=True)
+        dots(ax, el[ok], r[ok], alpha=0.25, color="tab:blue")
         centres, rms, _ = rms_by_bin(r, el, edges)
         ax.plot(centres, rms, "o-", color="tab:red", ms=3, label=f"RMS per {_BIN_DEG:g}° bin")
         lim = _symmetric_limit(r[ok], 1.0)

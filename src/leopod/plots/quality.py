@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from leopod.plots import save_figure
+from leopod.plots import dots, save_figure
 
 __all__ = ["plot_mp_elevation", "plot_skyplot", "plot_code_noise", "plot_visibility",
            "summary_html"]
@@ -40,7 +40,7 @@ def plot_mp_elevation(q: xr.Dataset, path, title: str) -> None:
     for ax, code in zip(axes[:, 0], codes):
         mp = q[f"mp_{code}_m"].values
         ok = np.isfinite(mp) & np.isfinite(el)
-        ax.scatter(el[ok], mp[ok], s=1, alpha=0.25, rasterized=True)
+        dots(ax, el[ok], mp[ok], alpha=0.25, color="tab:blue")
         rms = float(q[f"{q.attrs['system']}_mp_rms_{code}_m"])
         ax.set_ylabel(f"MP {code} [m]")
         ax.set_title(f"{code}: RMS {rms:.3f} m", fontsize=9, loc="left")
