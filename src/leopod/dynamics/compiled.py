@@ -206,11 +206,11 @@ class CompiledForceModel:
 
 def warm_up() -> None:
     """Compile (and cache) the compiled force model and integrator: a 20-min arc of a small
-    model with every force, partials and pulses. ``make setup`` runs it once, so that the
-    first POD job does not spend its time compiling."""
+    model with every force, partials and pulses, and the pulse partials of the POD. ``make
+    setup`` runs it once, so that the first POD job does not spend its time compiling."""
     from leopod.dynamics.force_config import ForceModelSettings, build_force_model
     from leopod.dynamics.forces import apriori_parameters, circular_orbit
-    from leopod.dynamics.integrator import apply_pulses
+    from leopod.dynamics.integrator import apply_pulses, pulse_partials
     from leopod.dynamics.model_files import resolve_model_paths
 
     settings = ForceModelSettings.from_config(resolve_model_paths({
@@ -221,8 +221,9 @@ def warm_up() -> None:
     model = build_force_model(settings, np.datetime64("2020-01-01T00:00", "ns"), 0.0, 1200.0)
     state = np.array([6.9e6, 0.0, 0.0, 0.0, 1.0e3, 7.5e3])
     model.follow(circular_orbit(0.0, state))
-    apply_pulses(model, 0.0, state, apriori_parameters(model), [1200.0], [600.0],
-                 [[1e-6, 0.0, 0.0]])
+    traj = apply_pulses(model, 0.0, state, apriori_parameters(model), [0.0, 1200.0], [600.0],
+                        [[1e-6, 0.0, 0.0]])
+    pulse_partials(traj, [600.0], position_only=True)
 
 
 if __name__ == "__main__":
