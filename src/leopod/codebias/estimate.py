@@ -269,6 +269,7 @@ def estimate_map(az_deg, el_deg, mp_m, pass_key, settings: MapSettings) -> MapFi
     datum = count_act / count_act.sum()
     w = np.ones(y_u.size)
     n_down = 0
+    undetermined = np.zeros(m, dtype=bool)
     for it in range(settings.iterations + 1):
         n, b = _reduced_normals(a_act, g, w, y_u)
         if reg is not None:

@@ -36,6 +36,7 @@ from urllib.parse import quote, urlsplit
 from urllib.request import url2pathname
 
 from leopod.download.checks import KINDS
+from leopod.settings import read_yaml
 from leopod.time.calendar import parse_date_id, template_fields
 
 __all__ = ["PERIODS", "PLACEHOLDERS", "Archive", "Catalogue", "Family", "Location", "Source",
@@ -270,10 +271,7 @@ class Catalogue:
     @classmethod
     def from_yaml(cls, path: str | Path) -> Catalogue:
         """Read and validate a catalogue YAML file (e.g. ``config/catalogue.yaml``)."""
-        import yaml
-
-        with open(path, encoding="utf-8") as f:
-            mapping = yaml.safe_load(f)
+        mapping = read_yaml(path)
         try:
             return cls.from_config(mapping)
         except ValueError as err:

@@ -16,9 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import yaml
-
-from leopod.settings import SCHEMA, fill_defaults, schema_defaults
+from leopod.settings import SCHEMA, fill_defaults, read_yaml, schema_defaults
 
 __all__ = ["SCHEMA", "load_campaign", "section_defaults", "validated", "with_defaults"]
 
@@ -41,7 +39,7 @@ def load_campaign(*paths: str | Path, schema: str | Path = SCHEMA) -> dict:
     """Campaign files merged in order (as ``snakemake --configfile a b``) and validated."""
     config: dict = {}
     for path in paths:
-        _merge(config, yaml.safe_load(Path(path).read_text()) or {})
+        _merge(config, read_yaml(path) or {})
     return validated(config, schema)
 
 
