@@ -44,6 +44,7 @@ def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: S
                       product.wl_sat_cyc, settings,
                       sat_if_bias_m=product.per_ambiguity(amb.sv.values))
     res.table.attrs["ar_product"] = product.label
+    res.table.attrs["convention_integers_refer_to"] = product.label
     write_netcdf(res.table, table_path, step="ambiguity",
                  inputs=[inputs["ambiguities"], inputs["residuals"]], time_system="GPS",
                  title=f"single-difference ambiguities {title}")

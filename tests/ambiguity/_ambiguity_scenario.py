@@ -10,7 +10,14 @@ leopod.simulate.biases), nothing estimated:
   from a known correlated covariance: a common mode (cancels in single differences, like
   the receiver-clock-like correlation of real float ambiguities), a weak 3-factor part and an
   independent part;
-- satellite biases from leopod.simulate.biases (truth and the OSB / CNES WL products).
+- satellite biases from leopod.simulate.biases (truth and the OSB / CNES WL products), the
+  products optionally with a fault of leopod.simulate.product_faults;
+- ``clocks="ordinary"``: the float IF ambiguities carry the true ``b^s_IF`` (clocks to be used
+  with the OSBs); ``clocks="integer"``: they carry ``b^s_IF`` minus the ``b^s_IF`` held by the
+  product's integer-recovery clocks (zero for a consistent product).
+
+:func:`arc_inputs` turns a scenario into the inputs of leopod.ambiguity.resolve.resolve_arc
+(observations whose HMW combination is the scenario's HMW).
 """
 
 from __future__ import annotations
@@ -22,7 +29,8 @@ import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.signals import frequency_hz
-from leopod.simulate.biases import BiasSettings, ar_products, simulate_biases
+from leopod.simulate.biases import BiasSettings, simulate_biases, truth_dataset
+from leopod.simulate.product_faults import faulty_products
 from leopod.workflow.config import section_defaults
 
 EPOCH = np.datetime64("2020-06-01T00:00", "ns")
@@ -52,11 +60,15 @@ def _passes(rng, n_epochs: int, step_s: float):
 
 def scenario(seed: int = 3, hours: float = 6.0, step_s: float = 10.0, n_sv: int = 10,
              sigma_hmw_cyc: float = 0.3, sigma_if_m: float = 0.003,
-             common_if_m: float = 0.05, factor_if_m: float = 0.001) -> SimpleNamespace:
+             common_if_m: float = 0.05, factor_if_m: float = 0.001, fault: str = "none",
+             clocks: str = "ordinary") -> SimpleNamespace:
+    if clocks not in ("ordinary", "integer"):
+        raise ValueError(f"clocks must be 'ordinary' or 'integer', got {clocks!r}")
     rng = np.random.default_rng(seed)
     biases = simulate_biases(GPS, None, np.random.default_rng(seed + 100), epoch=EPOCH,
                              settings=BIASES)
-    products = ar_products(biases)
+    faulty = faulty_products(biases, fault, np.random.default_rng(seed + 200))
+    products = faulty.products
     truth = products.truth
     n_epochs = int(hours * 3600 / step_s)
     times = EPOCH + np.arange(n_epochs) * np.timedelta64(int(step_s), "s")
@@ -75,6 +87,9 @@ def scenario(seed: int = 3, hours: float = 6.0, step_s: float = 10.0, n_sv: int 
     n_wl = rng.integers(-30, 30, n)
     w_sat = truth["wl_bias_sat_cyc"].sel(sv=svs).values
     b_sat = truth["if_phase_bias_sat_m"].sel(sv=amb_sv).values
+    if clocks == "integer":
+        held = truth_dataset(faulty.clock_biases)["if_phase_bias_sat_m"]
+        b_sat = b_sat - held.sel(sv=amb_sv).values
     # HMW per epoch, with single-epoch holes inside the passes
     col_of = {sv: k for k, sv in enumerate(svs)}
     hmw = np.full((n_epochs, n_sv), np.nan)
@@ -105,4 +120,16 @@ def scenario(seed: int = 3, hours: float = 6.0, step_s: float = 10.0, n_sv: int 
         times=times, svs=svs, col_of=col_of, amb=amb, n1=n1, n_wl=n_wl, b_true=b_true,
         hmw=xr.DataArray(hmw, dims=("time", "sv"), coords=coords),
         pass_id=xr.DataArray(pass_id, dims=("time", "sv"), coords=coords),
-        biases=biases, products=products, truth=truth, sigma_hmw_cyc=sigma_hmw_cyc)
+        biases=biases, products=products, truth=truth, sigma_hmw_cyc=sigma_hmw_cyc,
+        clocks=clocks)
+
+
+def arc_inputs(s: SimpleNamespace) -> tuple[xr.Dataset, xr.Dataset]:
+    """``(residuals, obs)`` for resolve_arc: ``pass_index`` (time, sv), and L1C/L2W/C1W/C2W
+    [m] with codes and L2W zero and ``L1C = (f1 − f2)/f1 · λ_WL · HMW``, so that the HMW
+    combination ``f1 L1/(f1 − f2)`` [m] divided by ``λ_WL`` is the scenario's HMW."""
+    lam_wl = C_LIGHT_M_S / (F1 - F2)
+    l1 = s.hmw * lam_wl * (F1 - F2) / F1
+    zero = xr.zeros_like(l1).where(np.isfinite(l1))
+    obs = xr.Dataset({"L1C": l1, "L2W": zero, "C1W": zero, "C2W": zero})
+    return xr.Dataset({"pass_index": s.pass_id}), obs

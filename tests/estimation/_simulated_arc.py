@@ -41,8 +41,12 @@ DAY, SAT = "2019-001", "hy2b-sim"
 T0 = np.datetime64("2019-01-01T00:00", "ns")
 
 
-def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0)) -> SimpleNamespace:
+def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
+                  ar_fault: str = "none", ambiguity: dict | None = None) -> SimpleNamespace:
     """Files of :data:`DAY` in ``folder``, and the float POD and AR of ``hours`` of it.
+
+    ``ar_fault`` is the simulator's AR product fault (``simulate.products.ar_fault``);
+    ``ambiguity`` overrides keys of the campaign's ``ambiguity`` section.
 
     Returns
     -------
@@ -53,8 +57,8 @@ def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0)) -> Simp
     """
     cfg = load_campaign(REPO / "config" / "config.yaml")
     pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
-    sim = SimulationSettings.from_config(with_defaults("simulate",
-                                                      {"truth": {"gravity_degree": 30}}))
+    sim = SimulationSettings.from_config(with_defaults(
+        "simulate", {"truth": {"gravity_degree": 30}, "products": {"ar_fault": ar_fault}}))
     truth = simulate_truth(sim, SAT, DAY, DAY)
     biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
                                   stations_path=folder / "s.snx")
@@ -87,10 +91,13 @@ def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0)) -> Simp
     product = ar_product(residuals.time.values[residuals.sizes["time"] // 2],
                          arc.ambiguities.sv.values, sig.phase, sig.pod_code,
                          wl_bias_path=folder / "g.wsb")
-    ar = ArSettings.from_config(cfg["ambiguity"])
+    ar = ArSettings.from_config(with_defaults("ambiguity",
+                                              {**cfg["ambiguity"], **(ambiguity or {})}))
     resolution = resolve_arc(arc.ambiguities, residuals, obs, "G", sig.phase, sig.pod_code,
                              product.wl_sat_cyc, ar)
     with xr.open_dataset(folder / "t.nc") as f:
         truth_day = f.load()
     return SimpleNamespace(args=args, code_correction=code_correction, limits=limits,
-                           float=arc, table=resolution.table, ar=ar, truth=truth_day)
+                           float=arc, table=resolution.table, ar=ar, truth=truth_day,
+                           constraints=resolution.constraints, obs=obs, product=product,
+                           signals=sig)

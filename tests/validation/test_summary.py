@@ -51,3 +51,16 @@ def test_table_means_per_solution():
     assert table.loc[("mean", "float_pod"), "phase_rms_mm"] == pytest.approx(3.0)
     assert table.loc[("mean", "fixed_pod"), "n_phase"] == 2
     assert np.isnan(table.loc[("2019-001", "float_pod"), "overlap_3d_rms_cm"])
+
+
+def test_row_reports_the_product_guard():
+    # the guard's verdict and statistics (attributes of the ambiguity table) reach the summary
+    res = _residuals([[0.003]], [[0.3]])
+    refused = xr.Dataset({"constrained": ("pair", [0, 0])},
+                         attrs={"product_guard": "refused", "wl_guard_mean_cos": 0.05})
+    row = day_row("2019-001", "fixed_pod", residuals=res, ambiguity=refused)
+    assert row["ar_product_accepted"] == 0.0 and row["n_constraints"] == 0
+    assert row["wl_guard_mean_cos"] == pytest.approx(0.05) and np.isnan(row["nl_guard_mean_cos"])
+    untested = xr.Dataset(attrs={"product_guard": "not tested"})
+    assert np.isnan(day_row("2019-001", "fixed_pod", residuals=res,
+                            ambiguity=untested)["ar_product_accepted"])

@@ -18,6 +18,12 @@ NL 0.12 cycles) — or ``"dong_bock"`` — the probability test of the BDS SCB-A
 (α = 0.1 %), with the same sigma bounds. Every candidate keeps its float value, sigma, integer,
 decision and the reason of a rejection. Fixing rates follow Jiang et al. (2023): fixed independent /
 all independent.
+
+Before anything is fixed, the product guard (:mod:`~leopod.ambiguity.consistency`) tests that the
+WL and NL fractional parts cluster at zero; a refused product fixes nothing, and the table's
+``product_guard*`` attributes say why. Fixed NL whose integer lies more than
+``nl_max_shift_sigma`` formal sigmas from the float value are not fixed. The integer
+convention is in the table's ``convention_*`` attributes (:mod:`~leopod.ambiguity.convention`).
 """
 
 from __future__ import annotations
@@ -28,6 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from leopod.ambiguity.consistency import float_consistent, product_verdict
+from leopod.ambiguity.convention import integer_convention_attrs
 from leopod.ambiguity.decision import FixDecision, dong_bock_decision, rounding_decision
 from leopod.ambiguity.independent import constraint_rows, fixing_rate, independent_edges
 from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_narrow_lane
@@ -57,6 +65,10 @@ class ArSettings(Settings):
     constraint_sigma_m: float
     max_residual_ratio: float
     max_rejection_rounds: int
+    product_guard: bool
+    guard_alpha: float
+    guard_min_satellite_pairs: int
+    nl_max_shift_sigma: float
 
 
 @dataclass
@@ -147,8 +159,27 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
                         sat_bias_m=sat_if_bias_m)
     nl_dec = _decide(nl.value_cyc, nl.sigma_cyc, settings.nl_max_dev_cyc,
                      settings.nl_max_sigma_cyc, settings)
-    nl_fixed = nl_dec.fixed & wl_dec.fixed
-    nl_reason = np.where(wl_dec.fixed, nl_dec.reason, "wide lane not fixed")
+    guard = None
+    if settings.product_guard and wl_sat_cyc is not None and n_pair:
+        guard = product_verdict(
+            amb.sv.values[i], amb.sv.values[j], wl.value_cyc,
+            wl.sigma_cyc <= settings.wl_max_sigma_cyc, nl.value_cyc,
+            wl_dec.fixed & (nl.sigma_cyc <= settings.nl_max_sigma_cyc),
+            alpha=settings.guard_alpha, min_pairs=settings.guard_min_satellite_pairs)
+        if not guard.accepted:
+            log.warning("nothing is fixed: %s", guard.reason)
+            wl_dec = wl_dec._replace(fixed=np.zeros(n_pair, bool),
+                                     reason=np.full(n_pair, guard.reason, dtype=object))
+    shift_ok, shift_reason = float_consistent(nl_dec.fraction_cyc, nl.sigma_cyc,
+                                              settings.nl_max_shift_sigma)
+    nl_fixed = nl_dec.fixed & wl_dec.fixed & shift_ok
+    nl_reason = np.where(wl_dec.fixed, np.where(nl_dec.fixed, shift_reason, nl_dec.reason),
+                         wl_dec.reason if guard is not None and not guard.accepted
+                         else "wide lane not fixed")
+    if (nl_dec.fixed & wl_dec.fixed & ~shift_ok).any():
+        log.warning("%d NL fixes dropped: the integer lies more than %g sigma from the float "
+                    "value", int((nl_dec.fixed & wl_dec.fixed & ~shift_ok).sum()),
+                    settings.nl_max_shift_sigma)
     independent = independent_edges(i, j, key=nl.sigma_cyc)
     chosen = independent_edges(i[nl_fixed], j[nl_fixed], key=nl.sigma_cyc[nl_fixed])
     constrained = np.zeros(n_pair, bool)
@@ -213,6 +244,13 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
         attrs={"wl_fixing_rate": wl_rate, "nl_fixing_rate": nl_rate,
                "n_passes": int(pass_of.size), "n_independent": int(independent.sum()),
                "decision": settings.decision, "min_common_s": settings.min_common_s,
-               "ar_product": "none" if wl_sat_cyc is None else "wide-lane satellite biases"},
+               "ar_product": "none" if wl_sat_cyc is None else "wide-lane satellite biases",
+               "nl_max_shift_sigma": settings.nl_max_shift_sigma,
+               **integer_convention_attrs(phases)},
     )
+    if guard is not None:
+        table.attrs.update(guard.attrs(settings.guard_alpha, settings.guard_min_satellite_pairs))
+    else:
+        table.attrs.update(product_guard="not tested", product_guard_reason=(
+            "guard disabled" if not settings.product_guard else "no AR product or no pairs"))
     return Resolution(table=table, constraints=constraints)

@@ -138,6 +138,8 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
     constraints = constraints_of(table, settings.constraint_sigma_m)
     log.info("%d fixed single differences constrain the solution (AR product: %s)",
              constraints[0].size, table.attrs.get("ar_product"))
+    if table.attrs.get("product_guard") == "refused":
+        log.warning("the AR product was refused (%s)", table.attrs.get("product_guard_reason"))
     if constraints[0].size == 0:
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
     fixed = FixedSolutions(date, data, signals, arc, pod, forces, pco_body_m, float_solution,

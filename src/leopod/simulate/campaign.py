@@ -51,13 +51,13 @@ from leopod.io.sp3_write import write_sp3
 from leopod.io.wlbias_write import wl_bias_records, write_wl_bias
 from leopod.simulate.biases import (
     SimulatedBiases,
-    ar_products,
     integer_clock_s,
     simulate_biases,
     truth_dataset,
 )
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.simulate.observations import GnssWorld, simulate_observations
+from leopod.simulate.product_faults import faulty_products
 from leopod.simulate.product_world import osb_biases, product_world
 from leopod.simulate.settings import DEFAULT_PCO_BODY_M, SimulationSettings
 from leopod.simulate.slr import (
@@ -346,9 +346,13 @@ def simulate_gnss_products(date: str, settings: SimulationSettings, world_start:
                       comments=(f"leopod simulated {systems} satellite clocks",
                                 "ionosphere-free clock-reference codes, no relativity"))
     biases = _day_biases(biases_for(biases_truth), day0)
-    products = ar_products(biases, agency=p.agency)
+    faulty = faulty_products(biases, p.ar_fault, settings.rng(f"products/fault/{date}"),
+                             agency=p.agency)
+    products = faulty.products
+    if p.ar_fault != "none":
+        log.warning("AR products of %s made with the fault %r", date, p.ar_fault)
     records = wl_bias_records(products.wl)
-    write_rinex_clock(xr.Dataset({"clk_s": integer_clock_s(clk, biases)},
+    write_rinex_clock(xr.Dataset({"clk_s": integer_clock_s(clk, faulty.clock_biases)},
                                  attrs={"time_system": "GPS"}), integer_clock,
                       analysis_center=p.agency, created=_file_time(day0),
                       comments=("leopod simulated integer-recovery clocks (CNES/CLS style)",

@@ -111,11 +111,15 @@ class ProductSettings(Settings):
         linear interpolation of the product is exact.
     agency : str
         Agency / analysis-centre code (3 characters).
+    ar_fault : str
+        Fault of the AR products (:data:`leopod.simulate.product_faults.AR_FAULTS`;
+        ``"none"``: consistent products).
     """
 
     orbit_interval_s: float
     clock_interval_s: float
     agency: str
+    ar_fault: str
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,9 @@
 Columns (NaN where a product does not exist, e.g. no overlap for the last day, no AR for the
 float row): post-fit phase and code residual RMS and their counts (Wang et al. 2024, sec. 3.3.1),
 the WL/NL fixing rates of the day's ambiguity resolution (Jiang et al. 2023: fixed independent / all
-independent) and the number of constraints, the 3D RMS of the overlap of the day's arc with
+independent), the number of constraints, the verdict of the product guard
+(:mod:`leopod.ambiguity.consistency`: 1 accepted, 0 refused - nothing fixed - and the mean
+cosine of the WL and NL fractional parts it tested), the 3D RMS of the overlap of the day's arc with
 the next one (Jiang et al. 2023, Fig. 13), the RMS of the orbit minus reference orbit in R, T, N and
 3D (Wang et al. 2024, Table 4), and the number, mean and STD of the used SLR residuals
 (Peng et al. 2021, Table IV).
@@ -25,6 +27,9 @@ COLUMNS = {
     "wl_fixing_rate_pct": ("%", "wide-lane fixing rate (fixed/all independent)"),
     "nl_fixing_rate_pct": ("%", "narrow-lane fixing rate (fixed/all independent)"),
     "n_constraints": ("1", "fixed single differences constraining the solution"),
+    "ar_product_accepted": ("1", "AR product accepted by the consistency guard (0: refused)"),
+    "wl_guard_mean_cos": ("1", "mean cosine of the WL fractional parts (guard)"),
+    "nl_guard_mean_cos": ("1", "mean cosine of the NL fractional parts (guard)"),
     "overlap_3d_rms_cm": ("cm", "3D RMS of the overlap with the next arc"),
     "reference_r_rms_cm": ("cm", "radial RMS of orbit minus reference"),
     "reference_t_rms_cm": ("cm", "along-track RMS of orbit minus reference"),
@@ -74,6 +79,12 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
     if ambiguity is not None:
         row["wl_fixing_rate_pct"] = 100 * float(ambiguity.attrs.get("wl_fixing_rate", np.nan))
         row["nl_fixing_rate_pct"] = 100 * float(ambiguity.attrs.get("nl_fixing_rate", np.nan))
+        verdict = ambiguity.attrs.get("product_guard")
+        if verdict in ("accepted", "refused"):
+            row["ar_product_accepted"] = float(verdict == "accepted")
+        for lane in ("wl", "nl"):
+            row[f"{lane}_guard_mean_cos"] = float(ambiguity.attrs.get(f"{lane}_guard_mean_cos",
+                                                                       np.nan))
         if solution == "fixed_pod" and "constrained" in ambiguity:
             row["n_constraints"] = int((ambiguity.constrained.values == 1).sum())
     if overlap is not None:
