@@ -103,3 +103,26 @@ def test_wrong_cnes_sign_breaks_wide_lane_fixing(world):
     pairs, _, wl = _wide_lane(s, wrong)
     correct = wl.fixed & (wl.integer == s.n_wl[pairs.i] - s.n_wl[pairs.j])
     assert correct.mean() < 0.5
+
+
+def test_ils_nl_option_fixes_true_integers(world):
+    """Integer least squares of the NL set (Teunissen 1995) on the closed loop: every fixed
+    NL equals the simulated integer and a maximal independent set is nearly all fixed."""
+    from leopod.ambiguity.alternatives import ils_nl_decision
+    from leopod.ambiguity.narrow_lane import sd_covariance_m2
+    from leopod.gnss.combinations import narrow_lane_wavelength_m
+
+    s, _, osb_file = world
+    amb = s.amb
+    epoch = EPOCH + np.timedelta64(5, "h")
+    pairs, _, wl = _wide_lane(s, sat_wl_bias_osb(osb_file, s.svs, epoch))
+    i, j = pairs.i, pairs.j
+    sat_bias = sat_if_phase_bias_osb(osb_file, s.svs, epoch).sel(sv=amb.sv.values).values
+    nl = sd_narrow_lane(amb.value_m.values, amb.covariance_m2.values, i, j,
+                        np.where(wl.fixed, wl.integer, 0), F1, F2, sat_bias_m=sat_bias)
+    cov = sd_covariance_m2(amb.covariance_m2.values, i, j) / narrow_lane_wavelength_m(F1, F2) ** 2
+    dec = ils_nl_decision(nl.value_cyc, cov, i, j, wl.fixed, min_ratio=3.0,
+                          min_success_rate=0.999)
+    truth = s.n1[i] - s.n1[j]
+    np.testing.assert_array_equal(dec.integer[dec.fixed], truth[dec.fixed])
+    assert fixing_rate(i, j, dec.fixed) > 0.9

@@ -15,7 +15,11 @@ Steps (Peng et al. 2021, sec. III-B; Jiang et al. 2023):
 
 Decisions: ``"rounding"`` — fractional part and sigma below their bounds (Peng et al. 2021: WL 0.24,
 NL 0.12 cycles) — or ``"dong_bock"`` — the probability test of the BDS SCB-AR paper eq. 9
-(α = 0.1 %), with the same sigma bounds. Every candidate keeps its float value, sigma, integer,
+(α = 0.1 %), with the same sigma bounds. The WL sigma is ``STD/sqrt(n)`` (default) or the
+sigma of the mean of a time-correlated series (``wl_sigma``, :mod:`~leopod.ambiguity.correlation`;
+the Dong & Bock test then widens it for its Satterthwaite degrees of freedom). Options: the WL
+candidate check of Peng et al. (2021) and integer least squares of the NL set
+(:mod:`~leopod.ambiguity.alternatives`). Every candidate keeps its float value, sigma, integer,
 decision and the reason of a rejection. Fixing rates follow Jiang et al. (2023): fixed independent /
 all independent.
 
@@ -34,13 +38,16 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from leopod.ambiguity.alternatives import ils_nl_decision, wl_candidate_check
 from leopod.ambiguity.consistency import float_consistent, product_verdict
 from leopod.ambiguity.convention import integer_convention_attrs
+from leopod.ambiguity.correlation import student_t_factor
 from leopod.ambiguity.decision import FixDecision, dong_bock_decision, rounding_decision
 from leopod.ambiguity.independent import constraint_rows, fixing_rate, independent_edges
-from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_narrow_lane
+from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_covariance_m2, sd_narrow_lane
 from leopod.ambiguity.pairs import sd_pairs
 from leopod.ambiguity.wide_lane import hmw_cycles, sd_wide_lane
+from leopod.gnss.combinations import narrow_lane_wavelength_m
 from leopod.settings import Settings
 from leopod.signals import frequency_hz
 
@@ -69,6 +76,11 @@ class ArSettings(Settings):
     guard_alpha: float
     guard_min_satellite_pairs: int
     nl_max_shift_sigma: float
+    wl_sigma: str
+    wl_candidate_check: bool
+    nl_method: str
+    ils_min_ratio: float
+    ils_min_success_rate: float
 
 
 @dataclass
@@ -90,9 +102,10 @@ class Resolution:
     constraints: tuple
 
 
-def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings) -> FixDecision:
+def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) -> FixDecision:
     if settings.decision == "dong_bock":
-        d = dong_bock_decision(value, sigma, alpha=settings.alpha)
+        widen = 1.0 if dof is None else student_t_factor(dof, settings.alpha)
+        d = dong_bock_decision(value, np.asarray(sigma) * widen, alpha=settings.alpha)
         big = ~(np.asarray(sigma) <= max_sigma)
         reason = np.where(big & d.fixed, f"sigma > {max_sigma}", d.reason)
         return FixDecision(d.integer, d.fraction_cyc, d.fixed & ~big, reason)
@@ -151,9 +164,10 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
         wl_dec = FixDecision(np.round(wl.value_cyc), wl.value_cyc - np.round(wl.value_cyc),
                              np.zeros(n_pair, bool), np.full(n_pair, why))
     else:
-        wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], wl_sat_cyc)
+        wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], wl_sat_cyc,
+                          sigma_method=settings.wl_sigma)
         wl_dec = _decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
-                         settings.wl_max_sigma_cyc, settings)
+                         settings.wl_max_sigma_cyc, settings, dof=wl.dof)
     n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
     nl = sd_narrow_lane(amb.value_m.values, amb.covariance_m2.values, i, j, n_wl, f1, f2,
                         sat_bias_m=sat_if_bias_m)
@@ -170,12 +184,24 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
             log.warning("nothing is fixed: %s", guard.reason)
             wl_dec = wl_dec._replace(fixed=np.zeros(n_pair, bool),
                                      reason=np.full(n_pair, guard.reason, dtype=object))
+    refused = guard is not None and not guard.accepted
+    if settings.wl_candidate_check and wl_sat_cyc is not None and not refused:
+        wl_dec, nl_value, nl_dec = wl_candidate_check(
+            wl.value_cyc, wl_dec, nl.value_cyc, nl_dec, nl.sigma_cyc, f2 / (f1 - f2),
+            lambda v, s: _decide(v, s, settings.nl_max_dev_cyc, settings.nl_max_sigma_cyc,
+                                 settings))
+        nl = nl._replace(value_cyc=nl_value)
+        n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
+    if settings.nl_method == "ils":
+        nl_dec = ils_nl_decision(
+            nl.value_cyc, sd_covariance_m2(amb.covariance_m2.values, i, j)
+            / narrow_lane_wavelength_m(f1, f2) ** 2, i, j, wl_dec.fixed,
+            min_ratio=settings.ils_min_ratio, min_success_rate=settings.ils_min_success_rate)
     shift_ok, shift_reason = float_consistent(nl_dec.fraction_cyc, nl.sigma_cyc,
                                               settings.nl_max_shift_sigma)
     nl_fixed = nl_dec.fixed & wl_dec.fixed & shift_ok
     nl_reason = np.where(wl_dec.fixed, np.where(nl_dec.fixed, shift_reason, nl_dec.reason),
-                         wl_dec.reason if guard is not None and not guard.accepted
-                         else "wide lane not fixed")
+                         wl_dec.reason if refused else "wide lane not fixed")
     if (nl_dec.fixed & wl_dec.fixed & ~shift_ok).any():
         log.warning("%d NL fixes dropped: the integer lies more than %g sigma from the float "
                     "value", int((nl_dec.fixed & wl_dec.fixed & ~shift_ok).sum()),
@@ -218,6 +244,8 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
             "wl_sigma_cyc": (d, wl.sigma_cyc, {"units": "1", "long_name": "sigma of SD WL"}),
             "wl_std_cyc": (d, wl.std_cyc, {"units": "1", "long_name": "STD of SD HMW"}),
             "wl_n_common": (d, wl.n_common, {"units": "1", "long_name": "common epochs"}),
+            "wl_n_eff": (d, wl.n_common if wl.n_eff is None else wl.n_eff, {
+                "units": "1", "long_name": "effective number of independent HMW epochs"}),
             "wl_integer": (d, wl_dec.integer.astype(np.int64),
                            {"units": "1", "long_name": "nearest integer SD WL"}),
             "wl_fraction_cyc": (d, wl_dec.fraction_cyc,
@@ -244,6 +272,8 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
         attrs={"wl_fixing_rate": wl_rate, "nl_fixing_rate": nl_rate,
                "n_passes": int(pass_of.size), "n_independent": int(independent.sum()),
                "decision": settings.decision, "min_common_s": settings.min_common_s,
+               "wl_sigma": settings.wl_sigma, "nl_method": settings.nl_method,
+               "wl_candidate_check": int(settings.wl_candidate_check),
                "ar_product": "none" if wl_sat_cyc is None else "wide-lane satellite biases",
                "nl_max_shift_sigma": settings.nl_max_shift_sigma,
                **integer_convention_attrs(phases)},

@@ -32,20 +32,25 @@ single-difference observation equation fixed "with the multi-epoch data for each
 (Peng et al. 2021, sec. III-B); only at common epochs do time-varying receiver-side errors common to
 both satellites (receiver code-bias or clock-related variations) cancel, and the 8-minute
 common-time criterion of the pairs (:mod:`leopod.ambiguity.pairs`) only makes sense for this
-form. Its formal sigma is the empirical STD of the single-difference series over ``sqrt(n)``
-(epochs treated as independent: time-correlated multipath makes it optimistic). The
+form. Its sigma is either the empirical STD of the single-difference series over ``sqrt(n)``
+(``sigma_method="white"``: epochs treated as independent, optimistic under time-correlated
+multipath) or the unbiased sigma of the mean of a correlated series whose correlation is
+fitted over all single differences of the call (``"autocorrelation"``,
+:mod:`leopod.ambiguity.correlation`). The
 per-pass means of :func:`pass_hmw` (Jiang et al. 2023: "an average value of the HMW observations for
 each pass") are kept for quality reports.
 """
 
 from __future__ import annotations
 
+import itertools
 import logging
 from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
+from leopod.ambiguity.correlation import fit_correlation, mean_sigma, semivariogram
 from leopod.gnss.combinations import melbourne_wuebbena, wide_lane_wavelength_m
 from leopod.io.bias_sinex import osb
 from leopod.signals import code_band, frequency_hz
@@ -181,16 +186,23 @@ class SdWideLane(NamedTuple):
         Formal sigma of the mean, ``std_cyc / sqrt(n_common)`` [WL cycles].
     n_common : ndarray of int64, shape (m,)
         Number of common epochs used.
+    n_eff : ndarray, shape (m,) or None
+        Effective number of independent epochs (``"autocorrelation"`` only).
+    dof : ndarray, shape (m,) or None
+        Satterthwaite degrees of freedom of the sigma (``"autocorrelation"`` only).
     """
 
     value_cyc: np.ndarray
     std_cyc: np.ndarray
     sigma_cyc: np.ndarray
     n_common: np.ndarray
+    n_eff: np.ndarray | None = None
+    dof: np.ndarray | None = None
 
 
 def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
-                 wl_sat_cyc: xr.DataArray | None = None) -> SdWideLane:
+                 wl_sat_cyc: xr.DataArray | None = None, *,
+                 sigma_method: str = "white") -> SdWideLane:
     """Single-difference WL float ambiguities averaged over the common epochs (Peng et al. 2021,
     eq. 6).
 
@@ -207,6 +219,10 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
         Satellite WL biases ``w^s`` [WL cycles] (:func:`sat_wl_bias_cnes`,
         :func:`sat_wl_bias_osb`); None when the HMW is already corrected (OSBs subtracted
         from the observations). Satellites missing from it give NaN.
+    sigma_method : {"white", "autocorrelation"}
+        Sigma of the mean: ``STD/sqrt(n)``, or from the correlation fitted to all the
+        single-difference series (module docstring; falls back to "white" with a warning when
+        there are too few data for the fit).
 
     Returns
     -------
@@ -216,8 +232,11 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     Raises
     ------
     ValueError
-        If an id is not in ``pass_id`` or a pass id occurs in two satellite columns.
+        If an id is not in ``pass_id``, a pass id occurs in two satellite columns or the
+        sigma method is unknown.
     """
+    if sigma_method not in ("white", "autocorrelation"):
+        raise ValueError(f"unknown WL sigma method {sigma_method!r} (white or autocorrelation)")
     hmw_cyc, pass_id = xr.align(hmw_cyc, pass_id, join="exact")
     h = hmw_cyc.transpose("time", "sv").values
     pid = pass_id.transpose("time", "sv").values.astype(np.int64)
@@ -250,13 +269,39 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     ss = np.bincount(label, weights=dev * dev, minlength=n.size)
     std = np.sqrt(np.divide(ss, n - 1, out=np.full(n.shape, np.nan), where=n > 1))
     sigma = np.divide(std, np.sqrt(n), out=np.full(n.shape, np.nan), where=n > 0)
+    n_eff = dof = None
+    if sigma_method == "autocorrelation":
+        times_s = (hmw_cyc["time"].values - hmw_cyc["time"].values[0]) / np.timedelta64(1, "s")
+        correlated = _correlated_sigma(times_s, t[ok], label, diff, n)
+        if correlated is not None:
+            sigma, n_eff, dof = correlated
     if wl_sat_cyc is not None:
         svs = hmw_cyc["sv"].values.astype(str)
         w = wl_sat_cyc.reindex(sv=svs).values
         mean = mean - (w[col_i] - w[col_j])
     logger.debug("%d single-difference WL ambiguities, %d without common epochs",
                  n.size, int((n == 0).sum()))
-    return SdWideLane(value_cyc=mean, std_cyc=std, sigma_cyc=sigma, n_common=n)
+    return SdWideLane(value_cyc=mean, std_cyc=std, sigma_cyc=sigma, n_common=n, n_eff=n_eff,
+                      dof=dof)
+
+
+def _correlated_sigma(times_s, t_idx, label, diff, n):
+    """Sigma of the mean, n_eff and dof of every series (:mod:`leopod.ambiguity.correlation`);
+    None when the correlation model cannot be fitted."""
+    step_s = float(np.median(np.diff(times_s))) if times_s.size > 1 else np.nan
+    bounds = np.concatenate([[0], np.cumsum(n)])     # label is sorted: series are contiguous
+    series_t = [times_s[t_idx[a:b]] for a, b in itertools.pairwise(bounds)]
+    series_x = [diff[a:b] for a, b in itertools.pairwise(bounds)]
+    try:
+        model = fit_correlation(*semivariogram(series_t, series_x, step_s), step_s)
+    except ValueError as err:
+        logger.warning("WL sigma from STD/sqrt(n): %s", err)
+        return None
+    logger.info("HMW single-difference correlation: white %.3f cyc, Gauss-Markov %.3f cyc, "
+                "tau %.0f s", np.sqrt(model.white_var), np.sqrt(model.markov_var), model.tau_s)
+    out = np.array([mean_sigma(ts, xs, model) for ts, xs in zip(series_t, series_x,
+                                                                 strict=True)]).reshape(-1, 3)
+    return out[:, 0], out[:, 1], out[:, 2]
 
 
 def sat_wl_bias_cnes(wl: xr.Dataset, epoch) -> xr.DataArray:
