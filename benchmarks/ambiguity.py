@@ -120,7 +120,8 @@ def code_variants(cfg: dict, date: str) -> None:
                                 ("P1 without map", ("C1W", "C2W"), ()),
                                 ("C1 (C1C, C2W)", ("C1C", "C2W"), ())):
         settings["signals"] = dataclasses.replace(settings["signals"], pod_code=codes)
-        settings["code_correction"] = CodeCorrection(apply=apply, empty_cells="drop")
+        settings["code_correction"] = CodeCorrection(apply=apply, empty_cells="drop",
+                                                     bds2_scb=True)
         arc = run_arc(date, data, **settings, pco_body_m=pco)
         o = [correct_codes(a, q, data.code_maps, apply, empty_cells="drop")[0] if apply else a
              for a, q in zip(data.obs, data.quality, strict=True)]

@@ -8,6 +8,7 @@ import xarray as xr
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.codebias.apply import CodeCorrection, correct_codes
+from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
 from leopod.io.netcdf import merge_days, write_netcdf
 from leopod.plots.ambiguity import plot_fractional_parts
 from leopod.signals import SystemSignals, signal_settings
@@ -18,9 +19,10 @@ log = logging.getLogger(__name__)
 
 
 def _directions(path):
-    """Antenna-frame angles of a quality output (all that the code correction needs)."""
+    """Antenna-frame angles and the nadir angle at the GNSS satellites of a quality output
+    (all that the code corrections need; older outputs have no nadir angle)."""
     with xr.open_dataset(path) as ds:
-        return ds[["el_deg", "az_deg"]].load()
+        return ds[[v for v in ("el_deg", "az_deg", NADIR_VARIABLE) if v in ds]].load()
 
 
 def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: SystemSignals,
@@ -31,6 +33,9 @@ def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: S
     amb = xr.load_dataset(inputs["ambiguities"])
     residuals = xr.load_dataset(inputs["residuals"])
     obs = [xr.load_dataset(p) for p in inputs["obs"]]
+    if code_correction.bds2_scb:
+        obs = [correct_bds2_scb(o, _directions(q))[0]
+               for o, q in zip(obs, inputs["quality"], strict=True)]
     if inputs.get("code_bias") and code_correction.apply:
         maps = xr.load_dataset(inputs["code_bias"])
         obs = [correct_codes(o, _directions(q), maps, code_correction.apply,

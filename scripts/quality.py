@@ -6,8 +6,10 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
+from leopod.gnss.scb import nadir_angle_deg
 from leopod.io._text import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.quality import (
@@ -25,9 +27,10 @@ log = logging.getLogger(__name__)
 
 
 def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
-         settings: QualitySettings, title: str, outputs: Mapping) -> None:
+         settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool) -> None:
     """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
-    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML)."""
+    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); with ``bds2_scb`` the
+    BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias first."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
@@ -39,9 +42,19 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
     el, az = antenna_angles(rot, los)
     log.info("epochs without a-priori orbit (no angles): %d",
              int((~np.isfinite(leo.pos_m.values[:, 0])).sum()))
+    # nadir angle at the GNSS satellites (the argument of the BDS-2 SCB); both Earth-fixed
+    nadir = xr.DataArray(nadir_angle_deg(gnss.pos_m.values, leo.pos_m.values[:, None, :]),
+                         coords={"time": obs.time, "sv": obs.sv}, dims=("time", "sv"),
+                         attrs={"units": "degree", "long_name": "nadir angle at the GNSS "
+                                "satellite of the line to the LEO"})
+    if bds2_scb:   # multipath and noise of the codes the POD and AR will use
+        obs, summary = correct_bds2_scb(obs, xr.Dataset({NADIR_VARIABLE: nadir}))
+        log.info("BDS-2 SCB correction: %s", summary or "no BDS-2 IGSO/MEO codes")
     parts = [assess_quality(obs, el, az, system, sig.phase, sig.code, sig.pod_code, settings)
              for system, sig in signals.items()]
     quality = merge_systems(parts)
+    quality[NADIR_VARIABLE] = nadir.reindex(sv=quality.sv)
+    quality.attrs["bds2_scb"] = int(bds2_scb)
     write_netcdf(quality, outputs["nc"], step="quality", inputs=[obs_path, gnss_path, leo_path],
                  time_system="GPS", reference_frame="antenna", title=f"data quality {title}")
     plot_mp_elevation(parts[0], outputs["mp_elevation"], title)
@@ -56,7 +69,8 @@ def run(sm) -> None:
     """Call :func:`main` with the job's files and settings."""
     configure_logging(sm)
     main(sm.input.obs, sm.input.gnss, sm.input.leo, signal_settings(sm.params.signals),
-         QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output))
+         QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output),
+         bds2_scb=bool(sm.params.bds2_scb))
 
 
 if __name__ == "__main__":

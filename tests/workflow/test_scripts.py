@@ -97,9 +97,18 @@ def test_products_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path
     outputs = {"nc": tmp_path / "quality.nc", "summary": tmp_path / "summary.html", **figures}
     _script("quality").main(out["obs"], out["gnss"], out["leo"], signals,
                             QualitySettings.from_config(section_defaults("quality")),
-                            "GRACE-A 2007-080", outputs)
+                            "GRACE-A 2007-080", outputs, bds2_scb=True)
     quality = xr.load_dataset(outputs["nc"])
     assert 7.0 <= float(quality.G_mean_sv_per_epoch) <= 10.0
+    # nadir angle at the GPS satellites of the LEO: at most that of a line tangent to the
+    # LEO's sphere, sin(nadir) <= r_leo / r_gps (about 15 deg)
+    gnss = xr.load_dataset(out["gnss"]).reindex(sv=quality.sv)
+    r_leo = np.linalg.norm(xr.load_dataset(out["leo"]).pos_m.values, axis=-1)[:, None]
+    ok = np.isfinite(quality.el_deg.values)
+    limit = np.degrees(np.arcsin(r_leo / np.linalg.norm(gnss.pos_m.values, axis=-1)))
+    nadir = quality.nadir_sv_deg.values
+    assert ok.sum() > 1000 and np.all(nadir[ok] >= 0.0)
+    assert np.all(nadir[ok] <= limit[ok] + 1e-9) and np.max(nadir[ok]) > 13.0
     assert all(p.stat().st_size > 0 for p in figures.values())
 
 

@@ -52,6 +52,7 @@ rule quality:
     params:
         signals=CONFIG["signals"],
         settings=CONFIG["quality"],
+        bds2_scb=CONFIG["code_bias"]["bds2_scb"],
         title=sat_title,
     script:
         "../../scripts/quality.py"

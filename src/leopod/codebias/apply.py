@@ -31,7 +31,7 @@ EMPTY_CELL_POLICIES = ("drop", "keep")
 
 @dataclass(frozen=True)
 class CodeCorrection(Settings):
-    """Which codes a step corrects with the maps (config ``code_bias``).
+    """Which code corrections a step applies (config ``code_bias``).
 
     Attributes
     ----------
@@ -39,12 +39,16 @@ class CodeCorrection(Settings):
         RINEX 3 codes corrected with their map (empty: none).
     empty_cells : str
         Policy for codes whose cell touches an empty node (:data:`EMPTY_CELL_POLICIES`).
+    bds2_scb : bool
+        Add the BDS-2 satellite-induced code-bias correction to the BDS-2 IGSO/MEO codes
+        (:func:`leopod.codebias.scb.correct_bds2_scb`), with or without maps.
     """
 
     SCHEMA_DEF = "code_bias"
 
     apply: tuple[str, ...]
     empty_cells: str
+    bds2_scb: bool
 
 
 def map_correction(maps: xr.Dataset, signal: str, az_deg, el_deg, mode) -> np.ndarray:

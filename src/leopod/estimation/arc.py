@@ -26,6 +26,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.apply import CodeCorrection, correct_codes
+from leopod.codebias.scb import correct_bds2_scb
 from leopod.dynamics.environment import ArcEnvironment
 from leopod.dynamics.force_config import ForceModelSettings, arc_environment, build_force_model
 from leopod.dynamics.forces import ForceModel, tabulated_orbit
@@ -225,7 +226,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
         LEO antenna PCO per band name in the body frame [m].
     code_correction : CodeCorrection, optional
         Codes corrected with ``data.code_maps`` on every day (none if its ``apply`` is empty
-        or there are no maps).
+        or there are no maps), and the BDS-2 SCB correction with the nadir angles of
+        ``data.quality`` if its ``bds2_scb`` is set.
     yaw_flips : sequence of datetime-like, optional
         Yaw-flip epochs selecting the maps' attitude mode.
     eop : EarthOrientation, optional
@@ -243,6 +245,9 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     start, end = (arc.limits(date) if limits is None
                   else (np.datetime64(limits[0], "ns"), np.datetime64(limits[1], "ns")))
     obs_days = data.obs
+    if code_correction is not None and code_correction.bds2_scb:
+        obs_days = [correct_bds2_scb(obs, qual)[0]
+                    for obs, qual in zip(obs_days, data.quality, strict=True)]
     if data.code_maps is not None and code_correction is not None and code_correction.apply:
         obs_days = [correct_codes(obs, qual, data.code_maps, code_correction.apply,
                                   empty_cells=code_correction.empty_cells,

@@ -1,6 +1,6 @@
 """Onboard GNSS code and phase of a simulated LEO, with their truth (closed-loop simulator).
 
-Why one module of 513 lines: one public function, simulate_observations, with its two input
+Why one module of 536 lines: one public function, simulate_observations, with its two input
 types (ObservationSettings, GnssWorld) and the private geometry only it uses (light time,
 antenna angles, patterns); a split would only export private helpers.
 
@@ -31,13 +31,18 @@ For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS sat
   ``shell_height_m`` above the LEO: ``STEC = VTEC / cos z'`` with ``sin z' = r/(r + h)
   cos e`` (e the local elevation at the LEO) and a day/night VTEC
   ``V_night + (V_day − V_night) max(0, r̂·ŝ)`` (ŝ the Sun direction);
-* code and phase biases of :mod:`leopod.simulate.biases` and integer ambiguities per pass.
+* code and phase biases of :mod:`leopod.simulate.biases` and integer ambiguities per pass;
+* optionally (``bds2_scb``) the BDS-2 satellite-induced code bias ``s_i = −Δ(type, band, e*)``
+  on the B1I/B2I/B3I codes of BDS-2 IGSO/MEO satellites: the Wanninger & Beer (2015) table
+  (:mod:`leopod.gnss.scb`, whose correction ``Δ`` is *added* to observed codes) at the ground
+  elevation ``e*`` equivalent to the nadir angle at the transmitter of the line to the LEO
+  (transmitter at the transmission time, LEO at the reception time, exact radius).
 
 Observation equations (metres; ``λ_b`` wavelength, ``ρ_b`` geometric range between the phase
 centres of band ``b``, ``w`` wind-up [cycles], ``m_i`` the antenna-frame code-bias map of
 signal ``i`` (:class:`leopod.simulate.code_bias_map.CodeBiasMap`), ``ε`` noise)::
 
-    P_i = ρ_b + c (dt_rx − dt^s) + δ_shapiro + I_b + d_r,i + d^s_i + m_i(az, el) + ε_P
+    P_i = ρ_b + c (dt_rx − dt^s) + δ_shapiro + I_b + d_r,i + d^s_i + m_i(az, el) + s_i + ε_P
     L_i = ρ_b + c (dt_rx − dt^s) + δ_shapiro − I_b + λ_b (N_i + β_r,i + β^s_i + w) + ε_L
 
 Receiver (:mod:`leopod.simulate.tracking`): a sticky channel allocation per system (at most
@@ -74,6 +79,7 @@ from leopod.gnss.corrections import (
     unwrap_windup,
     windup_cycles,
 )
+from leopod.gnss.scb import bds2_scb_m, nadir_angle_deg
 from leopod.numerics.interpolate import interpolate_table
 from leopod.settings import Settings
 from leopod.simulate.biases import SimulatedBiases
@@ -125,6 +131,9 @@ class ObservationSettings(Settings):
         Longest gap [epochs] (uniform 1..this).
     ambiguity_max_cyc : int
         Ambiguities at acquisition are uniform in ±this [cycles].
+    bds2_scb : bool
+        Add the BDS-2 satellite-induced code bias to the B1I/B2I/B3I codes of the BDS-2 IGSO
+        and MEO satellites (module docstring).
     """
 
     noise_m: dict
@@ -139,6 +148,7 @@ class ObservationSettings(Settings):
     gap_rate_per_h: float
     gap_max_epochs: int
     ambiguity_max_cyc: int
+    bds2_scb: bool
 
     def sigma_m(self, code: str, el_deg: np.ndarray) -> np.ndarray:
         """Noise STD [m] of ``code`` at antenna elevations ``el_deg`` [deg]."""
@@ -254,6 +264,8 @@ class _Geometry:
     sv_clock_s: np.ndarray      # (n, s) true satellite clock (product + relativity)
     shapiro_m: np.ndarray       # (n, s)
     windup_cyc: np.ndarray      # (n, s) wrapped
+    nadir_deg: np.ndarray       # (n, s) nadir angle at the transmitter (from its geocentre line)
+    r_sv_m: np.ndarray          # (n, s) geocentric radius of the transmitter at transmission
     sun_cos: np.ndarray         # (n,) cosine of the Sun's zenith angle at the sub-LEO point
 
 
@@ -304,6 +316,8 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
     sun_dir = sun_gcrf / np.linalg.norm(sun_gcrf, axis=-1, keepdims=True)
     return _Geometry(range_m=ranges, el_deg=el, az_deg=az, local_el_deg=local_el,
                      sv_clock_s=clock, shapiro_m=shapiro, windup_cyc=wind,
+                     nadir_deg=nadir_angle_deg(sv_pos, leo_pos[:, None, :]),
+                     r_sv_m=np.linalg.norm(sv_pos, axis=-1),
                      sun_cos=np.sum(up * sun_dir, axis=-1))
 
 
@@ -387,7 +401,8 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
         (geometric range of the band's phase centres), ``range_if_m`` (ionosphere-free
         combination of the two ranges of the system), ``el_deg`` / ``az_deg`` (antenna
         frame), ``windup_cyc``, ``stec_tecu``, ``shapiro_m``, ``clk_sv_true_s`` (product clock
-        plus relativity), ``code_bias_map_<code>_m``, all NaN where not tracked, and
+        plus relativity), ``code_bias_map_<code>_m``, ``scb_<code>_m`` (BDS-2 SCB added, codes
+        that have one), all NaN where not tracked, and
         ``clk_rx_true_s`` (time).
     """
     times = np.asarray(times, dtype="datetime64[ns]")
@@ -435,6 +450,14 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
         if code[0] == "C":
             sat_bias = biases.code_sat_m.sel(sv=np.array(svs)[cols], code_signal=code).values
             val = band + common[:, cols] + iono + rx_bias + sat_bias + noise
+            if settings.bds2_scb:
+                scb = -bds2_scb_m(np.array(svs)[cols], code, geo.nadir_deg[:, cols],
+                                  geo.r_sv_m[:, cols])
+                if np.any(scb != 0.0):
+                    val = val + scb
+                    data[f"scb_{code}_m"] = _var(
+                        _masked(_scatter(scb, cols, n, s), tracked), "m",
+                        f"BDS-2 satellite-induced code bias added to {code} (truth)")
             if code in maps:
                 m = maps[code](geo.az_deg[:, cols], geo.el_deg[:, cols])
                 val = val + m

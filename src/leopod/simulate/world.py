@@ -21,7 +21,8 @@ import numpy as np
 from leopod.constants import GM_EARTH_M3_S2, OMEGA_EARTH_RAD_S, R_EARTH_EQUATOR_M
 
 __all__ = ["BDS3_MEO_ALTITUDE_M", "BDS3_MEO_INCLINATION_DEG", "BDS3_MEO_PRNS", "CircularOrbit",
-           "KeplerOrbit", "RandomWalkClock", "beidou3_constellation", "earth_fixed",
+           "KeplerOrbit", "RandomWalkClock", "beidou2_constellation", "beidou3_constellation",
+           "earth_fixed",
            "gps_constellation", "walker_constellation"]
 
 _J2 = 1.0826359e-3  # Earth dynamic form factor, IERS Conventions 2010 Table 1.1
@@ -235,6 +236,29 @@ def beidou3_constellation() -> dict[str, CircularOrbit]:
     """
     return walker_constellation(BDS3_MEO_PRNS, 3, 1, R_EARTH_EQUATOR_M + BDS3_MEO_ALTITUDE_M,
                                 BDS3_MEO_INCLINATION_DEG)
+
+
+def beidou2_constellation() -> dict[str, CircularOrbit]:
+    """A nominal BDS-2 constellation: 5 GEO, 7 IGSO and 3 MEO satellites on circular orbits.
+
+    Orbit types, altitudes and inclinations of BDS-SIS-ICD-B1I-3.0 (2019), sec. 3: GEO and
+    IGSO at 35 786 km (a = 42 164 km; GEO at i = 0°, IGSO at 55°), MEO at 21 528 km and 55°.
+    PRNs as in the IGS MGEX BeiDou status from 2016 on (:data:`leopod.gnss.scb.BDS2_ORBIT_TYPE`):
+    GEO C01-C05; IGSO C06-C10, C13, C16 in three planes 120° apart; MEO C11, C12, C14 in the
+    slots of a Walker 24/3/1 shell. Nodes and phases are illustrative (the world has no
+    Earth-fixed longitude for the GEO and IGSO satellites); the simulated BDS-2 geometry
+    serves tests of the satellite-induced code bias, not a realistic visibility.
+    """
+    a_geo = 42_164.0e3
+    sats = {f"C{p:02d}": CircularOrbit(a_geo, 0.0, 0.0, 72.0 * k) for k, p in
+            enumerate(range(1, 6))}
+    for k, prn in enumerate((6, 7, 8, 9, 10, 13, 16)):
+        sats[f"C{prn:02d}"] = CircularOrbit(a_geo, 55.0, 120.0 * (k % 3), 51.0 * k)
+    meo = walker_constellation([f"M{k:02d}" for k in range(24)], 3, 1,
+                               R_EARTH_EQUATOR_M + BDS3_MEO_ALTITUDE_M, BDS3_MEO_INCLINATION_DEG)
+    for prn, slot in zip((11, 12, 14), ("M00", "M03", "M09"), strict=True):
+        sats[f"C{prn:02d}"] = meo[slot]
+    return dict(sorted(sats.items()))
 
 
 def earth_fixed(t_s, pos_in: np.ndarray, vel_in: np.ndarray | None = None, theta0_rad: float = 0.0):
