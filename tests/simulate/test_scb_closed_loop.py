@@ -91,19 +91,26 @@ def simulated_day(hours: float = 24.0):
     return obs, truth, world, leo, biases
 
 
+def _scb_corrected(obs, world, leo):
+    """The observations with the SCB correction at the nadir angles of this geometry, and the
+    correction's summary (computed apart from the simulator's own geometry)."""
+    svs = [str(s) for s in obs.sv.values]
+    t = (obs.time.values - EPOCH) / np.timedelta64(1, "s")
+    sv_pos, _ = world.state_gcrf(svs, np.repeat(t[:, None], len(svs), axis=1))
+    leo_pos, _ = leo.inertial(t)
+    nadir = xr.Dataset({NADIR_VARIABLE: (("time", "sv"),
+                                         nadir_angle_deg(sv_pos, leo_pos[:, None, :]))},
+                       coords={"time": obs.time, "sv": obs.sv})
+    return correct_bds2_scb(obs, nadir)
+
+
 def pass_offsets(corrected: bool):
     """HMW pass mean − true WL biases − true integer [cycles] per pass, with the satellite of
     each pass; the SCB correction applied to the codes first if ``corrected``."""
     obs, _, world, leo, biases = simulated_day()
     svs = [str(s) for s in obs.sv.values]
     if corrected:
-        t = (obs.time.values - EPOCH) / np.timedelta64(1, "s")
-        sv_pos, _ = world.state_gcrf(svs, np.repeat(t[:, None], len(svs), axis=1))
-        leo_pos, _ = leo.inertial(t)
-        nadir = xr.Dataset({NADIR_VARIABLE: (("time", "sv"),
-                                             nadir_angle_deg(sv_pos, leo_pos[:, None, :]))},
-                           coords={"time": obs.time, "sv": obs.sv})
-        obs, summary = correct_bds2_scb(obs, nadir)
+        obs, summary = _scb_corrected(obs, world, leo)
         assert set(summary) == set(CODES)
     hmw = melbourne_wuebbena(obs.L2I.values * C_LIGHT_M_S / F1, obs.L6I.values * C_LIGHT_M_S / F3,
                              obs.C2I.values, obs.C6I.values, F1, F3) / wide_lane_wavelength_m(F1, F3)
@@ -152,14 +159,7 @@ def test_simulated_scb_is_minus_the_correction():
     corrected codes minus the uncorrected ones are −(the simulated SCB) on every tracked
     BDS-2 IGSO/MEO code, within the difference of the two geometries (< 1 mm)."""
     obs, _, world, leo, _ = simulated_day()
-    svs = [str(s) for s in obs.sv.values]
-    t = (obs.time.values - EPOCH) / np.timedelta64(1, "s")
-    sv_pos, _ = world.state_gcrf(svs, np.repeat(t[:, None], len(svs), axis=1))
-    leo_pos, _ = leo.inertial(t)
-    nadir = xr.Dataset({NADIR_VARIABLE: (("time", "sv"),
-                                         nadir_angle_deg(sv_pos, leo_pos[:, None, :]))},
-                       coords={"time": obs.time, "sv": obs.sv})
-    fixed, _ = correct_bds2_scb(obs, nadir)
+    fixed, _ = _scb_corrected(obs, world, leo)
     for code in CODES:
         applied = fixed[code].values - obs[code].values
         simulated = obs[f"scb_{code}_m"].values
