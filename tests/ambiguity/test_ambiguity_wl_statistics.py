@@ -120,3 +120,19 @@ def test_dong_bock_alpha_holds_with_the_new_sigma_only():
     assert wrong_per_tested[2] <= DONG_BOCK_ALPHA             # the default: new sigma + t
     assert counts[2, 2] / counts[2, 1] <= DONG_BOCK_ALPHA     # also per fixed ambiguity
     assert counts[2, 1] / counts[2, 0] > 0.8                  # and still fixing most
+
+
+def test_auto_wl_sigma_follows_the_decision():
+    # the Dong–Bock α holds only with the sigma of a time-correlated mean (the test above);
+    # the rounding bounds of Peng et al. (2021) are bounds on STD/sqrt(n)
+    import dataclasses
+
+    from leopod.ambiguity.resolve import ArSettings, wl_sigma_method
+    from leopod.workflow.config import section_defaults
+
+    ar = ArSettings.from_config(section_defaults("ambiguity"))
+    assert ar.wl_sigma == "auto"
+    assert wl_sigma_method(dataclasses.replace(ar, decision="dong_bock")) == "autocorrelation"
+    assert wl_sigma_method(dataclasses.replace(ar, decision="rounding")) == "white"
+    assert wl_sigma_method(dataclasses.replace(ar, decision="dong_bock",
+                                               wl_sigma="white")) == "white"

@@ -15,9 +15,11 @@ Steps (Peng et al. 2021, sec. III-B; Jiang et al. 2023):
 
 Decisions: ``"rounding"`` — fractional part and sigma below their bounds (Peng et al. 2021: WL 0.24,
 NL 0.12 cycles) — or ``"dong_bock"`` — the probability test of the BDS SCB-AR paper eq. 9
-(α = 0.1 %), with the same sigma bounds. The WL sigma is ``STD/sqrt(n)`` (default) or the
-sigma of the mean of a time-correlated series (``wl_sigma``, :mod:`~leopod.ambiguity.correlation`;
-the Dong & Bock test then widens it for its Satterthwaite degrees of freedom). Options: the WL
+(α = 0.1 %), with the same sigma bounds. The WL sigma (``wl_sigma``, :func:`wl_sigma_method`)
+is ``STD/sqrt(n)`` (by default with rounding, whose bounds were set for it) or the sigma of the
+mean of a time-correlated series (:mod:`~leopod.ambiguity.correlation`; by default with the
+probability test, whose α needs it; the test then widens it for its Satterthwaite degrees of
+freedom). Options: the WL
 candidate check of Peng et al. (2021) and integer least squares of the NL set
 (:mod:`~leopod.ambiguity.alternatives`). Every candidate keeps its float value, sigma, integer,
 decision and the reason of a rejection. Fixing rates follow Jiang et al. (2023): fixed independent /
@@ -102,6 +104,16 @@ class Resolution:
     constraints: tuple
 
 
+def wl_sigma_method(settings: ArSettings) -> str:
+    """The WL sigma of :func:`~leopod.ambiguity.wide_lane.sd_wide_lane` (``sigma_method``):
+    ``wl_sigma``, where ``"auto"`` is ``"autocorrelation"`` for the Dong–Bock test (its α holds
+    only with the sigma of a time-correlated mean, benchmarks/wl_statistics.py) and
+    ``"white"`` for rounding (Peng et al. 2021 bound STD/√n)."""
+    if settings.wl_sigma != "auto":
+        return settings.wl_sigma
+    return "autocorrelation" if settings.decision == "dong_bock" else "white"
+
+
 def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) -> FixDecision:
     if settings.decision == "dong_bock":
         widen = 1.0 if dof is None else student_t_factor(dof, settings.alpha)
@@ -165,7 +177,7 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
                              np.zeros(n_pair, bool), np.full(n_pair, why))
     else:
         wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], wl_sat_cyc,
-                          sigma_method=settings.wl_sigma)
+                          sigma_method=wl_sigma_method(settings))
         wl_dec = _decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
                          settings.wl_max_sigma_cyc, settings, dof=wl.dof)
     n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
@@ -272,7 +284,7 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
         attrs={"wl_fixing_rate": wl_rate, "nl_fixing_rate": nl_rate,
                "n_passes": int(pass_of.size), "n_independent": int(independent.sum()),
                "decision": settings.decision, "min_common_s": settings.min_common_s,
-               "wl_sigma": settings.wl_sigma, "nl_method": settings.nl_method,
+               "wl_sigma": wl_sigma_method(settings), "nl_method": settings.nl_method,
                "wl_candidate_check": int(settings.wl_candidate_check),
                "ar_product": "none" if wl_sat_cyc is None else "wide-lane satellite biases",
                "nl_max_shift_sigma": settings.nl_max_shift_sigma,
