@@ -19,10 +19,13 @@ log = logging.getLogger(__name__)
 
 
 def _directions(path):
-    """Antenna-frame angles and the nadir angle at the GNSS satellites of a quality output
-    (all that the code corrections need; older outputs have no nadir angle)."""
+    """Antenna-frame angles, the nadir angle at the GNSS satellites and the antenna range
+    terms per band of a quality output (all that the code corrections and the HMW need;
+    older outputs have no nadir angle and no antenna terms)."""
     with xr.open_dataset(path) as ds:
-        return ds[[v for v in ("el_deg", "az_deg", NADIR_VARIABLE) if v in ds]].load()
+        names = [v for v in ds.data_vars
+                 if v in ("el_deg", "az_deg", NADIR_VARIABLE) or v.startswith("antenna_range_")]
+        return ds[names].load()
 
 
 def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: SystemSignals,
@@ -33,21 +36,29 @@ def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: S
     amb = xr.load_dataset(inputs["ambiguities"])
     residuals = xr.load_dataset(inputs["residuals"])
     obs = [xr.load_dataset(p) for p in inputs["obs"]]
+    directions = [_directions(q) for q in inputs["quality"]]
     if code_correction.bds2_scb:
-        obs = [correct_bds2_scb(o, _directions(q))[0]
-               for o, q in zip(obs, inputs["quality"], strict=True)]
+        obs = [correct_bds2_scb(o, d)[0] for o, d in zip(obs, directions, strict=True)]
     if inputs.get("code_bias") and code_correction.apply:
         maps = xr.load_dataset(inputs["code_bias"])
-        obs = [correct_codes(o, _directions(q), maps, code_correction.apply,
+        obs = [correct_codes(o, d, maps, code_correction.apply,
                              empty_cells=code_correction.empty_cells, yaw_flips=yaw_flips)[0]
-               for o, q in zip(obs, inputs["quality"], strict=True)]
+               for o, d in zip(obs, directions, strict=True)]
     epoch = residuals.time.values[residuals.sizes["time"] // 2]  # biases at the arc centre
     product = ar_product(epoch, amb.sv.values, signals.phase, signals.pod_code,
                          wl_bias_path=inputs.get("wl_bias"), osb_path=inputs.get("osb"))
     log.info("AR product: %s", product.label)
+    antenna = None
+    if all(any(v.startswith("antenna_range_") for v in d.data_vars) for d in directions):
+        antenna = merge_days([d[[v for v in d.data_vars if v.startswith("antenna_range_")]]
+                              for d in directions])
+        antenna.attrs = {k: v for k, v in directions[0].attrs.items()
+                         if k.startswith("antenna_")}
+    else:
+        log.warning("quality outputs without antenna range terms: HMW of raw observations")
     res = resolve_arc(amb, residuals, merge_days(obs), system, signals.phase, signals.pod_code,
                       product.wl_sat_cyc, settings,
-                      sat_if_bias_m=product.per_ambiguity(amb.sv.values))
+                      sat_if_bias_m=product.per_ambiguity(amb.sv.values), antenna=antenna)
     res.table.attrs["ar_product"] = product.label
     res.table.attrs["convention_integers_refer_to"] = product.label
     write_netcdf(res.table, table_path, step="ambiguity",

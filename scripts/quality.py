@@ -6,12 +6,15 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from leopod.astro.sun import sun_position_ef
 from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.antenna_terms import antenna_terms
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.gnss.scb import nadir_angle_deg
 from leopod.io._text import write_text
 from leopod.io.netcdf import write_netcdf
+from leopod.io.product_netcdf import read_antenna_product
 from leopod.plots.quality import (
     plot_code_noise,
     plot_mp_elevation,
@@ -19,18 +22,37 @@ from leopod.plots.quality import (
     plot_visibility,
     summary_html,
 )
-from leopod.signals import SystemSignals, signal_settings
+from leopod.signals import SystemSignals, code_band, signal_settings
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)
 
 
+def day_antenna_terms(obs: xr.Dataset, gnss: xr.Dataset, leo: xr.Dataset,
+                      signals: Mapping[str, SystemSignals], pco_body_m: Mapping | None,
+                      antenna_path=None) -> xr.Dataset:
+    """Antenna range terms of the bands of the phases and codes of every system
+    (leopod.gnss.antenna_terms):
+    the POD's LEO PCOs per band and satellite antennas (same file as the POD)."""
+    bands = {s: sorted({code_band(c) for c in (*sig.phase, *sig.code, *sig.pod_code)})
+             for s, sig in signals.items()}
+    antex = read_antenna_product(antenna_path) if antenna_path else None
+    times = obs.time.values
+    return antenna_terms(times, obs.sv.values, leo.pos_m.values, leo.vel_m_s.values,
+                         gnss.pos_m.values, sun_position_ef(times), bands, pco_body_m,
+                         antex=antex)
+
+
 def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
-         settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool) -> None:
+         settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool,
+         pco_body_m: Mapping | None = None, antenna_path=None) -> None:
     """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
     ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); with ``bds2_scb`` the
-    BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias first."""
+    BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias first. The
+    multipath is formed without the antenna terms of the LEO PCOs ``pco_body_m`` (per band)
+    and the satellite antennas of ``antenna_path``, which the output keeps for the ambiguity
+    step."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
@@ -50,12 +72,18 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
     if bds2_scb:   # multipath and noise of the codes the POD and AR will use
         obs, summary = correct_bds2_scb(obs, xr.Dataset({NADIR_VARIABLE: nadir}))
         log.info("BDS-2 SCB correction: %s", summary or "no BDS-2 IGSO/MEO codes")
-    parts = [assess_quality(obs, el, az, system, sig.phase, sig.code, sig.pod_code, settings)
+    terms = day_antenna_terms(obs, gnss, leo, signals, pco_body_m, antenna_path)
+    parts = [assess_quality(obs, el, az, system, sig.phase, sig.code, sig.pod_code, settings,
+                            antenna=terms)
              for system, sig in signals.items()]
     quality = merge_systems(parts)
+    quality.attrs.update(terms.attrs)
+    log.info("antenna terms removed from the multipath: LEO PCO %s; GNSS %s",
+             terms.attrs["antenna_leo_pco_body_m"], terms.attrs["antenna_gnss"])
     quality[NADIR_VARIABLE] = nadir.reindex(sv=quality.sv)
     quality.attrs["bds2_scb"] = int(bds2_scb)
-    write_netcdf(quality, outputs["nc"], step="quality", inputs=[obs_path, gnss_path, leo_path],
+    write_netcdf(quality, outputs["nc"], step="quality",
+                 inputs=[obs_path, gnss_path, leo_path, *([antenna_path] if antenna_path else [])],
                  time_system="GPS", reference_frame="antenna", title=f"data quality {title}")
     plot_mp_elevation(parts[0], outputs["mp_elevation"], title)
     plot_skyplot(parts[0], outputs["skyplot"], title)
@@ -70,7 +98,8 @@ def run(sm) -> None:
     configure_logging(sm)
     main(sm.input.obs, sm.input.gnss, sm.input.leo, signal_settings(sm.params.signals),
          QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output),
-         bds2_scb=bool(sm.params.bds2_scb))
+         bds2_scb=bool(sm.params.bds2_scb), pco_body_m=sm.params.pco_body_m,
+         antenna_path=getattr(sm.input, "antenna", None) or None)
 
 
 if __name__ == "__main__":

@@ -97,8 +97,20 @@ def test_products_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path
     outputs = {"nc": tmp_path / "quality.nc", "summary": tmp_path / "summary.html", **figures}
     _script("quality").main(out["obs"], out["gnss"], out["leo"], signals,
                             QualitySettings.from_config(section_defaults("quality")),
-                            "GRACE-A 2007-080", outputs, bds2_scb=True)
+                            "GRACE-A 2007-080", outputs, bds2_scb=True,
+                            pco_body_m={"L1": [0.0, 0.0, -0.4514], "L2": [0.0, 0.0, -0.4757]},
+                            antenna_path=out["antenna"])
     quality = xr.load_dataset(outputs["nc"])
+    # antenna terms of the MP and HMW: the LEO's L1/L2 PCOs (2.43 cm apart along the boresight)
+    # give a1 - a2 = (z1 - z2) sin(el) (analytic line-of-sight projection); igs05 gives the GPS
+    # satellites the same L1 and L2 offsets and patterns
+    el = np.radians(quality.el_deg.values)
+    diff = (quality.antenna_range_1_m - quality.antenna_range_2_m).values
+    seen = np.isfinite(diff) & np.isfinite(el)
+    assert seen.sum() > 1000
+    np.testing.assert_allclose(diff[seen], 0.0243 * np.sin(el[seen]), atol=1e-5)
+    assert "ANTEX" in quality.attrs["antenna_gnss"] and "L2" in quality.attrs[
+        "antenna_leo_pco_body_m"]
     assert 7.0 <= float(quality.G_mean_sv_per_epoch) <= 10.0
     # nadir angle at the GPS satellites of the LEO: at most that of a line tangent to the
     # LEO's sphere, sin(nadir) <= r_leo / r_gps (about 15 deg)

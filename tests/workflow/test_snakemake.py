@@ -117,7 +117,7 @@ def test_the_satellite_antennas_reach_the_pod_as_netcdf(shared, monkeypatch):
     products = mock_snakemake("gnss_products", configfiles=configs, date="2007-080")
     assert products.input.antex == "resources/locate/products.antex/2007-080/igs05_1402.atx.gz"
     assert products.output.antenna == "results/gnss_products/2007-080_antenna.nc"
-    for rule in ("ingest", "float_pod"):
+    for rule in ("ingest", "quality", "float_pod"):    # quality: antenna terms of HMW and MP
         sm = mock_snakemake(rule, configfiles=configs, sat="grace-a", date="2007-080")
         assert sm.input.antenna == "results/gnss_products/2007-080_antenna.nc"
         assert not [p for p in _job_files(sm) if p.endswith((".sp3.gz", ".clk.gz", ".atx.gz"))]

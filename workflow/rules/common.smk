@@ -210,6 +210,12 @@ def ingest_inputs(wildcards):
     return files
 
 
+def quality_antenna(wildcards):
+    """The satellite antennas of the day (netCDF of gnss_products), if the campaign has an
+    ANTEX file: the multipath is formed without the antenna terms the POD models."""
+    return {k: v[0] for k, v in day_products([wildcards.date], "antenna").items()}
+
+
 def code_bias_inputs(wildcards):
     """Quality outputs of the days of a code-bias period."""
     days = period_days(CONFIG, wildcards.period)

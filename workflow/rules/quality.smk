@@ -3,6 +3,7 @@
 # for the report.
 rule quality:
     input:
+        unpack(quality_antenna),
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,
         leo=rules.ingest.output.leo,
@@ -53,6 +54,7 @@ rule quality:
         signals=CONFIG["signals"],
         settings=CONFIG["quality"],
         bds2_scb=CONFIG["code_bias"]["bds2_scb"],
+        pco_body_m=sat_pco,
         title=sat_title,
     script:
         "../../scripts/quality.py"

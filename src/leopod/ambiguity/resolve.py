@@ -5,8 +5,11 @@ Steps (Peng et al. 2021, sec. III-B; Jiang et al. 2023):
 1. single differences between the passes (float ambiguities) of different satellites with at
    least ``min_common_s`` of common observation time (:func:`~leopod.ambiguity.pairs.sd_pairs`);
 2. wide lane: HMW of the (optionally map-corrected) codes and the phases at the POD epochs,
-   single-differenced over the common epochs and corrected by the satellite WL biases of the
-   campaign's product (:mod:`~leopod.ambiguity.wide_lane`), then the fixing decision;
+   each signal without the antenna range term of its frequency when the quality step gives
+   them (LEO PCO per band, GNSS PCO/PCV per frequency: :mod:`leopod.gnss.antenna_terms`;
+   the table's ``antenna_*`` attributes say which), single-differenced over the common
+   epochs and corrected by the satellite WL biases of the campaign's product
+   (:mod:`~leopod.ambiguity.wide_lane`), then the fixing decision;
 3. narrow lane: from the float ionosphere-free single difference and the fixed WL, with its
    sigma from the float covariance (:mod:`~leopod.ambiguity.narrow_lane`), then the decision;
 4. a maximal linearly independent set of the fixed single differences, best-determined first
@@ -49,6 +52,7 @@ from leopod.ambiguity.independent import constraint_rows, fixing_rate, independe
 from leopod.ambiguity.narrow_lane import fixed_sd_if_m, sd_covariance_m2, sd_narrow_lane
 from leopod.ambiguity.pairs import sd_pairs
 from leopod.ambiguity.wide_lane import hmw_cycles, sd_wide_lane
+from leopod.gnss.antenna_terms import remove_antenna_terms
 from leopod.gnss.combinations import narrow_lane_wavelength_m
 from leopod.settings import Settings
 from leopod.signals import frequency_hz
@@ -129,7 +133,8 @@ def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) ->
 
 def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system: str,
                 phases, codes, wl_sat_cyc: xr.DataArray | None,
-                settings: ArSettings, *, sat_if_bias_m=None) -> Resolution:
+                settings: ArSettings, *, sat_if_bias_m=None,
+                antenna: xr.Dataset | None = None) -> Resolution:
     """Resolve the single-difference ambiguities of one float arc (module docstring).
 
     Parameters
@@ -152,6 +157,12 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
     sat_if_bias_m : array_like, shape (n_ambiguities,), optional
         Satellite ionosphere-free phase bias per float ambiguity [m] (OSB products with
         ordinary clocks); None with integer-recovery clocks.
+    antenna : xarray.Dataset, optional
+        Antenna range terms per band on (time, sv) (``antenna_range_<digit>_m`` of the quality
+        output, :func:`leopod.gnss.antenna_terms.antenna_terms`), subtracted from each phase
+        and code of the HMW combination (its own frequency's term); its ``antenna_*``
+        attributes are copied to the table. None: raw observations (the HMW then keeps
+        ``2 f1 f2 (a1 − a2)/(f1² − f2²)``).
 
     Returns
     -------
@@ -164,6 +175,8 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
     n_pair = i.size
     pid = residuals.pass_index
     o = obs.reindex(time=pid.time, sv=pid.sv)
+    if antenna is not None:
+        o = remove_antenna_terms(o, antenna, [*phases, *codes])
     hmw = xr.DataArray(hmw_cycles(o[phases[0]].values, o[phases[1]].values, o[codes[0]].values,
                                   o[codes[1]].values, f1, f2), coords=pid.coords,
                        dims=pid.dims)
@@ -288,7 +301,9 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
                "wl_candidate_check": int(settings.wl_candidate_check),
                "ar_product": "none" if wl_sat_cyc is None else "wide-lane satellite biases",
                "nl_max_shift_sigma": settings.nl_max_shift_sigma,
-               **integer_convention_attrs(phases)},
+               **integer_convention_attrs(phases),
+               **({k: v for k, v in antenna.attrs.items() if k.startswith("antenna_")}
+                  if antenna is not None else {"antenna_terms": "not removed (raw HMW)"})},
     )
     if guard is not None:
         table.attrs.update(guard.attrs(settings.guard_alpha, settings.guard_min_satellite_pairs))

@@ -16,6 +16,18 @@ __all__ = ["estimate_period"]
 log = logging.getLogger(__name__)
 
 
+def _antenna_attrs(quality_days: list[xr.Dataset]) -> dict:
+    """The ``antenna_*`` attributes shared by the quality outputs of a period."""
+    found = [{k: v for k, v in ds.attrs.items() if k.startswith("antenna_")}
+             for ds in quality_days]
+    if not found or not found[0]:
+        return {"antenna_terms": "not removed (multipath of raw observations)"}
+    if any(f != found[0] for f in found[1:]):
+        log.warning("the quality outputs of the period removed different antenna terms; the "
+                    "maps record those of the first day")
+    return found[0]
+
+
 def estimate_period(quality_days: list[xr.Dataset], codes, settings: MapSettings, *,
                     period: str, satellite: str, yaw_flips=None,
                     min_elevation_deg: float = 0.0
@@ -39,7 +51,10 @@ def estimate_period(quality_days: list[xr.Dataset], codes, settings: MapSettings
     Returns
     -------
     maps : xarray.Dataset
-        Map dataset (:mod:`leopod.codebias.products`).
+        Map dataset (:mod:`leopod.codebias.products`), with the ``antenna_*`` attributes of the
+        quality outputs: which antenna terms (LEO PCO per band, GNSS PCO/PCV per frequency,
+        :mod:`leopod.gnss.antenna_terms`) the multipath was freed of, so that the maps hold
+        no antenna term (``antenna_terms = "not removed"`` for older quality outputs).
     stats : dict
         Multipath before/after per signal (for figures).
     """
@@ -62,6 +77,7 @@ def estimate_period(quality_days: list[xr.Dataset], codes, settings: MapSettings
     if not fits:
         raise ValueError(f"no multipath observations of {' '.join(codes)} in period {period}")
     maps, per_signal = map_dataset(fits, stats, settings, period=period, satellite=satellite)
+    maps.attrs.update(_antenna_attrs(quality_days))
     for code in maps.signal.values:
         s = maps.sel(signal=code)
         filled = sum(int((~fit.empty(settings.min_count)).sum())

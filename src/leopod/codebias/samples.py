@@ -3,7 +3,10 @@
 The quality step (:func:`leopod.gnss.quality.assess_quality`) stores per observation the code
 multipath ``mp_<code>_m`` (Peng et al. 2021, eq. (1), pass mean removed), the antenna-frame
 ``el_deg``/``az_deg`` and the continuous-phase ``pass_id``. The pass mean does not matter to
-the map estimation, which has its own offset per pass.
+the map estimation, which has its own offset per pass. The multipath is free of the
+per-frequency antenna terms (LEO PCO per band, GNSS PCO/PCV per frequency) when the quality
+step removed them (its ``antenna_*`` attributes, carried to the maps by
+:func:`leopod.codebias.period.estimate_period`).
 
 Attitude modes (Jiang et al. 2023, sec. "Code multipath analysis"): a satellite that flips its yaw
 by 180° (HY-2D at a Sun-angle threshold) sees the near-field environment of its antenna from the

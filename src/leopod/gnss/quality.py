@@ -10,7 +10,9 @@ noise, IOD), per-GNSS-satellite statistics and the daily indicators:
 * data completeness: epochs with any observation / epochs expected over the day at the file's
   interval; utilisation: satellite-epochs with all configured codes and both phases / all
   observed satellite-epochs (Wang et al. 2024, sec. 3.1.2, read at the level of satellite-epochs);
-* code multipath MP_i (Peng et al. 2021, eq. 1) minus its pass mean, RMS per satellite and per day;
+* code multipath MP_i (Peng et al. 2021, eq. 1) minus its pass mean, RMS per satellite and per day,
+  formed without the per-frequency antenna range terms when they are given
+  (:mod:`leopod.gnss.antenna_terms`: the code-bias maps then hold no antenna term);
 * observations per cycle slip ("o/slps", Wang et al. 2024, Table 2): satellite-epochs with phase
   divided by the slips detected inside continuous tracking (starts of tracking and gaps are
   not slips);
@@ -32,6 +34,7 @@ import numpy as np
 import xarray as xr
 
 from leopod import signals
+from leopod.gnss.antenna_terms import remove_antenna_terms
 from leopod.gnss.combinations import ionosphere_l1_m, multipath
 from leopod.gnss.passes import FLAG_GAP, FLAG_NEW, PassResult, detect_passes
 from leopod.settings import Settings
@@ -136,7 +139,8 @@ def _rms(x, axis=None):
 
 def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, system: str,
                    phase: list[str], codes: list[str], pod_code: list[str],
-                   settings: QualitySettings) -> xr.Dataset:
+                   settings: QualitySettings, *, antenna: xr.Dataset | None = None
+                   ) -> xr.Dataset:
     """Compute the quality indicators of one satellite-day for one GNSS.
 
     Parameters
@@ -155,6 +159,14 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
     pod_code : list of str
         The two codes for the MW combination, e.g. ``["C1W", "C2W"]``.
     settings : QualitySettings
+    antenna : xarray.Dataset, optional
+        Antenna range terms per band (``antenna_range_<digit>_m`` on (time, sv),
+        :func:`leopod.gnss.antenna_terms.antenna_terms`), removed from the codes and phases
+        of the multipath combinations, so that MP (and the code-bias maps estimated from it)
+        is free of the frequency-dependent PCO/PCV; None: raw observations. The terms and
+        their ``antenna_*`` attributes are kept in the output (for the ambiguity step and the
+        code-bias maps). Code noise (code minus phase of one band) does not see them; the
+        slip detection uses raw observations (the terms vary slowly).
 
     Returns
     -------
@@ -234,8 +246,14 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
         stats[f"n_slips_{name}"] = (int(brk.sum()), "1", f"slips flagged by the {name.upper()} test")
     stats["n_outliers"] = (int(((passes.flags & 32) != 0).sum()), "1", "single-epoch MW or GF outliers")
 
-    # code multipath MP_i per code, minus the pass mean
+    # code multipath MP_i per code, minus the pass mean (antenna terms removed if given)
     sv_stats = {}
+    obs_mp = obs
+    if antenna is not None:
+        obs_mp = remove_antenna_terms(obs, antenna, [c for c in codes if c in obs] + list(phase))
+        for name in antenna.data_vars:
+            term = antenna[name].reindex(time=obs.time, sv=obs.sv)
+            data[name] = (("time", "sv"), term.values, dict(antenna[name].attrs))
     for code in codes:
         if code not in obs:
             log.warning("code %s not in the observations: no MP/noise for it", code)
@@ -246,11 +264,13 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
             log.warning("no phase on the band of %s: no MP for it", code)
             continue
         fi, fj = signals.frequency_hz(system, ph_i), signals.frequency_hz(system, ph_j)
-        mp_raw = multipath(obs[code].values, obs[ph_i].values, obs[ph_j].values, fi, fj)
+        mp_raw = multipath(obs_mp[code].values, obs_mp[ph_i].values, obs_mp[ph_j].values,
+                           fi, fj)
         keep = above & long_pass
         mp = _pass_mean_removed(mp_raw, pid, keep)
         data[f"mp_{code}_m"] = (("time", "sv"), mp, {
-            "units": "m", "long_name": f"code multipath MP of {code} (with {ph_i}, {ph_j}) minus pass mean"})
+            "units": "m", "long_name": f"code multipath MP of {code} (with {ph_i}, {ph_j}) minus pass mean",
+            "antenna_terms_removed": int(antenna is not None)})
         sv_stats[f"mp_rms_{code}_m"] = (_rms(mp, axis=0), "m", f"RMS of MP {code} per satellite")
         stats[f"mp_rms_{code}_m"] = (float(_rms(mp)), "m", f"RMS of MP {code} over the day")
 
@@ -303,6 +323,8 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
         ds[f"sv_{k}"] = xr.Variable(("sv",), np.asarray(val), {"units": unit, "long_name": name})
     for k, (val, unit, name) in stats.items():
         ds[f"{system}_{k}"] = xr.Variable((), val, {"units": unit, "long_name": f"{system}: {name}"})
+    ds.attrs.update(antenna.attrs if antenna is not None
+                    else {"antenna_terms": "not removed (multipath of raw observations)"})
     ds.attrs.update({"system": system, "phase_pair": " ".join(phase), "codes": " ".join(codes),
                      "pod_code": " ".join(pod_code), "interval_s": interval,
                      "elevation_mask_deg": settings.elevation_mask_deg})
