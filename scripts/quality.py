@@ -10,6 +10,7 @@ from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.gnss.scb import nadir_angle_deg
+from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io._text import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.quality import (
@@ -27,10 +28,12 @@ log = logging.getLogger(__name__)
 
 
 def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
-         settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool) -> None:
+         settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool,
+         signal_biases: SignalBiases | None = None) -> None:
     """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
-    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); with ``bds2_scb`` the
-    BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias first."""
+    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); the satellite signal
+    biases of ``signal_biases`` (OSB/DCB, leopod.gnss.signal_bias) are removed first and, with
+    ``bds2_scb``, the BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
@@ -47,6 +50,8 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
                          coords={"time": obs.time, "sv": obs.sv}, dims=("time", "sv"),
                          attrs={"units": "degree", "long_name": "nadir angle at the GNSS "
                                 "satellite of the line to the LEO"})
+    obs, _ = correct_signal_biases(
+        obs, signal_biases, [c for sig in signals.values() for c in sig.observations])
     if bds2_scb:   # multipath and noise of the codes the POD and AR will use
         obs, summary = correct_bds2_scb(obs, xr.Dataset({NADIR_VARIABLE: nadir}))
         log.info("BDS-2 SCB correction: %s", summary or "no BDS-2 IGSO/MEO codes")
@@ -70,7 +75,9 @@ def run(sm) -> None:
     configure_logging(sm)
     main(sm.input.obs, sm.input.gnss, sm.input.leo, signal_settings(sm.params.signals),
          QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output),
-         bds2_scb=bool(sm.params.bds2_scb))
+         bds2_scb=bool(sm.params.bds2_scb),
+         signal_biases=read_signal_biases(plain(sm.input),
+                                          getattr(sm.params, "signal_bias", None)))
 
 
 if __name__ == "__main__":

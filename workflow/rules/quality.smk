@@ -3,6 +3,7 @@
 # for the report.
 rule quality:
     input:
+        unpack(day_signal_bias_inputs),
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,
         leo=rules.ingest.output.leo,
@@ -53,6 +54,7 @@ rule quality:
         signals=CONFIG["signals"],
         settings=CONFIG["quality"],
         bds2_scb=CONFIG["code_bias"]["bds2_scb"],
+        signal_bias=day_signal_bias,
         title=sat_title,
     script:
         "../../scripts/quality.py"
