@@ -6,8 +6,8 @@ observations, each epoch with the products of its own day (arcs of ~30 h take th
 last hours from the neighbouring days, whose biases may differ: the products are joined at
 midnight). The quality, POD and ambiguity steps call the same two functions.
 
-Sign convention (Schaer 2016, Bias-SINEX 1.00, sec. "bias"; the comment block of CODE's
-``.BIA`` files): a bias is **subtracted** from the observation it belongs to::
+Sign convention (Schaer 2016, Bias-SINEX 1.00; the comment block of CODE's ``.BIA`` files):
+a bias is **subtracted** from the observation it belongs to::
 
     C1C_corrected = C1C − OSB(C1C),   L1C_corrected = L1C − OSB(L1C)
 
@@ -37,6 +37,10 @@ the biases of the clock-reference signals (e.g. GPS C1W/C2W, the
 
 Observations of a satellite whose correction is unknown (no OSB nor DCB for it while the
 product has the signal for other satellites) are set to NaN: they would keep their bias.
+
+Not corrected: the code-only a-priori orbit of the ingest step (metre level, refined by the
+POD) and receiver biases (common to all satellites, absorbed by the receiver clock and the
+single differences).
 """
 
 from __future__ import annotations
@@ -75,8 +79,20 @@ _HALF_DAY = np.timedelta64(43200, "s")
 
 
 def signal_bias_mode(*, wl_bias: bool, osb: bool) -> str:
-    """The correction mode of a campaign: ``absolute`` if its AR product is the Bias-SINEX
-    file (``products.osb`` without ``products.wl_bias``), else ``clock_reference``."""
+    """The correction mode of a campaign (module docstring).
+
+    Parameters
+    ----------
+    wl_bias, osb : bool
+        Whether the campaign has a CNES/CLS WL product / a Bias-SINEX file.
+
+    Returns
+    -------
+    str
+        ``absolute`` if the AR product is the Bias-SINEX file (``products.osb`` without
+        ``products.wl_bias``, see :func:`leopod.ambiguity.products.ar_product`), else
+        ``clock_reference``.
+    """
     return "absolute" if osb and not wl_bias else "clock_reference"
 
 
@@ -264,6 +280,9 @@ class SignalBiases:
         :data:`MODES`.
     central_day : str
         Day whose products replace those of a day that has none (arc ends at campaign ends).
+    fallbacks : list of str
+        Days whose epochs were corrected with the central day's products (filled by
+        :meth:`for_day`; each also logged as a warning).
     """
 
     products: Mapping[str, SignalBiasProduct]
@@ -291,9 +310,30 @@ class SignalBiases:
 
 
 def read_signal_biases(inputs: Mapping, spec: Mapping | None) -> SignalBiases | None:
-    """The products of a step's inputs: ``signal_bias_osb`` and ``signal_bias_dcb`` (lists of
-    paths, one per entry of ``spec["osb_days"]``/``spec["dcb_days"]``), ``spec["mode"]`` and
-    ``spec["central_day"]``; None if there are no such files (nothing is corrected)."""
+    """Read the bias products a step's job lists.
+
+    Parameters
+    ----------
+    inputs : mapping
+        The job's inputs; ``signal_bias_osb`` and ``signal_bias_dcb`` are lists of paths
+        (Bias-SINEX, CODE DCB), one per entry of ``spec["osb_days"]`` / ``spec["dcb_days"]``.
+    spec : mapping or None
+        ``mode``, ``central_day``, ``osb_days``, ``dcb_days``
+        (:func:`leopod.workflow.campaign.signal_bias_inputs`).
+
+    Returns
+    -------
+    SignalBiases or None
+        None if there is no spec or no file (nothing is corrected).
+
+    Raises
+    ------
+    ValueError
+        If the lists of files and days differ in length, or a DCB file is of a type other
+        than those of :data:`DCB_SIGNALS`.
+    leopod.io._text.FormatError
+        If a file is malformed (message naming file, line and field).
+    """
     if not spec:
         return None
     osb_paths = list(inputs.get("signal_bias_osb") or [])

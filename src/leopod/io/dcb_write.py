@@ -64,5 +64,5 @@ def write_code_dcb(ds: xr.Dataset, path: str | Path, *, title: str | None = None
              "PRN / STATION NAME        VALUE (NS)  RMS (NS)",
              "***   ****************    *****.***   *****.***"]
     for sv, v, s in zip(ds["sv"].values[keep], values[keep], sigma[keep], strict=True):
-        lines.append(f"{str(sv):<3s}{'':19s}{v:13.3f}{np.nan_to_num(s):12.3f}")
+        lines.append(f"{sv!s:<3s}{'':19s}{v:13.3f}{np.nan_to_num(s):12.3f}")
     write_text(path, "\n".join(lines) + "\n")

@@ -15,9 +15,9 @@ from pathlib import Path
 from leopod.gnss.signal_bias import signal_bias_mode
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
-__all__ = ["LOCATE_ROOT", "arc_days", "signal_bias_inputs", "campaign_days", "expand_template", "input_references",
+__all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input_references",
            "input_templates", "is_daily_template", "library_root", "locate_inputs",
-           "located_source", "satellite_ids", "script_library_files"]
+           "located_source", "satellite_ids", "script_library_files", "signal_bias_inputs"]
 
 #: Folder that holds the imported ``leopod`` package (``src`` of a checkout, or site-packages).
 _ROOT = Path(__file__).resolve().parents[2]
