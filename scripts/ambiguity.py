@@ -9,6 +9,7 @@ from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
+from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io.netcdf import merge_days, write_netcdf
 from leopod.plots.ambiguity import plot_fractional_parts
 from leopod.signals import SystemSignals, signal_settings
@@ -29,13 +30,18 @@ def _directions(path):
 
 
 def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: SystemSignals,
-         settings: ArSettings, code_correction: CodeCorrection, yaw_flips, title: str) -> None:
+         settings: ArSettings, code_correction: CodeCorrection, yaw_flips, title: str,
+         signal_biases: SignalBiases | None = None) -> None:
     """Fix the ambiguities of a float arc. ``inputs``: ``ambiguities``, ``residuals`` (float
     POD), lists ``obs`` and ``quality`` (its days), optional ``code_bias`` (maps), ``wl_bias``
-    or ``osb`` (AR product); writes the table (netCDF) and the histogram (PNG)."""
+    or ``osb`` (AR product); writes the table (netCDF) and the histogram (PNG). The satellite
+    signal biases (``signal_biases``, as in the POD) are removed from the observations; when
+    they include the OSBs of the AR product (``absolute`` mode) the product is not applied a
+    second time."""
     amb = xr.load_dataset(inputs["ambiguities"])
     residuals = xr.load_dataset(inputs["residuals"])
-    obs = [xr.load_dataset(p) for p in inputs["obs"]]
+    obs = [correct_signal_biases(xr.load_dataset(p), signal_biases, signals.observations)[0]
+           for p in inputs["obs"]]
     directions = [_directions(q) for q in inputs["quality"]]
     if code_correction.bds2_scb:
         obs = [correct_bds2_scb(o, d)[0] for o, d in zip(obs, directions, strict=True)]
@@ -46,7 +52,8 @@ def main(inputs: Mapping, table_path, histogram_path, *, system: str, signals: S
                for o, d in zip(obs, directions, strict=True)]
     epoch = residuals.time.values[residuals.sizes["time"] // 2]  # biases at the arc centre
     product = ar_product(epoch, amb.sv.values, signals.phase, signals.pod_code,
-                         wl_bias_path=inputs.get("wl_bias"), osb_path=inputs.get("osb"))
+                         wl_bias_path=inputs.get("wl_bias"), osb_path=inputs.get("osb"),
+                         osb_applied=signal_biases is not None and signal_biases.osb_applied)
     log.info("AR product: %s", product.label)
     antenna = None
     if all(any(v.startswith("antenna_range_") for v in d.data_vars) for d in directions):
@@ -75,7 +82,8 @@ def run(sm) -> None:
     main(plain(sm.input), sm.output.table, sm.output.histogram, system=system,
          signals=signal_settings(p.signals)[system], settings=ArSettings.from_config(p.settings),
          code_correction=CodeCorrection.from_config(p.code_bias), yaw_flips=p.yaw_flips,
-         title=p.title)
+         title=p.title,
+         signal_biases=read_signal_biases(plain(sm.input), getattr(p, "signal_bias", None)))
 
 
 if __name__ == "__main__":

@@ -22,14 +22,14 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
          arc: ArcSettings, pod: PodSettings, forces: ForceModelSettings,
          pco_body_m: Mapping | None,
          code_correction: CodeCorrection | None, yaw_flips, ambiguity: ArSettings,
-         title: str, sp3_id: str) -> None:
+         title: str, sp3_id: str, signal_bias: Mapping | None = None) -> None:
     """Ambiguity-fixed POD of the arc of ``date`` from ``inputs`` into ``outputs``.
 
     ``inputs``: those of scripts/float_pod.py plus ``table`` (ambiguity step) and
     ``float_orbit``, ``float_parameters``, ``float_ambiguities``, ``float_residuals`` (float
     POD); ``outputs``: the paths of ``ARC_PRODUCTS`` and ``ARC_FIGURES``.
     """
-    data = ArcData.read(inputs)
+    data = ArcData.read(inputs, signal_bias=signal_bias)
     float_solution = FloatSolution.read(parameters=inputs["float_parameters"],
                                         ambiguities=inputs["float_ambiguities"],
                                         residuals=inputs["float_residuals"],
@@ -53,7 +53,7 @@ def run(sm) -> None:
     main(sm.wildcards.date, plain(sm.input), plain(sm.output),
          **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
          yaw_flips=p.yaw_flips, ambiguity=ArSettings.from_config(p.settings), title=p.title,
-         sp3_id=p.sp3_id)
+         sp3_id=p.sp3_id, signal_bias=getattr(p, "signal_bias", None))
 
 
 if __name__ == "__main__":

@@ -17,7 +17,8 @@ from leopod.workflow.settings import pod_settings
 def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals,
          arc: ArcSettings, pod: PodSettings, forces: ForceModelSettings,
          pco_body_m: Mapping | None,
-         code_correction: CodeCorrection | None, yaw_flips, title: str, sp3_id: str) -> None:
+         code_correction: CodeCorrection | None, yaw_flips, title: str, sp3_id: str,
+         signal_bias: Mapping | None = None) -> None:
     """Float POD of the arc of ``date`` from the files ``inputs`` into the files ``outputs``.
 
     ``inputs``: lists ``obs``, ``quality``, ``leo``, ``orbit``, ``clock`` and optional
@@ -25,7 +26,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     ``ARC_FIGURES``.
     The settings are those of :func:`leopod.estimation.arc.run_arc`.
     """
-    data = ArcData.read(inputs)
+    data = ArcData.read(inputs, signal_bias=signal_bias)
     solution = run_arc(date, data, signals, arc, pod, forces, pco_body_m,
                        code_correction=code_correction, yaw_flips=yaw_flips)
     log_arc(solution, f"float POD {date}")
@@ -41,7 +42,8 @@ def run(sm) -> None:
     p = sm.params
     main(sm.wildcards.date, plain(sm.input), plain(sm.output),
          **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
-         yaw_flips=p.yaw_flips, title=p.title, sp3_id=p.sp3_id)
+         yaw_flips=p.yaw_flips, title=p.title, sp3_id=p.sp3_id,
+         signal_bias=getattr(p, "signal_bias", None))
 
 
 if __name__ == "__main__":

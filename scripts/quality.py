@@ -12,6 +12,7 @@ from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.antenna_terms import antenna_terms
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.gnss.scb import nadir_angle_deg
+from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io._text import write_text
 from leopod.io.netcdf import write_netcdf
 from leopod.io.product_netcdf import read_antenna_product
@@ -46,11 +47,13 @@ def day_antenna_terms(obs: xr.Dataset, gnss: xr.Dataset, leo: xr.Dataset,
 
 def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
          settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool,
-         pco_body_m: Mapping | None = None, antenna_path=None) -> None:
+         pco_body_m: Mapping | None = None, antenna_path=None,
+         signal_biases: SignalBiases | None = None) -> None:
     """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
-    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); with ``bds2_scb`` the
-    BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias first. The
-    multipath is formed without the antenna terms of the LEO PCOs ``pco_body_m`` (per band)
+    ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); the satellite signal
+    biases of ``signal_biases`` (OSB/DCB, leopod.gnss.signal_bias) are removed first and, with
+    ``bds2_scb``, the BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias.
+    The multipath is formed without the antenna terms of the LEO PCOs ``pco_body_m`` (per band)
     and the satellite antennas of ``antenna_path``, which the output keeps for the ambiguity
     step."""
     with xr.open_dataset(obs_path) as f:
@@ -69,6 +72,8 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
                          coords={"time": obs.time, "sv": obs.sv}, dims=("time", "sv"),
                          attrs={"units": "degree", "long_name": "nadir angle at the GNSS "
                                 "satellite of the line to the LEO"})
+    obs, _ = correct_signal_biases(
+        obs, signal_biases, [c for sig in signals.values() for c in sig.observations])
     if bds2_scb:   # multipath and noise of the codes the POD and AR will use
         obs, summary = correct_bds2_scb(obs, xr.Dataset({NADIR_VARIABLE: nadir}))
         log.info("BDS-2 SCB correction: %s", summary or "no BDS-2 IGSO/MEO codes")
@@ -99,7 +104,9 @@ def run(sm) -> None:
     main(sm.input.obs, sm.input.gnss, sm.input.leo, signal_settings(sm.params.signals),
          QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output),
          bds2_scb=bool(sm.params.bds2_scb), pco_body_m=sm.params.pco_body_m,
-         antenna_path=getattr(sm.input, "antenna", None) or None)
+         antenna_path=getattr(sm.input, "antenna", None) or None,
+         signal_biases=read_signal_biases(plain(sm.input),
+                                          getattr(sm.params, "signal_bias", None)))
 
 
 if __name__ == "__main__":

@@ -14,13 +14,14 @@ from leopod.workflow.log import configure_logging
 def main(date: str, settings: SimulationSettings, world_start: str, world_end: str,
          biases_path, outputs: Mapping) -> None:
     """Products of ``date`` into ``outputs``: ``orbit`` (SP3), ``clock`` and
-    ``integer_clock`` (RINEX clock), ``wl_bias`` and ``osb``."""
+    ``integer_clock`` (RINEX clock), ``wl_bias``, ``osb`` and ``dcb_p1c1`` (CODE-style
+    P1-C1 DCBs of the simulated satellites)."""
     with xr.open_dataset(biases_path) as f:
         biases = f.load()
     simulate_gnss_products(date, settings, world_start, world_end, biases,
                            orbit=outputs["orbit"], clock=outputs["clock"],
                            integer_clock=outputs["integer_clock"], wl_bias=outputs["wl_bias"],
-                           osb=outputs["osb"])
+                           osb=outputs["osb"], dcb_p1c1=outputs.get("dcb_p1c1"))
 
 
 def run(sm) -> None:

@@ -122,3 +122,42 @@ def test_broken_missing_headers(shared_data, tmp_path):
     _expect(_broken(shared_data, tmp_path, lambda lines: lines[:5] + lines[6:]),
             None, "PRN / STATION NAME")
     _expect(_broken(shared_data, tmp_path, lambda lines: lines[:6] + lines[7:]), 7, "***")
+
+
+# --- writer (leopod.io.dcb_write): read back by the reader above ------------------------------
+
+
+def test_writer_round_trip(tmp_path):
+    import numpy as np
+    import xarray as xr
+
+    from leopod.io.dcb_write import write_code_dcb
+
+    ds = xr.Dataset({"dcb_s": ("sv", [-0.916e-9, 1.182e-9, 12.345e-9]),
+                     "dcb_sigma_s": ("sv", [0.139e-9, 0.002e-9, np.nan])},
+                    coords={"sv": ["G01", "G04", "G30"]}, attrs={"dcb_type": "P1-C1"})
+    write_code_dcb(ds, tmp_path / "p1c1.dcb")
+    back = read_code_dcb(tmp_path / "p1c1.dcb")
+    assert back.attrs["dcb_type"] == "P1-C1"
+    assert list(back.sv.values) == ["G01", "G04", "G30"]
+    # three decimals of ns (F13.3 of CODE's files)
+    np.testing.assert_allclose(back.dcb_s.values, ds.dcb_s.values, rtol=0, atol=5e-13)
+    np.testing.assert_allclose(back.dcb_sigma_s.values, [0.139e-9, 0.002e-9, 0.0], atol=5e-13)
+    with pytest.raises(ValueError, match="dcb_type"):
+        write_code_dcb(ds.assign_attrs(dcb_type="P1C1"), tmp_path / "bad.dcb")
+    with pytest.raises(ValueError, match="no finite"):
+        write_code_dcb(ds.assign(dcb_s=ds.dcb_s * np.nan), tmp_path / "nan.dcb")
+
+
+@pytest.mark.shared
+def test_writer_reproduces_code_file_values(shared_data, tmp_path):
+    """Write the satellite rows of CODE's P1C10810_RINEX.DCB and read them back unchanged."""
+    import numpy as np
+
+    from leopod.io.dcb_write import write_code_dcb
+
+    real = read_code_dcb(shared_data / P1C1)
+    write_code_dcb(real[["dcb_s", "dcb_sigma_s"]], tmp_path / "copy.dcb")
+    back = read_code_dcb(tmp_path / "copy.dcb")
+    np.testing.assert_array_equal(back.sv.values, real.sv.values)
+    np.testing.assert_allclose(back.dcb_s.values, real.dcb_s.values, rtol=0, atol=1e-15)

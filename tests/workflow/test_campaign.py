@@ -112,3 +112,37 @@ def test_locate_inputs_round_trip():
             "resources/locate/satellites.grace-a.observations/{date}/{date}.rnx",
         "satellites.sim.observations": "resources/simulate/{sat}/{date}.rnx",
     }
+
+
+def test_signal_bias_inputs_list_every_arc_day_and_skip_missing_neighbours():
+    """Issue 19, part 3: the bias products of every day an arc touches (each hour with its
+    own day's biases); a neighbouring day whose product file is missing is left out (its
+    epochs then use the central day's, leopod.gnss.signal_bias), the central day's is always
+    required; the mode follows the AR product."""
+    from leopod.workflow.campaign import signal_bias_inputs
+
+    config = {"products": {"gnss_orbit": "o/{date}.sp3", "osb": "/data/COD{yyyy}{doy}.BIA",
+                           "dcb_p1c1": "resources/simulate/gnss/{date}_p1c1.dcb"}}
+    located_config, located = locate_inputs(config)
+    templates = input_templates(located_config)
+    days = ["2019-001", "2019-002", "2019-003"]
+    existing = {"/data/COD2019001.BIA"}   # 2019-003's OSB file is not there
+    files, spec = signal_bias_inputs(templates, located, "2019-002", days,
+                                     exists=lambda p: p in existing)
+    assert spec["mode"] == "absolute" and spec["central_day"] == "2019-002"
+    assert spec["osb_days"] == ["2019-001", "2019-002"]
+    assert [Path(p).name for p in files["signal_bias_osb"]] == ["COD2019001.BIA",
+                                                                 "COD2019002.BIA"]
+    # files written by rules (simulation) are taken as existing
+    assert spec["dcb_days"] == days
+    assert files["signal_bias_dcb"][2] == "resources/simulate/gnss/2019-003_p1c1.dcb"
+    # with CNES/CLS WL biases the codes are brought to the clock reference instead
+    config["products"]["wl_bias"] = "w/{date}.wsb"
+    located_config, located = locate_inputs(config)
+    _, spec = signal_bias_inputs(input_templates(located_config), located, "2019-002", days,
+                                 exists=lambda p: True)
+    assert spec["mode"] == "clock_reference"
+    # no bias product: nothing listed, nothing corrected
+    files, spec = signal_bias_inputs({"products.gnss_orbit": "o/{date}.sp3"}, {}, "2019-002",
+                                     days)
+    assert files == {} and spec["osb_days"] == spec["dcb_days"] == []

@@ -20,6 +20,7 @@ from leopod.workflow.campaign import (
     period_days,
     satellite_ids,
     script_library_files,
+    signal_bias_inputs,
 )
 from leopod.workflow.config import validated
 from leopod.workflow.downloads import (
@@ -224,6 +225,27 @@ def code_bias_inputs(wildcards):
     return {"quality": expand(rules.quality.output.nc, sat=wildcards.sat, date=days)}
 
 
+def signal_bias_files(wildcards, days):
+    """Bias products (OSB, P1-C1 DCB) of ``days`` whose satellite biases the step removes
+    from the observations, and the spec of its script (leopod.workflow.campaign)."""
+    return signal_bias_inputs(INPUTS, LOCATED, wildcards.date, days)
+
+
+def arc_signal_bias(wildcards):
+    """Spec of the bias products of the arc's days (params of the POD and ambiguity steps)."""
+    return signal_bias_files(wildcards, arc_days(CONFIG, wildcards.date))[1]
+
+
+def day_signal_bias_inputs(wildcards):
+    """Bias products of one day (inputs of the quality step)."""
+    return signal_bias_files(wildcards, [wildcards.date])[0]
+
+
+def day_signal_bias(wildcards):
+    """Spec of the bias products of one day (params of the quality step)."""
+    return signal_bias_files(wildcards, [wildcards.date])[1]
+
+
 def float_pod_inputs(wildcards):
     """Ingest/quality outputs and GNSS products (netCDF) of the days of the arc of a
     satellite-day; the satellite antennas of the day."""
@@ -241,6 +263,7 @@ def float_pod_inputs(wildcards):
     if "antenna" in files:
         files["antenna"] = files["antenna"][0]
     files.update(applied_code_bias_map(wildcards))
+    files.update(signal_bias_files(wildcards, days)[0])
     return files
 
 
@@ -253,6 +276,7 @@ def ambiguity_inputs(wildcards):
         "quality": expand(rules.quality.output.nc, sat=sat, date=days),
     }
     files.update(applied_code_bias_map(wildcards))
+    files.update(signal_bias_files(wildcards, days)[0])
     for key in ("wl_bias", "osb"):
         if product_file(key):
             files[key] = expand_template(product_file(key), wildcards.date, sat)

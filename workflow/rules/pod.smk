@@ -26,6 +26,7 @@ rule float_pod:
         sp3_id=sat_pod_sp3_id,
         code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
+        signal_bias=arc_signal_bias,
     script:
         # the step's own script (a path with params, so that fixed_pod can reuse this rule);
         # listed as an input too, since Snakemake sees no change of such a path
@@ -66,6 +67,7 @@ rule ambiguity:
         settings=CONFIG["ambiguity"],
         code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
+        signal_bias=arc_signal_bias,
         title=sat_title,
     script:
         "../../scripts/ambiguity.py"
@@ -100,3 +102,4 @@ use rule float_pod as fixed_pod with:
         sp3_id=sat_pod_sp3_id,
         code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
+        signal_bias=arc_signal_bias,

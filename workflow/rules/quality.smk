@@ -4,6 +4,7 @@
 rule quality:
     input:
         unpack(quality_antenna),
+        unpack(day_signal_bias_inputs),
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,
         leo=rules.ingest.output.leo,
@@ -55,6 +56,7 @@ rule quality:
         settings=CONFIG["quality"],
         bds2_scb=CONFIG["code_bias"]["bds2_scb"],
         pco_body_m=sat_pco,
+        signal_bias=day_signal_bias,
         title=sat_title,
     script:
         "../../scripts/quality.py"

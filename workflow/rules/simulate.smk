@@ -69,6 +69,8 @@ rule simulate_gnss:
         integer_clock="resources/simulate/gnss/{date}_int.clk",
         wl_bias="resources/simulate/gnss/{date}.wsb",
         osb="resources/simulate/gnss/{date}.bia",
+        # P1-C1 DCBs of the simulated satellites, for C1C-based campaigns (products.dcb_p1c1)
+        dcb_p1c1="resources/simulate/gnss/{date}_p1c1.dcb",
     log:
         "logs/simulate_gnss/{date}.log",
     benchmark:

@@ -40,7 +40,8 @@ class ArProduct:
         return self.if_phase_bias_m.reindex(sv=np.asarray(sv).astype(str)).values
 
 
-def ar_product(epoch, svs, phases, codes, *, wl_bias_path=None, osb_path=None) -> ArProduct:
+def ar_product(epoch, svs, phases, codes, *, wl_bias_path=None, osb_path=None,
+               osb_applied: bool = False) -> ArProduct:
     """Read the AR product of a day: CNES/CLS WL records, else Bias-SINEX OSB, else none.
 
     Parameters
@@ -53,6 +54,12 @@ def ar_product(epoch, svs, phases, codes, *, wl_bias_path=None, osb_path=None) -
         Signals of the ionosphere-free pair.
     wl_bias_path, osb_path : str, optional
         Product files (CNES/CLS clock file with WL records / Bias-SINEX).
+    osb_applied : bool
+        The Bias-SINEX code and phase OSBs were already removed from the observations (every
+        hour with its own day's file, :mod:`leopod.gnss.signal_bias`, ``absolute`` mode):
+        ``w^s`` and ``b^s_IF`` are then zero (NaN where the file lacks a satellite's phase
+        OSBs; its codes lacking OSBs were set to NaN by the correction),
+        so that the OSBs are not applied twice. Ignored with a CNES/CLS product.
     """
     svs = sorted({str(s) for s in svs})
     if wl_bias_path:
@@ -63,6 +70,10 @@ def ar_product(epoch, svs, phases, codes, *, wl_bias_path=None, osb_path=None) -
         ds = read_bias_sinex(osb_path)
         ws = sat_wl_bias_osb(ds, svs, epoch, phase=tuple(phases), code=tuple(codes))
         ifb = sat_if_phase_bias_osb(ds, svs, epoch, phase=tuple(phases))
+        if osb_applied:   # zero where the satellite has phase OSBs, NaN where it has not
+            zero = ifb * 0.0
+            return ArProduct(zero.assign_attrs(ws.attrs), zero.assign_attrs(ifb.attrs),
+                             f"Bias-SINEX OSB ({osb_path}), applied to the observations")
         return ArProduct(ws, ifb, f"Bias-SINEX OSB ({osb_path})")
     log.warning("no AR product (products.wl_bias / products.osb): ambiguities are not fixed")
     return ArProduct(None, None, "none")

@@ -42,6 +42,7 @@ from leopod.estimation.outputs import (
 )
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.gnss.products import GnssProducts
+from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io.netcdf import merge_days
 from leopod.io.product_netcdf import read_antenna_product, read_clock_product, read_orbit_product
 from leopod.settings import Settings
@@ -106,6 +107,9 @@ class ArcData:
         the gnss_products rule: :func:`leopod.io.product_netcdf.read_antenna_product`).
     code_maps : xarray.Dataset or None
         Code-bias maps (:mod:`leopod.codebias`).
+    signal_biases : leopod.gnss.signal_bias.SignalBiases or None
+        Bias products (OSB, DCB) of the arc's days, removed from every code (and phase, in
+        ``absolute`` mode) before the POD (None: nothing removed).
     files : list of str
         The files read (provenance).
     """
@@ -118,12 +122,15 @@ class ArcData:
     antex: object = None
     code_maps: xr.Dataset | None = None
     files: list[str] = field(default_factory=list)
+    signal_biases: SignalBiases | None = None
 
     @classmethod
-    def read(cls, files: Mapping) -> ArcData:
+    def read(cls, files: Mapping, signal_bias: Mapping | None = None) -> ArcData:
         """Read the files of an arc: ``obs``, ``quality``, ``leo`` (daily netCDF), ``orbit``
         and ``clock`` (daily GNSS products) lists of paths, optional ``antenna`` (satellite
-        antennas) and ``code_bias`` (maps) paths; other keys are ignored.
+        antennas) and ``code_bias`` (maps) paths, optional ``signal_bias_osb`` and
+        ``signal_bias_dcb`` lists described by ``signal_bias``
+        (:func:`leopod.gnss.signal_bias.read_signal_biases`); other keys are ignored.
 
         The products are the netCDF files of the gnss_products rule, parsed once per day
         (``.nc``), or the SP3, RINEX clock and ANTEX files themselves
@@ -140,7 +147,8 @@ class ArcData:
                    antex=read_antenna_product(antenna) if antenna else None,
                    code_maps=xr.load_dataset(code_bias) if code_bias else None,
                    files=[*map(str, obs), *map(str, quality), *map(str, leo), *map(str, orbit),
-                          *map(str, clock), *([str(antenna)] if antenna else [])])
+                          *map(str, clock), *([str(antenna)] if antenna else [])],
+                   signal_biases=read_signal_biases(files, signal_bias))
 
 
 @dataclass(eq=False)
@@ -244,7 +252,9 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     system = arc.system
     start, end = (arc.limits(date) if limits is None
                   else (np.datetime64(limits[0], "ns"), np.datetime64(limits[1], "ns")))
-    obs_days = data.obs
+    # satellite code (and phase) biases of each hour's own day (leopod.gnss.signal_bias)
+    obs_days = [correct_signal_biases(obs, data.signal_biases, signals.observations)[0]
+                for obs in data.obs]
     if code_correction is not None and code_correction.bds2_scb:
         obs_days = [correct_bds2_scb(obs, qual)[0]
                     for obs, qual in zip(obs_days, data.quality, strict=True)]

@@ -40,11 +40,13 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
+from leopod.constants import C_LIGHT_M_S
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.io.antex import read_antex
 from leopod.io.bias_sinex_write import write_bias_sinex
 from leopod.io.clock_write import write_rinex_clock
+from leopod.io.dcb_write import write_code_dcb
 from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs_write import write_rinex_obs
 from leopod.io.sp3_write import write_sp3
@@ -77,7 +79,7 @@ from leopod.simulate.world import (
 from leopod.time.calendar import parse_date_id, seconds_since
 
 __all__ = ["biases_for", "code_bias_map_truth", "gnss_world", "receiver_clock",
-           "simulate_gnss_products", "simulate_leo_day", "simulate_truth", "simulate_world_truth",
+           "p1c1_dcb", "simulate_gnss_products", "simulate_leo_day", "simulate_truth", "simulate_world_truth",
            "write_code_bias_maps", "write_truth_orbit"]
 
 log = logging.getLogger(__name__)
@@ -300,7 +302,7 @@ def _grid(day0: np.datetime64, step_s: float, end_inclusive: bool) -> np.ndarray
 
 def simulate_gnss_products(date: str, settings: SimulationSettings, world_start: str,
                            world_end: str, biases_truth: xr.Dataset, *, orbit, clock,
-                           integer_clock, wl_bias, osb, eop=None) -> None:
+                           integer_clock, wl_bias, osb, dcb_p1c1=None, eop=None) -> None:
     """Write the GNSS products of one day.
 
     Parameters
@@ -319,6 +321,9 @@ def simulate_gnss_products(date: str, settings: SimulationSettings, world_start:
         the ``WL`` records alone, Bias-SINEX (satellite code and phase OSBs, one day window).
         Clocks refer to the ionosphere-free combination of the clock-reference codes and
         exclude the periodic relativistic term (IGS convention).
+    dcb_p1c1 : path, optional
+        CODE-style P1−C1 DCB file of the true satellite biases (:func:`p1c1_dcb`), for
+        receivers that track C1C (the clocks refer to C1W/C2W, not to C1C).
     eop : EarthOrientation, optional
     """
     day0 = _epoch(date)
@@ -360,9 +365,36 @@ def simulate_gnss_products(date: str, settings: SimulationSettings, world_start:
                                 *records))
     write_wl_bias(products.wl, wl_bias)
     write_bias_sinex(products.osb, osb)
+    if dcb_p1c1 is not None:
+        dcb = p1c1_dcb(biases)
+        write_code_dcb(dcb, dcb_p1c1, allow_empty=True,
+                       title=f"LEOPOD SIMULATED GNSS P1-C1 DCB SOLUTION, DAY {date}")
+        log.info("P1-C1 DCB of %d satellites, RMS %.3f ns", int(np.isfinite(dcb.dcb_s).sum()),
+                 float(np.sqrt(np.nanmean(dcb.dcb_s.values**2)) * 1e9)
+                 if np.isfinite(dcb.dcb_s).any() else 0.0)
     log.info("GNSS products %s: %d satellites (%s), %d orbit and %d clock epochs, %d OSB "
              "records", date, len(svs), systems, t_orbit.size, t_clock.size,
              products.osb.sizes["bias"])
+
+
+def p1c1_dcb(biases: SimulatedBiases) -> xr.Dataset:
+    """Satellite P1−C1 DCBs of the simulated biases (schema of :func:`leopod.io.dcb.read_code_dcb`).
+
+    ``DCB(P1−C1) = d^s(C1W) − d^s(C1C)`` [s] (CODE sign, :mod:`leopod.io.dcb`), for the GPS
+    satellites that have both codes; empty (no satellite) when C1C or C1W is not simulated.
+    """
+    code = biases.code_sat_m
+    signals = list(map(str, code["code_signal"].values))
+    if "C1C" in signals and "C1W" in signals:
+        values = (code.sel(code_signal="C1W") - code.sel(code_signal="C1C")).values
+    else:
+        values = np.full(code.sizes["sv"], np.nan)
+    svs = [str(s) for s in code["sv"].values]
+    keep = np.array([s[0] == "G" for s in svs]) & np.isfinite(values)
+    return xr.Dataset(
+        {"dcb_s": ("sv", values[keep] / C_LIGHT_M_S, {"units": "s"}),
+         "dcb_sigma_s": ("sv", np.zeros(int(keep.sum())), {"units": "s"})},
+        coords={"sv": np.array(svs)[keep]}, attrs={"dcb_type": "P1-C1", "time_system": "GPS"})
 
 
 # ---------------------------------------------------------------------------- LEO day

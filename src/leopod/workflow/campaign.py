@@ -12,11 +12,12 @@ import datetime as _dt
 import functools
 from pathlib import Path
 
+from leopod.gnss.signal_bias import signal_bias_mode
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
 __all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input_references",
            "input_templates", "is_daily_template", "library_root", "locate_inputs",
-           "located_source", "satellite_ids", "script_library_files"]
+           "located_source", "satellite_ids", "script_library_files", "signal_bias_inputs"]
 
 #: Folder that holds the imported ``leopod`` package (``src`` of a checkout, or site-packages).
 _ROOT = Path(__file__).resolve().parents[2]
@@ -61,8 +62,8 @@ def expand_template(template: str, date: str, sat: str | None = None) -> str:
 
 
 #: Config entries that hold input path templates: products.<key> and satellites.<sat>.<key>.
-PRODUCT_INPUTS = ("gnss_orbit", "gnss_clock", "wl_bias", "osb", "antex", "slr_stations",
-                  "slr_eccentricities")
+PRODUCT_INPUTS = ("gnss_orbit", "gnss_clock", "wl_bias", "osb", "dcb_p1c1", "antex",
+                  "slr_stations", "slr_eccentricities")
 SATELLITE_INPUTS = ("observations", "apriori_orbit", "slr_normal_points", "reference_orbit")
 #: Folder of the located inputs (links to the files named by path in the config).
 LOCATE_ROOT = "resources/locate"
@@ -292,3 +293,59 @@ def applied_code_bias_period(config: dict, date: str) -> str | None:
         raise ValueError(f"code_bias.apply_period {fixed!r} is not a period of the campaign "
                          f"({', '.join(code_bias_periods(config))})")
     return fixed
+
+
+#: Products whose satellite biases are removed from the observations of every step
+#: (:mod:`leopod.gnss.signal_bias`) -> the input key of the steps.
+SIGNAL_BIAS_PRODUCTS = {"osb": "signal_bias_osb", "dcb_p1c1": "signal_bias_dcb"}
+
+
+def signal_bias_inputs(templates: dict, located: dict, date: str, days: list[str],
+                       exists=None) -> tuple[dict, dict]:
+    """Bias-product files of the days of a step and the spec its script needs.
+
+    Parameters
+    ----------
+    templates : dict
+        ``{entry: template the rules read}`` (:func:`input_templates`).
+    located : dict
+        ``{entry: original template}`` (:func:`locate_inputs`): the files a located input
+        stands for.
+    date : str
+        The step's day (the arc's central day): its products are required.
+    days : list of str
+        The days whose observations the step uses (the arc's days).
+    exists : callable, optional
+        ``exists(path) -> bool`` for a located source (default: :meth:`pathlib.Path.is_file`).
+        A neighbouring day whose product file does not exist (campaign ends, a product not
+        published) is left out; its epochs then use the central day's products with a
+        logged warning (:meth:`leopod.gnss.signal_bias.SignalBiases.for_day`). Files that
+        rules write (simulation, downloads) are taken as existing.
+
+    Returns
+    -------
+    files : dict
+        ``signal_bias_osb`` / ``signal_bias_dcb`` -> list of paths (keys with no file left
+        out).
+    spec : dict
+        ``mode`` (:func:`leopod.gnss.signal_bias.signal_bias_mode`), ``central_day``,
+        ``osb_days``, ``dcb_days`` (the day of each listed file).
+    """
+    exists = exists or (lambda path: Path(path).is_file())
+    spec = {"mode": signal_bias_mode(wl_bias=bool(templates.get("products.wl_bias")),
+                                     osb=bool(templates.get("products.osb"))),
+            "central_day": date, "osb_days": [], "dcb_days": []}
+    files: dict[str, list[str]] = {}
+    for key, input_key in SIGNAL_BIAS_PRODUCTS.items():
+        entry = f"products.{key}"
+        template = templates.get(entry)
+        if not template:
+            continue
+        listed = spec["osb_days" if key == "osb" else "dcb_days"]
+        for day in days:
+            if day != date and entry in located and not exists(
+                    expand_template(located[entry], day)):
+                continue
+            files.setdefault(input_key, []).append(expand_template(template, day))
+            listed.append(day)
+    return files, spec
