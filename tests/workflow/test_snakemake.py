@@ -320,7 +320,8 @@ def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
                            **{"satellites.hy2b-sim.source": "files",
                               "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
                               "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
-                              "products.gnss_clock": str(files / "gnss/{date}.clk")})
+                              "products.gnss_clock": str(files / "gnss/{date}.clk"),
+                              "products.dcb_p1c1": str(files / "gnss/{date}_p1c1.dcb")})
     proc = _run(["--cores", "2", "--keep-going", "--directory", str(tmp_path), "--configfile",
                  str(broken)])
     assert proc.returncode != 0
