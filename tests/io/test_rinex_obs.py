@@ -497,3 +497,39 @@ def test_v3_satellite_count_and_duplicates(tmp_path):
     with pytest.raises(FormatError) as exc:
         read_rinex_obs(path)
     _assert_error(exc, path, 12, "satellite")
+
+
+@pytest.mark.parametrize("flag", ["0", "4"])
+def test_v3_negative_satellite_count_is_an_error_not_a_hang(tmp_path, flag):
+    """Issue 24: an epoch record (or event, flag 4) announcing -1 satellites made the scanner
+    stand still; the count (RINEX 3.04 Table A3, I3) must be >= 0."""
+    lines = _v3_file(tmp_path).read_text().splitlines()
+    lines[5] = lines[5][:31] + flag + " -1" + lines[5][35:]
+    path = _write_lines(tmp_path, "neg.rnx", lines)
+    with pytest.raises(FormatError, match="negative") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, 6, "number of satellites")
+
+
+@pytest.mark.shared
+def test_v2_negative_satellite_count_is_an_error_not_a_hang(tmp_path, grace_a_lines):
+    lines = list(grace_a_lines[:43])
+    lines[23] = lines[23][:28] + "4 -1" + lines[23][32:]
+    path = _write_lines(tmp_path, "neg.07o", lines)
+    with pytest.raises(FormatError, match="negative") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, 24, "number of satellites")
+
+
+@pytest.mark.shared
+def test_rinex2_time_system_field(tmp_path, grace_a, grace_a_lines):
+    """RINEX 2.11 Table A1: TIME OF FIRST OBS time system (A3, columns 49-51); GPS when blank
+    in a GPS file; an identifier outside GPS/GLO/GAL (and the RINEX 3 ones) is refused."""
+    assert grace_a.attrs["time_system"] == "GPS"
+    k = next(i for i, x in enumerate(grace_a_lines) if x[60:].strip() == "TIME OF FIRST OBS")
+    lines = list(grace_a_lines[:43])
+    lines[k] = lines[k][:48] + "ABC" + lines[k][51:]
+    path = _write_lines(tmp_path, "tsys.07o", lines)
+    with pytest.raises(FormatError, match="'ABC' is not a RINEX time system") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, k + 1, "TIME OF FIRST OBS time system")

@@ -28,8 +28,13 @@ __all__ = [
     "parse_floats",
     "parse_int",
     "read_lines",
+    "time_system_to_gps",
     "write_text",
 ]
+
+#: Time-system identifiers of the SP3-c/d ``%c`` line and the RINEX clock 3.04 ``TIME SYSTEM
+#: ID`` record (the GNSS times of RINEX 3.04 Table A2 plus TAI and UTC).
+PRODUCT_TIME_SYSTEMS = ("GPS", "GLO", "GAL", "QZS", "BDT", "IRN", "TAI", "UTC")
 
 _GZIP_MAGIC = b"\x1f\x8b"
 _COMPRESS_MAGIC = b"\x1f\x9d"
@@ -272,3 +277,32 @@ def write_text(path: str | Path, text: str) -> Path:
         tmp.write_bytes(gzip.compress(data, compresslevel=6, mtime=0)
                         if path.suffix == ".gz" else data)
     return path
+
+
+def time_system_to_gps(times: np.ndarray, system: str, path, line: int | None,
+                       field: str) -> np.ndarray:
+    """Epoch labels of a file in GPS time, or a :class:`FormatError` naming where the
+    file's time system was given.
+
+    Parameters
+    ----------
+    times : ndarray of datetime64[ns], shape (n,)
+        Labels in ``system``.
+    system : str
+        The file's time system (``GPS``, ``GAL``, ``BDT``, ``TAI``, ``UTC``;
+        :func:`leopod.time.scales.to_gps_time`).
+    path, line, field
+        Where the time system was read (``line`` None when the format's default applied).
+
+    Returns
+    -------
+    ndarray of datetime64[ns], shape (n,)
+        GPS-time labels (exact integer-nanosecond offsets; leap seconds for UTC).
+    """
+    from leopod.time.scales import to_gps_time
+
+    try:
+        return to_gps_time(times, system)
+    except ValueError as err:
+        raise FormatError(path, line, field, f"{err}; cannot convert the epochs to GPS "
+                          "time") from None
