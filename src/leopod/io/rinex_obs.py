@@ -276,6 +276,8 @@ def _epoch_time(line: str, lineno: int, path, v2: bool) -> tuple[_dt.datetime, i
     sec = fixed_float(line, *cols[5], path, lineno, "second")
     if v2:
         y += 2000 if y < 80 else 1900
+    if not 1678 <= y <= 2261:  # datetime64[ns] range: a year outside it would wrap silently
+        raise FormatError(path, lineno, "year", f"{y} is outside 1678-2261")
     for value, low, high, name in ((mo, 1, 12, "month"), (h, 0, 23, "hour"),
                                    (mi, 0, 59, "minute")):
         if not low <= value <= high:
