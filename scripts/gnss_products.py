@@ -24,8 +24,8 @@ def main(date: str, orbit_path, clock_path, antex_path, out_orbit, out_clock, ou
          systems: list[str]) -> None:
     """Parse the products of day ``date`` (``clock_path``/``antex_path`` and their outputs
     may be None) and write them as netCDF; all are parsed before any file is written."""
-    orbit = read_sp3(orbit_path)
-    clock = read_rinex_clock(clock_path) if clock_path else None
+    orbit = read_sp3(orbit_path, gps_time=True)
+    clock = read_rinex_clock(clock_path, gps_time=True) if clock_path else None
     antennas = None
     if antex_path:
         day = np.datetime64(parse_date_id(date), "ns")

@@ -45,7 +45,7 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antenna_path, out_obs, 
     if n_extra:
         log.warning("GNSS orbits extrapolated beyond the product at %d epochs (flagged)", n_extra)
     if apriori_path:
-        leo = apriori_from_sp3(read_sp3(apriori_path), sp3_id, obs.time.values)
+        leo = apriori_from_sp3(read_sp3(apriori_path, gps_time=True), sp3_id, obs.time.values)
     else:
         antex = read_antenna_product(antenna_path) if antenna_path else None
         leo = apriori_from_spp(obs, products, signals, pco_body_m, antex)

@@ -33,6 +33,17 @@ SECONDS_PER_DAY = 86_400.0
 #: GPS time minus TAI [s] (constant by definition of GPS time).
 GPST_MINUS_TAI_S = -19.0
 
+#: BeiDou time (BDT) minus GPS time [s], exact and leap-second free: BDT started at
+#: 2006-01-01 00:00:00 UTC (BDS-SIS-ICD-B1I-3.0, time system), when GPST - UTC was 14 s
+#: (GPST began at 1980-01-06 00:00:00 UTC, IS-GPS-200; TAI - UTC = 33 s from 2006-01-01,
+#: IERS Bulletin C).
+BDT_MINUS_GPST_S = -14.0
+
+#: Galileo system time (GST) minus GPS time [s] as labels: GST started at 1999-08-22
+#: 00:00:00 UT, 13 s ahead of UTC (Galileo OS SIS ICD 2.0, GST definition), which is GPST
+#: at that instant. The physical GST-GPST offset (GGTO, a few ns) is not a label offset.
+GST_MINUS_GPST_S = 0.0
+
 #: TT minus TAI [s]. IERS Conventions 2010, Chapter 10.
 TT_MINUS_TAI_S = 32.184
 

@@ -1,8 +1,10 @@
 """Ingest: raw files -> canonical observation, GNSS-product and a-priori LEO orbit Datasets.
 
 * :func:`canonical_observations` keeps the configured GNSS and signals of a RINEX file, maps
-  RINEX 2 names to RINEX 3 codes (:mod:`leopod.signals`) and converts phase to metres,
-  so every later step sees one schema whatever the input version.
+  RINEX 2 names to RINEX 3 codes (:mod:`leopod.signals`), converts phase to metres and the
+  epochs to GPS time (BDT and GST files, :func:`leopod.time.scales.to_gps_time`), and drops
+  BDS GEO satellites when the campaign says so, so every later step sees one schema
+  whatever the input version and time system.
 * :func:`gnss_at_epochs` evaluates the precise GNSS orbits (Lagrange) at the observation
   epochs and keeps the clock product's values at its own epochs only.
 * :func:`apriori_from_spp` makes the a-priori LEO orbit from a code-only kinematic solution
@@ -30,6 +32,7 @@ from leopod.gnss.spp import solve_spp
 from leopod.numerics.interpolate import interpolate_table
 from leopod.signals import SystemSignals
 from leopod.time.calendar import seconds_since
+from leopod.time.scales import to_gps_time
 
 __all__ = ["canonical_observations", "gnss_at_epochs", "apriori_from_spp", "apriori_from_sp3",
            "smooth_positions"]
@@ -61,19 +64,30 @@ def canonical_observations(raw: xr.Dataset, signal_cfg: Mapping[str, SystemSigna
     Returns
     -------
     xarray.Dataset
-        Dims ``(time, sv)``; one float64 variable per RINEX 3 code in metres (phase converted
-        with the band's wavelength, recorded in the ``wavelength_m`` attribute), int8
-        ``<code>_lli`` and ``<code>_ssi`` where the file has them. Satellites of other
-        systems are dropped; epochs without any configured observation are dropped.
+        Dims ``(time, sv)``; ``time`` in GPS time (datetime64[ns]); one float64 variable per
+        RINEX 3 code in metres (phase converted with the band's wavelength, recorded in the
+        ``wavelength_m`` attribute), int8 ``<code>_lli`` and ``<code>_ssi`` where the file
+        has them. Satellites of other systems, and GEO satellites of systems with
+        ``exclude_geo``, are dropped; epochs without any configured observation are dropped.
+        Attributes: those of ``raw``, with ``time_system = "GPS"``, ``time_system_file``
+        (the file's own, e.g. ``"BDT"``) and ``excluded_geo`` (space-joined ids dropped).
 
     Raises
     ------
     ValueError
-        If a configured signal is in no satellite of the file (names the file and signal).
+        If a configured signal is in no satellite of the file (names the file and signal),
+        or the file's time system is not convertible to GPS time (GLONASS, QZSS, IRNSS:
+        names the file, the line and the field 'TIME OF FIRST OBS').
     """
     fname = raw.attrs.get("filename", "observation file")
+    times = _gps_epochs(raw, fname)
     sv_all = np.array([str(s) for s in raw.sv.values])
-    keep_sv = np.array([s[0] in signal_cfg for s in sv_all])
+    geo = np.array([signals.is_geo(s) and s[0] in signal_cfg and signal_cfg[s[0]].exclude_geo
+                    for s in sv_all], dtype=bool)
+    if geo.any():
+        log.info("%s: BDS GEO satellites excluded by configuration: %s", fname,
+                 " ".join(sv_all[geo]))
+    keep_sv = np.array([s[0] in signal_cfg for s in sv_all], dtype=bool) & ~geo
     sv = sv_all[keep_sv]
     n = raw.sizes["time"]
     out: dict[str, xr.Variable] = {}
@@ -103,15 +117,39 @@ def canonical_observations(raw: xr.Dataset, signal_cfg: Mapping[str, SystemSigna
                     ind_vals = raw[f"{src}_{ind}"].values[:, keep_sv][:, cols]
                     _put(out, f"{code}_{ind}", ind_vals, cols, n, len(sv), -1, np.int8,
                          {"units": "1", "long_name": f"RINEX {'loss-of-lock' if ind == 'lli' else 'signal-strength'} indicator of {code}"})
-    ds = xr.Dataset(out, coords={"time": raw.time.values, "sv": sv})
+    ds = xr.Dataset(out, coords={"time": times, "sv": sv})
     has_data = np.zeros(n, dtype=bool)
     for name, var in ds.data_vars.items():
         if var.dtype.kind == "f":
             has_data |= np.isfinite(var.values).any(axis=1)
     ds = ds.isel(time=np.nonzero(has_data)[0])
     ds.attrs = {k: v for k, v in raw.attrs.items() if isinstance(v, (str, int, float))}
-    ds.attrs["systems"] = " ".join(signal_cfg)
+    ds.attrs.update(systems=" ".join(signal_cfg), time_system="GPS",
+                    time_system_file=str(raw.attrs.get("time_system", "GPS")),
+                    excluded_geo=" ".join(sv_all[geo]))
     return ds
+
+
+def _gps_epochs(raw: xr.Dataset, fname: str) -> np.ndarray:
+    """The epochs of a read RINEX file in GPS time (exact integer-nanosecond offsets).
+
+    Raises
+    ------
+    ValueError
+        Naming the file, the line of TIME OF FIRST OBS (or "default" when the system's
+        default applied) and the field, for a time system that has no conversion.
+    """
+    system = str(raw.attrs.get("time_system", "GPS"))
+    try:
+        times = to_gps_time(raw.time.values, system)
+    except ValueError as err:
+        line = int(raw.attrs.get("time_system_line", 0))
+        where = f"{fname}:{line}" if line else f"{fname} (default of the file's system)"
+        raise ValueError(f"{where}: field 'TIME OF FIRST OBS time system': {err}; only GPS, "
+                         "GAL and BDT observation files can be ingested") from None
+    if system != "GPS":
+        log.info("%s: epochs converted from %s to GPS time", fname, system)
+    return times
 
 
 def _put(out, name, values, cols, n, s, fill, dtype, attrs):

@@ -24,6 +24,7 @@ from leopod.settings import Settings
 __all__ = [
     "Band", "BANDS", "SYSTEMS", "band", "frequency_hz", "wavelength_m", "rinex3_code",
     "RINEX2_TO_RINEX3", "obs_type", "code_band", "SystemSignals", "signal_settings",
+    "GEO_SATELLITES", "is_geo",
 ]
 
 #: One-letter RINEX system identifiers leopod knows, with their names.
@@ -161,6 +162,20 @@ def code_band(code: str) -> str:
     return code[1]
 
 
+#: Satellites in geostationary orbit, per system (RINEX ids). BeiDou assigns PRN 1-5 and
+#: 59-63 to its GEO satellites (BDS-2 and BDS-3), the ones that broadcast the D2 navigation
+#: message (BDS-SIS-ICD-B1I-3.0, navigation message section; CSNO constellation status,
+#: CSNO 2024).
+GEO_SATELLITES: dict[str, frozenset[str]] = {
+    "C": frozenset([f"C{prn:02d}" for prn in (*range(1, 6), *range(59, 64))]),
+}
+
+
+def is_geo(sv: str) -> bool:
+    """True for a satellite id (``"C03"``) of :data:`GEO_SATELLITES`."""
+    return sv in GEO_SATELLITES.get(sv[:1], ())
+
+
 @dataclass(frozen=True)
 class SystemSignals(Settings):
     """Signals of one GNSS that a campaign processes (config ``signals.<system>``).
@@ -173,11 +188,17 @@ class SystemSignals(Settings):
         Every code observation to ingest and assess.
     pod_code : tuple of 2 str
         The codes, one per frequency of ``phase``, used for positioning and the wide lane.
+    exclude_geo : bool
+        Drop the system's geostationary satellites (:data:`GEO_SATELLITES`: BDS C01-C05,
+        C59-C63) at ingest; no effect for systems without GEO satellites.
     """
+
+    SCHEMA_DEF = "system_signals"
 
     phase: tuple[str, str]
     code: tuple[str, ...]
     pod_code: tuple[str, str]
+    exclude_geo: bool
 
     @property
     def observations(self) -> list[str]:

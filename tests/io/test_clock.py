@@ -268,3 +268,52 @@ def test_duplicate_record(tmp_path):
     with pytest.raises(FormatError, match="second AS record of 'G01'") as excinfo:
         read_rinex_clock(path)
     _assert_error(excinfo, path, 12, "clock name")
+
+
+# --------------------------------------------------------------------------- time systems
+def test_bdt_file_read_in_gps_time(tmp_path):
+    """RINEX clock 3.04 TIME SYSTEM ID: a BDT file whose epochs are 14 s before GPST
+    (BDT = GPST - 14 s, BDS-SIS-ICD-B1I-3.0 / IS-GPS-200) reads back, with ``gps_time=True``,
+    on the GPST epochs to better than 1 microsecond (here exactly)."""
+    gps = _clock_ds()
+    bdt = gps.assign_coords(time=gps.time.values - np.timedelta64(14, "s"))
+    bdt.attrs["time_system"] = "BDT"
+    path = tmp_path / "bdt.clk"
+    write_rinex_clock(bdt, path, version="3.00")
+    assert any(x[60:].strip() == "TIME SYSTEM ID" and x.split()[0] == "BDT"
+               for x in path.read_text().splitlines())
+    np.testing.assert_array_equal(read_rinex_clock(path).time.values, bdt.time.values)
+    back = read_rinex_clock(path, gps_time=True)
+    err_ns = np.abs((back.time.values - gps.time.values).astype(np.int64))
+    assert err_ns.max() < 1_000
+    assert back.attrs["time_system"] == "GPS" and back.attrs["time_system_file"] == "BDT"
+    np.testing.assert_allclose(back.clk_s.values, gps.clk_s.values, rtol=5e-12)
+
+
+def test_time_system_errors(tmp_path):
+    """An identifier outside the RINEX clock list is a FormatError at its line; GLONASS time
+    is read as written but has no conversion to GPS time."""
+    path = tmp_path / "gps.clk"
+    write_rinex_clock(_clock_ds(), path, version="3.00")
+    lines = path.read_text().splitlines()
+    k = next(i for i, x in enumerate(lines) if x[60:].strip() == "TIME SYSTEM ID")
+    for code, name in (("XYZ", "xyz.clk"), ("GLO", "glo.clk")):
+        edited = list(lines)
+        edited[k] = f"   {code}".ljust(60) + lines[k][60:]
+        bad = write_lines(tmp_path, edited, name)
+        if code == "GLO":
+            assert read_rinex_clock(bad).attrs["time_system"] == "GLO"
+        with pytest.raises(FormatError, match="GLONASS" if code == "GLO" else "'XYZ'") as exc:
+            read_rinex_clock(bad, gps_time=True)
+        assert_format_error(exc, bad, k + 1, "TIME SYSTEM ID")
+
+
+def test_empty_gzip_payload_is_a_format_error(tmp_path):
+    """Issue 24: a gzip file with an empty payload raised IndexError at lines[0]."""
+    import gzip
+
+    path = tmp_path / "empty.clk.gz"
+    path.write_bytes(gzip.compress(b""))
+    with pytest.raises(FormatError) as exc:
+        read_rinex_clock(path)
+    assert_format_error(exc, path, 1, "RINEX VERSION / TYPE")

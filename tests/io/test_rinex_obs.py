@@ -497,3 +497,72 @@ def test_v3_satellite_count_and_duplicates(tmp_path):
     with pytest.raises(FormatError) as exc:
         read_rinex_obs(path)
     _assert_error(exc, path, 12, "satellite")
+
+
+@pytest.mark.parametrize("flag", ["0", "4"])
+def test_v3_negative_satellite_count_is_an_error_not_a_hang(tmp_path, flag):
+    """Issue 24: an epoch record (or event, flag 4) announcing -1 satellites made the scanner
+    stand still; the count (RINEX 3.04 Table A3, I3) must be >= 0."""
+    lines = _v3_file(tmp_path).read_text().splitlines()
+    lines[5] = lines[5][:31] + flag + " -1" + lines[5][35:]
+    path = _write_lines(tmp_path, "neg.rnx", lines)
+    with pytest.raises(FormatError, match="negative") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, 6, "number of satellites")
+
+
+@pytest.mark.shared
+def test_v2_negative_satellite_count_is_an_error_not_a_hang(tmp_path, grace_a_lines):
+    lines = list(grace_a_lines[:43])
+    lines[23] = lines[23][:28] + "4 -1" + lines[23][32:]
+    path = _write_lines(tmp_path, "neg.07o", lines)
+    with pytest.raises(FormatError, match="negative") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, 24, "number of satellites")
+
+
+@pytest.mark.shared
+def test_rinex2_time_system_field(tmp_path, grace_a, grace_a_lines):
+    """RINEX 2.11 Table A1: TIME OF FIRST OBS time system (A3, columns 49-51); GPS when blank
+    in a GPS file; an identifier outside GPS/GLO/GAL (and the RINEX 3 ones) is refused."""
+    assert grace_a.attrs["time_system"] == "GPS"
+    k = next(i for i, x in enumerate(grace_a_lines) if x[60:].strip() == "TIME OF FIRST OBS")
+    lines = list(grace_a_lines[:43])
+    lines[k] = lines[k][:48] + "ABC" + lines[k][51:]
+    path = _write_lines(tmp_path, "tsys.07o", lines)
+    with pytest.raises(FormatError, match="'ABC' is not a RINEX time system") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, k + 1, "TIME OF FIRST OBS time system")
+
+
+@pytest.mark.parametrize("year", ["3000", "1600"])
+def test_v3_year_outside_datetime64_range_is_an_error(tmp_path, year):
+    """Issue 24: a year outside 1678-2261 wrapped silently in datetime64[ns]."""
+    lines = _v3_file(tmp_path).read_text().splitlines()
+    lines[5] = lines[5][:2] + year + lines[5][6:]
+    path = _write_lines(tmp_path, "year.rnx", lines)
+    with pytest.raises(FormatError, match="outside 1678-2261") as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, 6, "year")
+
+
+def test_damaged_gzip_stream_is_a_format_error(tmp_path):
+    """Issue 24: a corrupt deflate stream raised zlib.error instead of FormatError."""
+    data = bytearray(gzip.compress(_v3_file(tmp_path).read_bytes()))
+    data[12:20] = b"\xff" * 8  # inside the deflate data, after the 10-byte gzip header
+    path = tmp_path / "bad.rnx.gz"
+    path.write_bytes(bytes(data))
+    with pytest.raises(FormatError) as exc:
+        read_rinex_obs(path)
+    _assert_error(exc, path, None, "gzip")
+
+
+@pytest.mark.parametrize("name, system, expected", [
+    ("default_time_system2.10o", "R", "GLO"),   # RINEX 2.11 GLONASS file, field blank
+    ("default_time_system3.10o", "E", "GAL")])  # RINEX 3.01 Galileo file, field blank
+def test_blank_time_system_defaults_to_the_systems_own(shared, name, system, expected):
+    """RINEX 2.11 Table A1 / 3.04 Table A2: in a single-system file a blank time system is
+    that system's time (georinex fixtures, ../shared/peer_fixtures/MANIFEST.md)."""
+    ds = read_rinex_obs(shared / "peer_fixtures" / "valid" / "obs" / name)
+    assert ds.attrs["file_system"] == system
+    assert ds.attrs["time_system"] == expected and ds.attrs["time_system_line"] == 0

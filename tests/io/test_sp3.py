@@ -344,3 +344,68 @@ def test_record_standard_deviations(tmp_path):
                                [1.25 ** 18 * 1e-3, 1.25 ** 18 * 1e-3, 1.25 ** 17 * 1e-3])
     assert ds.clk_sigma_s.values[0, 0] == pytest.approx(1.025 ** 219 * 1e-12)
     assert np.isnan(ds.pos_sigma_m.values[0, 1]).all()  # G02: blank exponents
+
+
+# --------------------------------------------------------------------------- time systems
+def test_bdt_file_read_in_gps_time(tmp_path):
+    """SP3-d line %c columns 10-12 give the time system; a BDT file whose epochs are 14 s
+    before GPST (BDT = GPST - 14 s, BDS-SIS-ICD-B1I-3.0 / IS-GPS-200) reads back, with
+    ``gps_time=True``, on the GPST epochs to better than 1 microsecond (here exactly)."""
+    gps = _small()
+    bdt = gps.assign_coords(time=gps.time.values - np.timedelta64(14, "s"))
+    bdt.attrs["time_system"] = "BDT"
+    path = tmp_path / "bdt.sp3"
+    write_sp3(bdt, path)
+    pc = next(x for x in path.read_text().splitlines() if x.startswith("%c"))
+    assert pc[9:12] == "BDT"  # the first %c line
+    as_written = read_sp3(path)
+    assert as_written.attrs["time_system"] == "BDT"
+    np.testing.assert_array_equal(as_written.time.values, bdt.time.values)
+    back = read_sp3(path, gps_time=True)
+    err_ns = np.abs((back.time.values - gps.time.values).astype(np.int64))
+    assert err_ns.max() < 1_000
+    assert back.attrs["time_system"] == "GPS" and back.attrs["time_system_file"] == "BDT"
+    np.testing.assert_allclose(back.pos_m.values, gps.pos_m.values, atol=1e-3)
+
+
+def test_time_system_errors(tmp_path):
+    """An identifier outside the SP3/RINEX list is a FormatError at the %c line; GLONASS
+    time (UTC(SU) + 3 h) is read as written but has no conversion to GPS time."""
+    lines = _written_lines(tmp_path)
+    k = next(i for i, x in enumerate(lines) if x.startswith("%c"))
+    assert lines[k][9:12] == "GPS"
+    bad = list(lines)
+    bad[k] = bad[k][:9] + "XYZ" + bad[k][12:]
+    path = write_lines(tmp_path, bad, "xyz.sp3")
+    with pytest.raises(FormatError, match="'XYZ' is not an SP3 time system") as exc:
+        read_sp3(path)
+    assert_format_error(exc, path, k + 1, "time system")
+    glo = list(lines)
+    glo[k] = glo[k][:9] + "GLO" + glo[k][12:]
+    path = write_lines(tmp_path, glo, "glo.sp3")
+    assert read_sp3(path).attrs["time_system"] == "GLO"
+    with pytest.raises(FormatError, match="GLONASS") as exc:
+        read_sp3(path, gps_time=True)
+    assert_format_error(exc, path, k + 1, "time system")
+
+
+def test_empty_gzip_payload_is_a_format_error(tmp_path):
+    """Issue 24: a gzip file with an empty payload raised IndexError at lines[0]."""
+    import gzip
+
+    path = tmp_path / "empty.sp3.gz"
+    path.write_bytes(gzip.compress(b""))
+    with pytest.raises(FormatError) as exc:
+        read_sp3(path)
+    assert_format_error(exc, path, 1, "version")
+
+
+def test_year_outside_datetime64_range_is_an_error(tmp_path):
+    """Issue 24: year 3000 overflowed datetime64[ns] (OverflowError) instead of FormatError."""
+    lines = _written_lines(tmp_path)
+    k = next(i for i, x in enumerate(lines) if x.startswith("*"))
+    lines[k] = lines[k][:3] + "3000" + lines[k][7:]
+    path = write_lines(tmp_path, lines, "year.sp3")
+    with pytest.raises(FormatError, match="outside 1678-2261") as exc:
+        read_sp3(path)
+    assert_format_error(exc, path, k + 1, "epoch")

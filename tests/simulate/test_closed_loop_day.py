@@ -347,7 +347,7 @@ def _closed_loop(folder, raw, antex=None, system="G"):
     sat_pco, sat_pcv = None, None
     if antex is not None:      # the estimator's ANTEX handling (leopod.estimation.inputs)
         sat_pco, sat_pcv = satellite_antenna(antex, sv, DAY0, system,
-                                             SystemSignals((p1, p2), (), ("", "")))
+                                             SystemSignals((p1, p2), (), ("", ""), False))
     model = compute_model(Pairs(epoch=ep, isv=products.sv_index(sv)[sat], sat=sat), t_s, pos,
                           vel, rot, products, sun_position_ef(times), leo_pco_body_m=pco_if,
                           sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,

@@ -19,6 +19,7 @@ from leopod.time.scales import (
     jd_tt,
     julian_centuries_tt,
     tai_minus_utc_s,
+    to_gps_time,
     utc_to_gps,
 )
 
@@ -187,3 +188,43 @@ def test_julian_centuries_tt_at_j2000():
     # J2000.0 = 2000-01-01T12:00:00 TT = 11:58:55.816 UTC = 11:59:08.816 GPST (IERS 2010 ch. 5).
     assert julian_centuries_tt(_t("2000-01-01T11:59:08.816"))[0] == 0.0
     assert julian_centuries_tt(_t("2100-01-01T11:59:08.816"))[0] == pytest.approx(1.0, abs=1e-15)
+
+
+# ------------------------------------------------------------------ GNSS time systems -> GPST
+def test_bdt_offset_follows_from_the_bds_start_epoch():
+    """BDT started at 2006-01-01 00:00:00 UTC (BDS-SIS-ICD-B1I-3.0, time system); GPST started
+    at 1980-01-06 00:00:00 UTC (IS-GPS-200) and has counted every leap second since (IERS
+    Bulletin C: TAI-UTC = 33 s from 2006-01-01). So the BDT label 2006-01-01T00:00:00 is the
+    GPS label of that UTC instant, and the offset is the same 14 s at any later epoch."""
+    start_gps = utc_to_gps(_t("2006-01-01T00:00:00"))
+    assert to_gps_time(_t("2006-01-01T00:00:00"), "BDT")[0] == start_gps[0]
+    later = _t("2022-01-09T00:00:00.1234567", "2030-06-30T23:59:59")
+    shift = (to_gps_time(later, "BDT") - later).astype(np.int64)
+    np.testing.assert_array_equal(shift, 14_000_000_000)  # exact, leap-second free
+
+
+def test_gst_labels_equal_gpst_from_the_galileo_start_epoch():
+    """GST started at 1999-08-22 00:00:00 UT, 13 s ahead of UTC (Galileo OS SIS ICD 2.0, GST
+    definition): the GST label 1999-08-22T00:00:13 is the GPS label of that UTC instant
+    (GPST - UTC = 13 s then: TAI-UTC = 32 s, IERS Bulletin C)."""
+    start_gps = utc_to_gps(_t("1999-08-22T00:00:00"))
+    assert to_gps_time(_t("1999-08-22T00:00:13"), "GAL")[0] == start_gps[0]
+    t = _t("2023-07-08T12:00:00")
+    assert to_gps_time(t, "GST")[0] == t[0] and to_gps_time(t, " gps ")[0] == t[0]
+
+
+def test_tai_tt_utc_labels_to_gps():
+    """TAI = GPST + 19 s, TT = TAI + 32.184 s (IERS Conventions 2010, ch. 10): the inverse of
+    gps_to_tai / gps_to_tt / gps_to_utc."""
+    t = _t("2016-12-31T23:59:50", "2017-01-01T00:00:30")
+    np.testing.assert_array_equal(to_gps_time(gps_to_tai(t), "TAI"), t)
+    np.testing.assert_array_equal(to_gps_time(gps_to_tt(t), "TT"), t)
+    np.testing.assert_array_equal(to_gps_time(gps_to_utc(t), "UTC"), t)
+
+
+@pytest.mark.parametrize("system, words", [("GLO", "UTC(SU) + 3 h"), ("QZS", "QZSS"),
+                                           ("IRN", "IRNSS"), ("XYZ", "unknown time system")])
+def test_unsupported_time_systems_are_refused_with_the_reason(system, words):
+    with pytest.raises(ValueError, match=r"time system") as err:
+        to_gps_time(_t("2023-01-01"), system)
+    assert words in str(err.value) and f"'{system}'" in str(err.value)

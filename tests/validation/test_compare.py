@@ -377,3 +377,13 @@ def test_difference_rtn_with_itrf_variables_uses_inertial_axes(truth):
     diff = difference_rtn(moved, truth).diff_rtn_m.values
     np.testing.assert_allclose(diff[:, 1], 0.1, atol=1e-4)
     assert np.abs(diff[:, 2]).max() < 1e-4
+
+
+def test_to_gps_time_gnss_systems():
+    """A reference orbit in BDT or GST (SP3-d %c line): BDT = GPST - 14 s
+    (BDS-SIS-ICD-B1I-3.0, IS-GPS-200), GST = GPST (Galileo OS SIS ICD 2.0)."""
+    t = np.array(["2023-01-01T00:00:00"], dtype="datetime64[ns]")
+    assert to_gps_time(t, "BDT")[0] == np.datetime64("2023-01-01T00:00:14", "ns")
+    assert to_gps_time(t, "GAL")[0] == t[0]
+    with pytest.raises(ValueError, match="GLONASS"):
+        to_gps_time(t, "GLO")

@@ -91,7 +91,12 @@ def test_products_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path
                            signals=signals,
                            pco_body_m={"L1": [0.0, 0.0, -0.4514], "L2": [0.0, 0.0, -0.4757]},
                            sp3_id=None)
-    assert xr.open_dataset(out["obs"]).sizes["time"] == 8640
+    obs = xr.open_dataset(out["obs"])
+    assert obs.sizes["time"] == 8640
+    # graa0800.07o line 12: "  2007     3    21     0     0    0.0000000     GPS  TIME OF
+    # FIRST OBS": GPS time, so the epochs do not move
+    assert obs.attrs["time_system"] == "GPS" and obs.attrs["time_system_file"] == "GPS"
+    assert obs.time.values[0] == np.datetime64("2007-03-21T00:00:00")
     figures = {k: tmp_path / f"{k}.png" for k in ("mp_elevation", "skyplot", "noise",
                                                    "visibility")}
     outputs = {"nc": tmp_path / "quality.nc", "summary": tmp_path / "summary.html", **figures}

@@ -15,6 +15,7 @@ import datetime as _dt
 import gzip
 import math
 import os
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -28,13 +29,20 @@ __all__ = [
     "parse_floats",
     "parse_int",
     "read_lines",
+    "time_system_to_gps",
     "write_text",
 ]
+
+#: Time-system identifiers of the SP3-c/d ``%c`` line and the RINEX clock 3.04 ``TIME SYSTEM
+#: ID`` record (the GNSS times of RINEX 3.04 Table A2 plus TAI and UTC).
+PRODUCT_TIME_SYSTEMS = ("GPS", "GLO", "GAL", "QZS", "BDT", "IRN", "TAI", "UTC")
 
 _GZIP_MAGIC = b"\x1f\x8b"
 _COMPRESS_MAGIC = b"\x1f\x9d"
 _CRX_MARK = b"COMPACT RINEX FORMAT"
 _UNIX0 = _dt.datetime(1970, 1, 1)
+#: Whole years that datetime64[ns] holds (1677-09-21 to 2262-04-11).
+_MIN_NS_YEAR, _MAX_NS_YEAR = 1678, 2261
 
 
 def creation_time(created: _dt.datetime | None = None) -> _dt.datetime:
@@ -85,7 +93,7 @@ def _decompress(raw: bytes, path: Path) -> bytes:
         if raw[:2] == _GZIP_MAGIC:
             try:
                 raw = gzip.decompress(raw)
-            except (OSError, EOFError) as err:
+            except (OSError, EOFError, zlib.error) as err:
                 raise FormatError(path, None, "gzip", f"corrupt or truncated gzip stream ({err})")
         elif raw[:2] == _COMPRESS_MAGIC:
             import unlzw3
@@ -238,7 +246,9 @@ def calendar_epoch_ns(ymdhm: tuple[int, int, int, int, int], seconds: float, pat
     Raises
     ------
     FormatError
-        Naming ``epoch`` for an impossible date/time or ``second`` outside [0, 60).
+        Naming ``epoch`` for an impossible date/time or a year outside 1678-2261 (the range
+        of datetime64[ns], beyond which the epoch would overflow or wrap), or ``second``
+        outside [0, 60).
     """
     try:
         dt = _dt.datetime(*ymdhm)
@@ -246,6 +256,9 @@ def calendar_epoch_ns(ymdhm: tuple[int, int, int, int, int], seconds: float, pat
         raise FormatError(path, line, "epoch", f"invalid date or time ({err})") from None
     if not 0.0 <= seconds < 60.0:
         raise FormatError(path, line, "second", f"seconds {seconds} outside [0, 60)")
+    if not _MIN_NS_YEAR <= dt.year <= _MAX_NS_YEAR:
+        raise FormatError(path, line, "epoch", f"year {dt.year} outside {_MIN_NS_YEAR}-"
+                          f"{_MAX_NS_YEAR}, the range of datetime64[ns] epochs")
     delta = dt - _UNIX0
     return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + round(seconds * 1e9)
 
@@ -272,3 +285,32 @@ def write_text(path: str | Path, text: str) -> Path:
         tmp.write_bytes(gzip.compress(data, compresslevel=6, mtime=0)
                         if path.suffix == ".gz" else data)
     return path
+
+
+def time_system_to_gps(times: np.ndarray, system: str, path, line: int | None,
+                       field: str) -> np.ndarray:
+    """Epoch labels of a file in GPS time, or a :class:`FormatError` naming where the
+    file's time system was given.
+
+    Parameters
+    ----------
+    times : ndarray of datetime64[ns], shape (n,)
+        Labels in ``system``.
+    system : str
+        The file's time system (``GPS``, ``GAL``, ``BDT``, ``TAI``, ``UTC``;
+        :func:`leopod.time.scales.to_gps_time`).
+    path, line, field
+        Where the time system was read (``line`` None when the format's default applied).
+
+    Returns
+    -------
+    ndarray of datetime64[ns], shape (n,)
+        GPS-time labels (exact integer-nanosecond offsets; leap seconds for UTC).
+    """
+    from leopod.time.scales import to_gps_time
+
+    try:
+        return to_gps_time(times, system)
+    except ValueError as err:
+        raise FormatError(path, line, field, f"{err}; cannot convert the epochs to GPS "
+                          "time") from None

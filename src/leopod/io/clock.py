@@ -23,7 +23,8 @@ Data variables (only for the requested kinds)
     ``clk_station_sigma_s`` (time, station) float64 [s] -- its standard deviation, NaN if absent
     Rates and accelerations (values 3 to 6 of a record) are checked but not returned.
 Attributes
-    ``rinex_version`` (float), ``time_system`` ("GPS" when the header has no TIME SYSTEM ID),
+    ``rinex_version`` (float), ``time_system`` ("GPS" when the header has no TIME SYSTEM ID;
+    "GPS" with ``time_system_file`` the file's when read with ``gps_time=True``),
     ``analysis_center`` (3-character id, e.g. "COD"), ``analysis_center_name``, ``data_types``
     (e.g. "AR AS"), ``pcv_applied`` / ``dcb_applied`` (text of the SYS / PCVS / DCBS APPLIED
     records, "; "-joined; only when present), ``leap_seconds`` (int, when present),
@@ -48,12 +49,14 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._text import (
+    PRODUCT_TIME_SYSTEMS,
     FormatError,
     calendar_epoch_ns,
     parse_float,
     parse_floats,
     parse_int,
     read_lines,
+    time_system_to_gps,
 )
 
 __all__ = ["read_rinex_clock"]
@@ -99,7 +102,7 @@ def _epoch_ns(text: str, path: Path, line_no: int) -> int:
 
 def _parse_header(lines: list[str], path: Path) -> tuple[dict, int, bool]:
     """Header attributes, the index of the first data line and whether the layout is 3.04+."""
-    first = lines[0]
+    first = lines[0] if lines else ""
     if "RINEX VERSION / TYPE" not in first:
         raise FormatError(path, 1, "RINEX VERSION / TYPE", "the first line must be the "
                           "'RINEX VERSION / TYPE' record")
@@ -125,7 +128,11 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, int, bool]:
                     attrs[key] = "; ".join(values)
             return attrs, i + 1, wide
         if label == "TIME SYSTEM ID" and content.strip():
-            attrs["time_system"] = content.split()[0]
+            code = content.split()[0]
+            if code not in PRODUCT_TIME_SYSTEMS:
+                raise FormatError(path, i + 1, "TIME SYSTEM ID", f"'{code}' is not a RINEX "
+                                  f"clock time system ({', '.join(PRODUCT_TIME_SYSTEMS)})")
+            attrs.update(time_system=code, _time_system_line=i + 1)
         elif label == "LEAP SECONDS":
             attrs["leap_seconds"] = parse_int(content[:6], path, i + 1, "LEAP SECONDS")
         elif label == "ANALYSIS CENTER":
@@ -214,7 +221,8 @@ def _epochs(recs: dict[str, _Collected], path: Path) -> dict[str, np.ndarray]:
     return out
 
 
-def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",)) -> xr.Dataset:
+def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
+                     gps_time: bool = False) -> xr.Dataset:
     """Read a RINEX clock file (2.00, 3.00-3.04; plain, .gz or .Z).
 
     Parameters
@@ -223,6 +231,11 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",)) -> xr.D
         The clock file.
     kinds : tuple of str
         Record types to return: "AS" (satellite clocks) and/or "AR" (receiver clocks).
+    gps_time : bool
+        Convert the epochs from the file's ``TIME SYSTEM ID`` (RINEX clock 3.04; GPS when
+        absent) to GPS time (:func:`leopod.time.scales.to_gps_time`: BDT, GAL, TAI, UTC);
+        ``attrs["time_system"]`` becomes "GPS", ``attrs["time_system_file"]`` keeps the
+        file's. False: epochs as written.
 
     Returns
     -------
@@ -233,7 +246,8 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",)) -> xr.D
     Raises
     ------
     FormatError
-        If the file does not follow the format (see the module docstring).
+        If the file does not follow the format (see the module docstring), or, with
+        ``gps_time``, its time system (GLO, QZS, IRN) has no conversion to GPS time.
     ValueError
         If ``kinds`` is empty or names a type other than "AS" and "AR".
     """
@@ -243,10 +257,16 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",)) -> xr.D
     path = Path(path)
     lines = read_lines(path)
     attrs, first, wide = _parse_header(lines, path)
+    tsys_line = attrs.pop("_time_system_line", None)
     recs = _scan(lines, first, wide, kinds, path)
     epochs = _epochs(recs, path)
     all_ns = np.unique(np.concatenate([epochs[k] for k in kinds]))
-    data, coords = {}, {"time": all_ns.astype("datetime64[ns]")}
+    times = all_ns.astype("datetime64[ns]")
+    if gps_time:
+        times = time_system_to_gps(times, attrs["time_system"], path, tsys_line,
+                                   "TIME SYSTEM ID")
+        attrs.update(time_system_file=attrs["time_system"], time_system="GPS")
+    data, coords = {}, {"time": times}
     for kind in kinds:
         rec = recs[kind]
         dim, var, sigma_var, what = _VAR_NAMES[kind]

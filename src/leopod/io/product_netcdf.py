@@ -60,7 +60,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError
+from leopod.io._text import FormatError, time_system_to_gps
 from leopod.io.antex import AntennaPattern, AntexFile, read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.netcdf import atomic_path, write_netcdf
@@ -107,15 +107,30 @@ def _load(path: str | Path, required: Iterable[str], what: str) -> xr.Dataset:
     return ds
 
 
+def _gps_product(ds: xr.Dataset, path: str | Path) -> xr.Dataset:
+    """A netCDF product with its ``time`` in GPS time (converted if its ``time_system``
+    attribute names another system; FormatError if that has no conversion)."""
+    system = str(ds.attrs.get("time_system", "GPS"))
+    if system == "GPS":
+        return ds
+    times = time_system_to_gps(ds.time.values, system, path, None, "time_system")
+    ds = ds.assign_coords(time=times)
+    ds.attrs.update(time_system_file=system, time_system="GPS")
+    return ds
+
+
 def read_orbit_product(path: str | Path) -> xr.Dataset:
     """GNSS orbits: a netCDF product (``.nc``) or an SP3 file (:func:`read_sp3`).
 
     Returns
     -------
     xarray.Dataset
-        The schema of :func:`leopod.io.sp3.read_sp3` (``pos_m`` [m], ``clk_s`` [s], ...).
+        The schema of :func:`leopod.io.sp3.read_sp3` (``pos_m`` [m], ``clk_s`` [s], ...),
+        ``time`` in GPS time (``time_system_file`` keeps the file's when converted).
     """
-    return _load(path, _ORBIT_VARS, "GNSS orbit") if is_netcdf(path) else read_sp3(path)
+    if is_netcdf(path):
+        return _gps_product(_load(path, _ORBIT_VARS, "GNSS orbit"), path)
+    return read_sp3(path, gps_time=True)
 
 
 def read_clock_product(path: str | Path) -> xr.Dataset:
@@ -125,9 +140,12 @@ def read_clock_product(path: str | Path) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        The schema of :func:`leopod.io.clock.read_rinex_clock` (``clk_s`` [s], ...).
+        The schema of :func:`leopod.io.clock.read_rinex_clock` (``clk_s`` [s], ...),
+        ``time`` in GPS time (``time_system_file`` keeps the file's when converted).
     """
-    return _load(path, _CLOCK_VARS, "GNSS clock") if is_netcdf(path) else read_rinex_clock(path)
+    if is_netcdf(path):
+        return _gps_product(_load(path, _CLOCK_VARS, "GNSS clock"), path)
+    return read_rinex_clock(path, gps_time=True)
 
 
 def read_antenna_product(path: str | Path) -> AntexFile:

@@ -39,7 +39,10 @@ Attributes
     ``antenna_type`` (str, "" when absent), ``approx_position_xyz_m`` and
     ``antenna_delta_hen_m`` (str of three numbers in m, "" when absent), ``interval_s`` (float:
     INTERVAL record, else median epoch spacing, NaN for fewer than two epochs),
-    ``time_system`` (TIME OF FIRST OBS, else the file system's own: GPS for G and M files),
+    ``time_system`` (TIME OF FIRST OBS: GPS, GLO, GAL, QZS, BDT or IRN; when blank the
+    file system's own, RINEX 3.04 Table A2: BDT for C files, GAL for E, GLO for R, GPS for G
+    and S, and GPS for mixed files, where the field is compulsory: a warning is logged),
+    ``time_system_line`` (1-based line of TIME OF FIRST OBS that gave it, 0 = default),
     ``obs_types_<sys>`` (space-joined header codes per system; in RINEX 2 the one list repeated
     for every system present), ``n_events`` (epochs with flags 2-5, skipped with their special
     records), ``n_cycle_slip_epochs`` (flag-6 epochs, skipped), ``filename``.
@@ -73,6 +76,8 @@ _V2_SATS_PER_LINE = 12
 _SAT_SYSTEMS = "GRECJIS"
 _OWN_TIME_SYSTEM = {"G": "GPS", "R": "GLO", "E": "GAL", "C": "BDT", "J": "QZS", "I": "IRN",
                     "S": "GPS", "M": "GPS"}
+#: Time-system identifiers of 'TIME OF FIRST OBS' (RINEX 3.04 Table A2; RINEX 2.11 Table A1).
+_TIME_SYSTEM_CODES = ("GPS", "GLO", "GAL", "QZS", "BDT", "IRN")
 _TYPES_V2 = "# / TYPES OF OBSERV"
 _TYPES_V3 = "SYS / # / OBS TYPES"
 _SCALE_LABELS = ("OBS SCALE FACTOR", "SYS / SCALE FACTOR")
@@ -176,6 +181,18 @@ def _parse_obs_types(records: list[tuple[int, str]], path) -> dict[str, tuple[st
     return types
 
 
+def _time_system(line: str, path, lineno: int, label: str) -> dict:
+    """Time system of a 'TIME OF FIRST OBS' record (A3 at columns 49-51, RINEX 2.11 and
+    3.04 Table A2) -> ``{"time_system", "time_system_line"}``; empty dict if blank."""
+    code = line[48:51].strip()
+    if not code:
+        return {}
+    if code not in _TIME_SYSTEM_CODES:
+        raise FormatError(path, lineno, f"{label} time system", f"'{code}' is not a RINEX "
+                          f"time system ({', '.join(_TIME_SYSTEM_CODES)})")
+    return {"time_system": code, "time_system_line": lineno}
+
+
 def _parse_header(lines: list[str], path) -> _Header:
     """Read the header section (up to END OF HEADER)."""
     first = lines[0] if lines else ""
@@ -208,8 +225,7 @@ def _parse_header(lines: list[str], path) -> _Header:
         elif label == "INTERVAL":
             attrs["interval_s"] = fixed_float(line, 0, 10, path, lineno, label)
         elif label == "TIME OF FIRST OBS":
-            if line[48:51].strip():
-                attrs["time_system"] = line[48:51].strip()
+            attrs.update(_time_system(line, path, lineno, label))
         elif label in _SCALE_LABELS:
             _check_scale_factor(line, path, lineno, label)
         else:
@@ -219,7 +235,13 @@ def _parse_header(lines: list[str], path) -> _Header:
                           "record (file truncated or not RINEX)")
     if not type_records:
         raise FormatError(path, None, types_label, f"the header has no '{types_label}' record")
-    attrs.setdefault("time_system", _OWN_TIME_SYSTEM.get(system, "GPS"))
+    if "time_system" not in attrs:
+        attrs["time_system"] = _OWN_TIME_SYSTEM.get(system, "GPS")
+        attrs["time_system_line"] = 0
+        if system == "M":
+            log.warning("%s: mixed file without a time system in 'TIME OF FIRST OBS' (the "
+                        "field is compulsory in mixed files, RINEX 3.04 Table A2): GPS "
+                        "time assumed", path)
     types = _parse_obs_types(type_records, path)
     return _Header(float(version), system, types, attrs, i + 1)
 
@@ -254,6 +276,8 @@ def _epoch_time(line: str, lineno: int, path, v2: bool) -> tuple[_dt.datetime, i
     sec = fixed_float(line, *cols[5], path, lineno, "second")
     if v2:
         y += 2000 if y < 80 else 1900
+    if not 1678 <= y <= 2261:  # datetime64[ns] range: a year outside it would wrap silently
+        raise FormatError(path, lineno, "year", f"{y} is outside 1678-2261")
     for value, low, high, name in ((mo, 1, 12, "month"), (h, 0, 23, "hour"),
                                    (mi, 0, 59, "minute")):
         if not low <= value <= high:
@@ -274,6 +298,15 @@ def _epoch_flag(line: str, col: int, lineno: int, path) -> int:
     if flag > 6:
         raise FormatError(path, lineno, "epoch flag", f"{flag} is not an epoch flag (0-6)")
     return flag
+
+
+def _count(text: str, path, lineno: int) -> int:
+    """The satellite (or special-record) count of an epoch record: an integer >= 0 (a
+    negative count would make the scanner stand still)."""
+    count = parse_int(text, path, lineno, "number of satellites")
+    if count < 0:
+        raise FormatError(path, lineno, "number of satellites", f"{count} is negative")
+    return count
 
 
 class _SatIds:
@@ -355,7 +388,7 @@ def _scan_v2(lines: list[str], hdr: _Header, keep, path) -> _Scan:
             continue
         lineno = i + 1
         flag = _epoch_flag(line, 28, lineno, path)
-        count = parse_int(line[29:32], path, lineno, "number of satellites")
+        count = _count(line[29:32], path, lineno)
         if 2 <= flag <= 5:
             scan.n_events += 1
             i = _skip_event(lines, i, count, flag, path, types, True)
@@ -404,7 +437,7 @@ def _scan_v3(lines: list[str], hdr: _Header, keep, path) -> _Scan:
             raise FormatError(path, lineno, "epoch record", "expected an epoch record "
                               "starting with '>' (more satellite records than announced?)")
         flag = _epoch_flag(line, 31, lineno, path)
-        count = parse_int(line[32:35], path, lineno, "number of satellites")
+        count = _count(line[32:35], path, lineno)
         if 2 <= flag <= 5:
             scan.n_events += 1
             i = _skip_event(lines, i, count, flag, path, types, False)

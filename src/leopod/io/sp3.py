@@ -28,7 +28,8 @@ Data variables
 Attributes
     ``sp3_version`` ("a".."d"), ``pv_flag`` ("P" or "V"), ``data_used``, ``coordinate_system``,
     ``orbit_type``, ``agency``, ``interval_s`` (float, header epoch interval), ``time_system``
-    ("GPS" when the file does not say, as in SP3-a/b), ``file_type`` ("G", "M", "L", ...; "" if
+    ("GPS" when the file does not say, as in SP3-a/b; "GPS" with ``time_system_file`` the
+    file's when read with ``gps_time=True``), ``file_type`` ("G", "M", "L", ...; "" if
     absent), ``comments`` (the ``/*`` lines joined by newlines), ``filename``.
 
 Errors
@@ -50,12 +51,14 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._text import (
+    PRODUCT_TIME_SYSTEMS,
     FormatError,
     calendar_epoch_ns,
     fixed_float,
     parse_floats,
     parse_int,
     read_lines,
+    time_system_to_gps,
 )
 
 __all__ = ["read_sp3"]
@@ -104,7 +107,7 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
     first_data : int
         0-based index of the first epoch line.
     """
-    line1 = lines[0]
+    line1 = lines[0] if lines else ""
     if not (line1.startswith("#") and line1[1:2] in ("a", "b", "c", "d")):
         raise FormatError(path, 1, "version", "the first line must start with '#a', '#b', '#c' "
                           f"or '#d' (SP3 version), found '{line1[:3]}'")
@@ -170,7 +173,11 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
             attrs["file_type"] = text[3:5].strip().replace("c", "")
             tsys = text[9:12].strip()
             if tsys and tsys != "ccc" and attrs["sp3_version"] in ("c", "d"):
+                if tsys not in PRODUCT_TIME_SYSTEMS:
+                    raise FormatError(path, i + 1, "time system", f"'{tsys}' is not an SP3 "
+                                      f"time system ({', '.join(PRODUCT_TIME_SYSTEMS)})")
                 attrs["time_system"] = tsys
+                attrs["_time_system_line"] = i + 1
         elif text.startswith("%f") and not seen_f:
             seen_f = True
             attrs["_base_pos"] = fixed_float(text, 3, 13, path, i + 1, "base pos/vel",
@@ -326,13 +333,18 @@ def _check_epochs(attrs: dict, epochs: list[int], epoch_lines: list[int], pos: _
                               f"epoch is incomplete ({n_pos} of {n_sat} satellites): truncated")
 
 
-def read_sp3(path: str | Path) -> xr.Dataset:
+def read_sp3(path: str | Path, *, gps_time: bool = False) -> xr.Dataset:
     """Read an SP3-a/b/c/d orbit file (plain, .gz or .Z).
 
     Parameters
     ----------
     path : str or Path
         The SP3 file.
+    gps_time : bool
+        Convert the epochs from the file's time system (``%c`` line, columns 10-12; SP3-d
+        table) to GPS time (:func:`leopod.time.scales.to_gps_time`: BDT, GAL, TAI, UTC);
+        ``attrs["time_system"]`` becomes "GPS" and ``attrs["time_system_file"]`` keeps the
+        file's. False: epochs as written.
 
     Returns
     -------
@@ -344,11 +356,13 @@ def read_sp3(path: str | Path) -> xr.Dataset:
     Raises
     ------
     FormatError
-        If the file does not follow the SP3 format (see the module docstring).
+        If the file does not follow the SP3 format (see the module docstring), or, with
+        ``gps_time``, its time system (GLO, QZS, IRN) has no conversion to GPS time.
     """
     path = Path(path)
     lines = read_lines(path)
     attrs, sats, accuracy, first = _parse_header(lines, path)
+    tsys_line = attrs.pop("_time_system_line", None)
     n_sat = len(sats)
     sat_index = {sv: k for k, sv in enumerate(sats)}
     epochs, epoch_lines, pos, vel, eof = _scan_data(lines, first, sat_index, path)
@@ -362,8 +376,12 @@ def read_sp3(path: str | Path) -> xr.Dataset:
     xyz_km[(xyz_km == 0.0).all(axis=1)] = np.nan
     clk_us = p_values[:, 3]
     clk_us[np.abs(clk_us) >= _BAD_CLOCK] = np.nan
-    coords = {"time": np.asarray(epochs, dtype=np.int64).astype("datetime64[ns]"),
-              "sv": np.asarray(sats, dtype=str), "xyz": list(_XYZ)}
+    times = np.asarray(epochs, dtype=np.int64).astype("datetime64[ns]")
+    if gps_time:
+        times = time_system_to_gps(times, attrs["time_system"], path, tsys_line,
+                                   "time system")
+        attrs.update(time_system_file=attrs["time_system"], time_system="GPS")
+    coords = {"time": times, "sv": np.asarray(sats, dtype=str), "xyz": list(_XYZ)}
     grid = _grid(pos, np.column_stack([xyz_km * 1e3, clk_us * 1e-6]), n_time, n_sat)
     data = {
         "pos_m": (("time", "sv", "xyz"), grid[:, :, :3],

@@ -1,8 +1,9 @@
-"""Time scales (GPST, TAI, TT, UTC) and two-part Julian dates.
+"""Time scales (GPST, BDT, GST, TAI, TT, UTC) and two-part Julian dates.
 
 Epochs are ``numpy.datetime64[ns]`` labels holding **GPS-time** readings (see
 :mod:`leopod.time.calendar`). The offsets GPST -> TAI (+19 s) and TAI -> TT (+32.184 s) are
-exact and applied in integer nanoseconds; TAI - UTC (leap seconds) comes from the IERS
+exact and applied in integer nanoseconds, as are BDT -> GPST (+14 s) and GST -> GPST (0 s);
+:func:`to_gps_time` brings labels of any supported system to GPST; TAI - UTC (leap seconds) comes from the IERS
 ``Leap_Second.dat`` shipped with astropy-iers-data, never from the network.
 
 Two-part Julian dates follow the erfa "date & time" split: ``jd1`` is the Julian date of the
@@ -18,7 +19,7 @@ import functools
 import numpy as np
 from astropy_iers_data import IERS_LEAP_SECOND_FILE
 
-from leopod.constants import GPST_MINUS_TAI_S, TT_MINUS_TAI_S
+from leopod.constants import BDT_MINUS_GPST_S, GPST_MINUS_TAI_S, GST_MINUS_GPST_S, TT_MINUS_TAI_S
 
 __all__ = [
     "gps_to_tai",
@@ -28,7 +29,9 @@ __all__ = [
     "jd_tt",
     "julian_centuries_tt",
     "tai_minus_utc_s",
+    "to_gps_time",
     "utc_to_gps",
+    "TIME_SYSTEMS_TO_GPS",
 ]
 
 _NS_PER_S = 1_000_000_000
@@ -117,6 +120,67 @@ def utc_to_gps(times_utc) -> np.ndarray:
         raise ValueError("epoch before 1972-01-01: TAI-UTC is not tabulated in Leap_Second.dat")
     dat_ns = np.round(dat[k] * _NS_PER_S).astype(np.int64)
     return (utc_ns + dat_ns - _GPST_TO_TAI_NS).astype("datetime64[ns]")
+
+
+#: Time systems whose labels :func:`to_gps_time` converts to GPS time, with the constant
+#: label offset system - GPST [s] (None: UTC, converted with the leap seconds). The keys are
+#: the identifiers of RINEX 3.04 / RINEX clock 3.04 / SP3-d headers (GPS, GAL, BDT, TAI, UTC)
+#: plus TT (IERS Conventions 2010, ch. 10).
+TIME_SYSTEMS_TO_GPS: dict[str, float | None] = {
+    "GPS": 0.0,
+    "GAL": GST_MINUS_GPST_S,
+    "BDT": BDT_MINUS_GPST_S,
+    "TAI": -GPST_MINUS_TAI_S,
+    "TT": TT_MINUS_TAI_S - GPST_MINUS_TAI_S,
+    "UTC": None,
+}
+
+#: Why the other time-system identifiers of the RINEX / SP3 formats are not converted.
+_UNSUPPORTED = {
+    "GLO": "GLONASS time is UTC(SU) + 3 h, with leap seconds; leopod does not process "
+           "GLONASS and does not convert GLONASS time",
+    "QZS": "QZSS time is not converted by leopod (no QZSS signals in leopod.signals)",
+    "IRN": "IRNSS/NavIC time is not converted by leopod (no IRNSS signals in leopod.signals)",
+}
+
+
+def to_gps_time(times, time_system: str) -> np.ndarray:
+    """GPS-time labels of epochs labelled in another GNSS or astronomical time system.
+
+    The offsets are exact and leap-second free: BDT = GPST - 14 s (BDS-SIS-ICD-B1I-3.0,
+    IS-GPS-200), GST = GPST (Galileo OS SIS ICD 2.0), TAI = GPST + 19 s, TT = GPST + 51.184 s
+    (IERS Conventions 2010, ch. 10); UTC labels use the leap seconds (:func:`utc_to_gps`).
+
+    Parameters
+    ----------
+    times : array_like of datetime64, shape (n,)
+        Labels in ``time_system``.
+    time_system : str
+        ``GPS``, ``GAL``, ``BDT``, ``TAI``, ``TT`` or ``UTC`` (case-insensitive, blanks
+        stripped; the aliases ``GPST``, ``GST`` and ``BDS`` are accepted).
+
+    Returns
+    -------
+    ndarray of datetime64[ns], shape (n,)
+        GPS-time labels, converted in integer nanoseconds.
+
+    Raises
+    ------
+    ValueError
+        For GLONASS, QZSS and IRNSS time (not supported, the message says why) and for
+        any other identifier.
+    """
+    system = time_system.strip().upper()
+    system = {"GPST": "GPS", "GST": "GAL", "BDS": "BDT"}.get(system, system)
+    ns = _as_ns(times)
+    if system not in TIME_SYSTEMS_TO_GPS:
+        why = _UNSUPPORTED.get(system, "unknown time system (known: "
+                               + ", ".join(TIME_SYSTEMS_TO_GPS) + ")")
+        raise ValueError(f"time system '{time_system}': {why}")
+    offset_s = TIME_SYSTEMS_TO_GPS[system]
+    if offset_s is None:
+        return utc_to_gps(ns.astype("datetime64[ns]"))
+    return (ns - round(offset_s * _NS_PER_S)).astype("datetime64[ns]")
 
 
 # --------------------------------------------------------------------------- Julian dates

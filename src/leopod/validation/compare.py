@@ -32,11 +32,11 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
+from leopod.constants import OMEGA_EARTH_RAD_S
 from leopod.frames.rtn import rtn_axes, rtn_matrix
 from leopod.numerics.interpolate import interpolate_table
+from leopod.time import scales
 from leopod.time.calendar import seconds_since
-from leopod.time.scales import utc_to_gps
 from leopod.validation.helmert import (
     _HELMERT_UNITS,
     HELMERT_PARAMETERS,
@@ -54,9 +54,6 @@ __all__ = [
     "to_gps_time",
 ]
 
-#: Label of the time system minus GPS time [s] for the scales with a constant offset.
-_SYSTEM_MINUS_GPS_S = {"GPS": 0.0, "TAI": -GPST_MINUS_TAI_S,
-                       "TT": TT_MINUS_TAI_S - GPST_MINUS_TAI_S}
 _FRAME_VARIABLES = {"itrf": ("pos_itrf_m", "vel_itrf_m_s"), "gcrf": ("pos_gcrf_m", "vel_gcrf_m_s")}
 #: Default largest node spacing inside an interpolation window, in median node spacings
 #: (one missing node is bridged, two are not).
@@ -158,8 +155,9 @@ def to_gps_time(times, time_system: str = "GPS", *, offset_s: float = 0.0) -> np
     ----------
     times : array_like of datetime64, shape (n,)
         Labels in ``time_system``.
-    time_system : {"GPS", "TAI", "TT", "UTC"}
-        Time system of the labels (case-insensitive).
+    time_system : {"GPS", "TAI", "TT", "UTC", "BDT", "GAL"}
+        Time system of the labels (case-insensitive; :func:`leopod.time.scales.to_gps_time`,
+        which also gives BDT = GPST - 14 s and GST = GPST).
     offset_s : float
         Added after the conversion [s] (e.g. an estimated timing offset, :func:`fit_time_offset`).
 
@@ -167,14 +165,7 @@ def to_gps_time(times, time_system: str = "GPS", *, offset_s: float = 0.0) -> np
     -------
     ndarray of datetime64[ns], shape (n,)
     """
-    system = time_system.strip().upper()
-    t = np.atleast_1d(np.asarray(times, dtype="datetime64[ns]"))
-    if system == "UTC":
-        t = utc_to_gps(t)
-    elif system in _SYSTEM_MINUS_GPS_S:
-        t = t - np.timedelta64(round(_SYSTEM_MINUS_GPS_S[system] * _NS_PER_S), "ns")
-    else:
-        raise ValueError(f"unknown time system {time_system!r}; use GPS, TAI, TT or UTC")
+    t = scales.to_gps_time(times, time_system)
     return t + np.timedelta64(round(offset_s * _NS_PER_S), "ns")
 
 
