@@ -4,6 +4,7 @@ reference-orbit and SLR statistics of a satellite (leopod.validation.summary).""
 import logging
 from collections.abc import Mapping
 
+import numpy as np
 import xarray as xr
 
 from leopod.io import write_text
@@ -18,6 +19,15 @@ log = logging.getLogger(__name__)
 def _load(files: dict, key: str, date: str):
     path = files.get(key, {}).get(date)
     return xr.load_dataset(path) if path else None
+
+
+def _cell(value: float) -> str:
+    """HTML table cell: a dash for no value, counts in full, other numbers to 3 digits."""
+    if not np.isfinite(value):
+        return "&ndash;"
+    if value == round(value) and abs(value) >= 1000:
+        return f"{value:.0f}"
+    return f"{value:.3g}"
 
 
 def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> None:
@@ -46,7 +56,7 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> 
                      for name, (unit, text) in COLUMNS.items())
     body = "\n".join(
         "<tr><td>{}</td><td>{}</td>{}</tr>".format(
-            d, s, "".join(f"<td>{v:.3g}</td>" for v in row.to_numpy()))
+            d, s, "".join(f"<td>{_cell(v)}</td>" for v in row.to_numpy()))
         for (d, s), row in table.iterrows())
     write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>"
                                 f"<table border='1' cellpadding='3'><tr><th>day</th>"
