@@ -382,10 +382,16 @@ def gnss_attitude_axes(pos_m: np.ndarray, vel_m_s: np.ndarray, sun_m: np.ndarray
     family : str or ndarray of str, shape (...), optional
         Attitude family per satellite (:func:`satellite_families`); None: nominal yaw
         steering of :func:`gnss_body_axes` (the ``gnss_attitude: nominal`` setting).
+        Where the velocity gives no orbit normal the axes are those of nominal yaw steering.
     """
     if family is None:
         return gnss_body_axes(pos_m, sun_m)
     sun_m = np.broadcast_to(sun_m, np.broadcast_shapes(np.shape(sun_m), np.shape(pos_m)))
     beta, mu, mu_dot = orbit_angles(pos_m, vel_m_s, sun_m)
-    yaw = model_yaw_rad(family, beta, mu, mu_dot, np.linalg.norm(pos_m, axis=-1))
-    return yaw_body_axes(pos_m, vel_m_s, yaw)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        yaw = model_yaw_rad(family, beta, mu, mu_dot, np.linalg.norm(pos_m, axis=-1))
+        axes = yaw_body_axes(pos_m, vel_m_s, yaw)
+    bad = ~np.isfinite(axes).all(axis=(-2, -1))
+    if bad.any():                       # no orbit normal (zero velocity): nominal yaw steering
+        axes[bad] = gnss_body_axes(pos_m[bad], sun_m[bad])
+    return axes
