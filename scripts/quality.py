@@ -32,7 +32,7 @@ log = logging.getLogger(__name__)
 
 def day_antenna_terms(obs: xr.Dataset, gnss: xr.Dataset, leo: xr.Dataset,
                       signals: Mapping[str, SystemSignals], pco_body_m: Mapping | None,
-                      antenna_path=None) -> xr.Dataset:
+                      antenna_path=None, gnss_attitude: str = "nominal") -> xr.Dataset:
     """Antenna range terms of the bands of the phases and codes of every system
     (leopod.gnss.antenna_terms):
     the POD's LEO PCOs per band and satellite antennas (same file as the POD)."""
@@ -42,20 +42,20 @@ def day_antenna_terms(obs: xr.Dataset, gnss: xr.Dataset, leo: xr.Dataset,
     times = obs.time.values
     return antenna_terms(times, obs.sv.values, leo.pos_m.values, leo.vel_m_s.values,
                          gnss.pos_m.values, sun_position_ef(times), bands, pco_body_m,
-                         antex=antex)
+                         antex=antex, gnss_attitude=gnss_attitude)
 
 
 def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
          settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool,
          pco_body_m: Mapping | None = None, antenna_path=None,
-         signal_biases: SignalBiases | None = None) -> None:
+         signal_biases: SignalBiases | None = None, gnss_attitude: str = "nominal") -> None:
     """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
     ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); the satellite signal
     biases of ``signal_biases`` (OSB/DCB, leopod.gnss.signal_bias) are removed first and, with
     ``bds2_scb``, the BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias.
     The multipath is formed without the antenna terms of the LEO PCOs ``pco_body_m`` (per band)
-    and the satellite antennas of ``antenna_path``, which the output keeps for the ambiguity
-    step."""
+    and the satellite antennas of ``antenna_path`` (oriented by ``gnss_attitude``, the POD's
+    setting), which the output keeps for the ambiguity step."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
@@ -77,7 +77,8 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
     if bds2_scb:   # multipath and noise of the codes the POD and AR will use
         obs, summary = correct_bds2_scb(obs, xr.Dataset({NADIR_VARIABLE: nadir}))
         log.info("BDS-2 SCB correction: %s", summary or "no BDS-2 IGSO/MEO codes")
-    terms = day_antenna_terms(obs, gnss, leo, signals, pco_body_m, antenna_path)
+    terms = day_antenna_terms(obs, gnss, leo, signals, pco_body_m, antenna_path,
+                              gnss_attitude)
     parts = [assess_quality(obs, el, az, system, sig.phase, sig.code, sig.pod_code, settings,
                             antenna=terms)
              for system, sig in signals.items()]
@@ -105,6 +106,7 @@ def run(sm) -> None:
          QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output),
          bds2_scb=bool(sm.params.bds2_scb), pco_body_m=sm.params.pco_body_m,
          antenna_path=getattr(sm.input, "antenna", None) or None,
+         gnss_attitude=getattr(sm.params, "gnss_attitude", "nominal"),
          signal_biases=read_signal_biases(plain(sm.input),
                                           getattr(sm.params, "signal_bias", None)))
 

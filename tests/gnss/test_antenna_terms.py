@@ -163,3 +163,30 @@ def test_each_system_uses_the_offsets_of_its_own_bands():
     np.testing.assert_allclose(terms.antenna_range_5_m.values[:, 1], -0.38, atol=1e-9)
     assert np.isnan(terms.antenna_range_2_m.values[:, 1]).all()
     assert np.isnan(terms.antenna_range_5_m.values[:, 0]).all()
+
+
+def test_gnss_pco_follows_the_yaw_law_of_the_block():
+    """The GNSS PCO term rotated by the yaw law (leopod.gnss.attitude): the family 'nominal'
+    gives the yaw-steering term; 'orbit_normal' (ψ = 0, Montenbruck et al. 2015) puts body X
+    along track, so the term is −e·(x T + y (Z × T) + z Z) with the orbit frame built by hand
+    (exact geometry of the projection)."""
+    leo, vel, sv, sun = _geometry()
+    n, s = sv.shape[:2]
+    sv_vel = np.cross(np.broadcast_to([0.3, -0.2, 1.0], sv.shape), sv)
+    sv_vel *= 3.9e3 / np.linalg.norm(sv_vel, axis=-1, keepdims=True)
+    pco = np.tile([0.394, 0.0, 1.5], (s, 1))
+    nominal = antenna_range_m(leo, vel, sv, sun, np.zeros(3), sat_pco_body_m=pco)
+    same = antenna_range_m(leo, vel, sv, sun, np.zeros(3), sat_pco_body_m=pco,
+                           sat_family=np.full(s, "nominal"), sv_vel_m_s=sv_vel)
+    np.testing.assert_allclose(same, nominal, atol=1e-9)
+    normal = antenna_range_m(leo, vel, sv, sun, np.zeros(3), sat_pco_body_m=pco,
+                             sat_family=np.full(s, "orbit_normal"), sv_vel_m_s=sv_vel)
+    r_hat = sv / np.linalg.norm(sv, axis=-1, keepdims=True)
+    h = np.cross(sv, sv_vel)
+    t_hat = np.cross(h / np.linalg.norm(h, axis=-1, keepdims=True), r_hat)
+    z = -r_hat
+    centre = sv + 0.394 * t_hat + 1.5 * z                            # Y offset zero
+    exact = (np.linalg.norm(centre - leo[:, None, :], axis=-1)
+             - np.linalg.norm(sv - leo[:, None, :], axis=-1))
+    np.testing.assert_allclose(normal, exact, atol=1e-6)
+    assert np.abs(normal - nominal).max() > 0.1                      # the law matters

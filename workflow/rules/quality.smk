@@ -57,6 +57,7 @@ rule quality:
         bds2_scb=CONFIG["code_bias"]["bds2_scb"],
         pco_body_m=sat_pco,
         signal_bias=day_signal_bias,
+        gnss_attitude=CONFIG["pod"]["gnss_attitude"],
         title=sat_title,
     script:
         "../../scripts/quality.py"

@@ -41,6 +41,7 @@ from leopod.estimation.outputs import (
     residual_dataset,
 )
 from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.gnss.attitude import satellite_families
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io.netcdf import merge_days
@@ -73,6 +74,9 @@ class ArcSettings(Settings):
         Sigma of the a-priori positions in the initial dynamic fit [m].
     apriori_fit_degree : int
         Degree of the gravity field in the initial dynamic fit.
+    gnss_attitude : str
+        ``eclipse_models``: GNSS satellite PCO/PCV and wind-up with the published yaw laws of
+        each block (ANTEX block type, :mod:`leopod.gnss.attitude`); ``nominal``: yaw steering.
     """
 
     SCHEMA_DEF = "pod"
@@ -84,6 +88,7 @@ class ArcSettings(Settings):
     output_step_s: float
     apriori_fit_sigma_m: float
     apriori_fit_degree: int
+    gnss_attitude: str
 
     def limits(self, date: str) -> tuple[np.datetime64, np.datetime64]:
         """Arc start and end of the day ``date`` (:func:`arc_limits`)."""
@@ -268,6 +273,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     t_ref = po.times[0]
     products = GnssProducts.from_datasets(data.orbit, data.clock, t_ref, systems=[system],
                                           max_extrapolation_s=0.0)
+    if arc.gnss_attitude == "eclipse_models" and data.antex is not None:
+        products.attitude = satellite_families(data.antex, products.sv, t_ref)
     sat_pco, sat_pcv = None, None
     if data.antex is not None:
         sat_pco, sat_pcv = satellite_antenna(data.antex, po.sv, t_ref, system, signals)

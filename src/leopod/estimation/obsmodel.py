@@ -11,7 +11,8 @@ For each (epoch, GNSS satellite) pair the model computes, in the GCRF:
   centre of mass, :class:`leopod.gnss.products.GnssProducts`) at the transmission time is
   taken into the GCRF of the reception time with ``R(t) R3(ω τ)`` (the Earth rotation during
   the travel time τ: the Sagnac effect), plus the satellite's ionosphere-free PCO (yaw-steering
-  attitude, :mod:`leopod.gnss.attitude`) and nadir-dependent PCV from ANTEX;
+  attitude, or the published eclipse/turn laws of each block when ``products.attitude`` holds
+  the families, :mod:`leopod.gnss.attitude`) and nadir-dependent PCV from ANTEX;
 * the satellite clock at the transmission time (linear between product samples) with the
   periodic relativistic correction, and the Shapiro delay
   (:mod:`leopod.gnss.corrections`);
@@ -30,7 +31,7 @@ import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S
 from leopod.frames.attitude import nominal_axes_inertial
-from leopod.gnss.attitude import gnss_body_axes
+from leopod.gnss.attitude import gnss_attitude_axes
 from leopod.gnss.corrections import (
     relativistic_clock_s,
     shapiro_delay_m,
@@ -147,7 +148,14 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     # placeholders for pairs without products (flagged invalid), keeping the arithmetic finite
     sv_itrf = np.where(valid[:, None], sv_itrf, 3.0 * rx_itrf)
     sv_vel_itrf = np.where(valid[:, None], sv_vel_itrf, 0.0)
-    sv_axes_itrf = gnss_body_axes(sv_itrf, sun_itrf_m[ep])                   # (n, 3, 3)
+    families = getattr(products, "attitude", None)
+    if families is not None:
+        families = np.asarray(families, dtype=object)[isv]
+        # inertial velocity in Earth-fixed axes (orbit normal of the yaw laws)
+        sv_vel_in = sv_vel_itrf + np.cross([0.0, 0.0, OMEGA_EARTH_RAD_S], sv_itrf)
+    else:
+        sv_vel_in = sv_vel_itrf
+    sv_axes_itrf = gnss_attitude_axes(sv_itrf, sv_vel_in, sun_itrf_m[ep], families)
     if sat_pco_body_m is not None:
         sv_itrf = sv_itrf + np.einsum("nij,ni->nj", sv_axes_itrf, sat_pco_body_m[pairs.sat])
         sv_now = _rot3(OMEGA_EARTH_RAD_S * tau, sv_itrf)

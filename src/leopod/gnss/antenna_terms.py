@@ -22,8 +22,9 @@ Range term of band ``b`` for the line of sight ``e`` (unit vector receiver → t
   attitude of the POD's observation model, :mod:`leopod.estimation.obsmodel`);
 - ``p_sv,b``, ``PCV_sv,b``: the ANTEX PCO and nadir-dependent PCV of the GNSS satellite on the
   band's frequency (``sNN`` code, :mod:`leopod.io.antex`), PCO rotated with the yaw-steering
-  attitude of :func:`leopod.gnss.attitude.gnss_body_axes` (Sun of
-  :func:`leopod.astro.sun.sun_position_ef`) — the source and attitude of the POD's satellite
+  attitude of :func:`leopod.gnss.attitude.gnss_body_axes`, or with ``gnss_attitude:
+  eclipse_models`` the yaw law of the block (:func:`leopod.gnss.attitude.gnss_attitude_axes`;
+  Sun of :func:`leopod.astro.sun.sun_position_ef`) — the source and attitude of the POD's satellite
   antenna model (:func:`leopod.estimation.inputs.satellite_antenna`), per frequency instead of
   ionosphere-free;
 - ``PCV_LEO,b``: optional LEO phase-centre variations (callables of the antenna-frame elevation
@@ -48,8 +49,9 @@ import numpy as np
 import xarray as xr
 
 from leopod import signals
+from leopod.constants import OMEGA_EARTH_RAD_S
 from leopod.frames.attitude import body_to_ef, nominal_body_axes
-from leopod.gnss.attitude import gnss_body_axes
+from leopod.gnss.attitude import gnss_attitude_axes, gnss_body_axes, satellite_families
 
 __all__ = ["VARIABLE", "antenna_attrs", "antenna_range_m", "antenna_terms",
            "remove_antenna_terms"]
@@ -65,7 +67,8 @@ def _unit(vec: np.ndarray) -> np.ndarray:
 def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np.ndarray,
                     sun_m: np.ndarray, leo_pco_body_m, *, sat_pco_body_m=None,
                     sat_pcv_m: Callable | None = None,
-                    leo_pcv_m: Callable | None = None) -> np.ndarray:
+                    leo_pcv_m: Callable | None = None, sat_family=None,
+                    sv_vel_m_s: np.ndarray | None = None) -> np.ndarray:
     """Range term ``a_b`` of one band for (epoch, satellite) pairs (module docstring) [m].
 
     Parameters
@@ -85,6 +88,11 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
     leo_pcv_m : callable, optional
         ``leo_pcv_m(el_deg (n, s), az_deg (n, s)) -> (n, s)`` [m]: LEO PCV of the band in the
         antenna frame of :func:`leopod.frames.attitude.antenna_angles`.
+    sat_family : ndarray of str, shape (s,), optional
+        GNSS attitude family per satellite (:func:`leopod.gnss.attitude.satellite_families`);
+        None: nominal yaw steering.
+    sv_vel_m_s : ndarray, shape (n, s, 3), optional
+        Inertial GNSS velocities in Earth-fixed axes [m/s] (with ``sat_family``).
 
     Returns
     -------
@@ -96,7 +104,12 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
     pco_ef = body_to_ef(rot, np.asarray(leo_pco_body_m, dtype=float))       # (n, 3)
     term = -np.einsum("nsi,ni->ns", los, pco_ef)
     if sat_pco_body_m is not None or sat_pcv_m is not None:
-        axes = gnss_body_axes(sv_pos_m, sun_m[:, None, :])                  # (n, s, 3, 3)
+        if sat_family is None:
+            axes = gnss_body_axes(sv_pos_m, sun_m[:, None, :])              # (n, s, 3, 3)
+        else:
+            axes = gnss_attitude_axes(sv_pos_m, sv_vel_m_s, sun_m[:, None, :],
+                                      np.broadcast_to(np.asarray(sat_family, dtype=object),
+                                                      sv_pos_m.shape[:2]))
     if sat_pco_body_m is not None:
         pco_sv = np.einsum("nsij,si->nsj", axes, np.asarray(sat_pco_body_m, dtype=float))
         term = term + np.einsum("nsi,nsi->ns", los, pco_sv)
@@ -143,7 +156,8 @@ def _satellite_band(antex, svs: Sequence[str], system: str, band: str, epoch):
 def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
                   leo_vel_m_s: np.ndarray, sv_pos_m: np.ndarray, sun_m: np.ndarray,
                   bands: Mapping[str, Sequence[str]], leo_pco_body_m: Mapping | None, *,
-                  antex=None, leo_pcv_m: Mapping[str, Callable] | None = None) -> xr.Dataset:
+                  antex=None, leo_pcv_m: Mapping[str, Callable] | None = None,
+                  gnss_attitude: str = "nominal") -> xr.Dataset:
     """Range terms of every band of every system for the (epoch, satellite) grid of a day.
 
     Parameters
@@ -167,6 +181,10 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         GNSS satellite antennas (PCO and PCV per frequency); None: centre of mass, as the POD.
     leo_pcv_m : mapping, optional
         Band name -> LEO PCV callable (see :func:`antenna_range_m`).
+    gnss_attitude : str
+        ``eclipse_models``: GNSS antennas oriented by the yaw law of each block (ANTEX type,
+        :mod:`leopod.gnss.attitude`; velocities from the positions by central differences);
+        ``nominal``: yaw steering (setting ``pod.gnss_attitude``, as the POD).
 
     Returns
     -------
@@ -183,6 +201,12 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
     system_of = np.array([s[0] for s in svs])
     leo_pco = dict(leo_pco_body_m or {})
     epoch = np.datetime64(times[0], "ns")
+    family = sv_vel = None
+    if gnss_attitude == "eclipse_models" and antex is not None and len(times) > 1:
+        family = satellite_families(antex, svs, epoch)
+        t_s = (np.asarray(times, "datetime64[ns]") - epoch) / np.timedelta64(1, "s")
+        sv_vel = (np.gradient(sv_pos_m, t_s, axis=0)
+                  + np.cross([0.0, 0.0, OMEGA_EARTH_RAD_S], sv_pos_m))
     out = {}
     for system, digits in bands.items():
         cols = np.flatnonzero(system_of == system)
@@ -198,7 +222,9 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
                                                    digit, epoch)
             term = antenna_range_m(leo_pos_m, leo_vel_m_s, sv_pos_m[:, cols], sun_m, pco,
                                    sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
-                                   leo_pcv_m=(leo_pcv_m or {}).get(name))
+                                   leo_pcv_m=(leo_pcv_m or {}).get(name),
+                                   sat_family=None if family is None else family[cols],
+                                   sv_vel_m_s=None if sv_vel is None else sv_vel[:, cols])
             key = VARIABLE.format(band=digit)
             if key not in out:
                 out[key] = np.full((len(times), len(svs)), np.nan)
@@ -208,6 +234,7 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         "between the phase centres minus range between the centres of mass"})
         for k, v in out.items()}, coords={"time": times, "sv": svs})
     ds.attrs.update(antenna_attrs(leo_pco, antex, bands, leo_pcv=bool(leo_pcv_m)))
+    ds.attrs["antenna_gnss_attitude"] = "nominal" if family is None else gnss_attitude
     return ds
 
 

@@ -41,6 +41,9 @@ class GnssProducts:
         Degree of the Lagrange polynomial of the orbit interpolation.
     max_extrapolation_s : float
         How far beyond the orbit table the edge polynomial may be used [s].
+    attitude : ndarray of str, shape (s,), optional
+        Attitude family per satellite (:func:`leopod.gnss.attitude.satellite_families`) for
+        the eclipse/turn yaw laws; None: nominal yaw steering (``gnss_attitude: nominal``).
     """
 
     ref: np.datetime64
@@ -51,6 +54,7 @@ class GnssProducts:
     clk_s: np.ndarray
     order: int = 10
     max_extrapolation_s: float = 0.0
+    attitude: np.ndarray | None = None
 
     @classmethod
     def from_datasets(cls, orbit: xr.Dataset, clock: xr.Dataset, ref, *, systems=None,

@@ -15,8 +15,9 @@ For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS sat
   nominal attitude (:func:`leopod.estimation.obsmodel.nominal_axes_inertial`);
 * transmission time ``t − τ`` by light-time iteration on the exact analytic GNSS orbit in the
   GCRF (no Sagnac term is needed in an inertial frame); transmitter phase centre = centre of
-  mass + ANTEX PCO of the band (yaw-steering attitude,
-  :func:`leopod.gnss.attitude.gnss_body_axes`, with the Sun of
+  mass + ANTEX PCO of the band (yaw-steering attitude, or the published eclipse/turn laws of
+  the block with ``gnss_attitude: eclipse_models``,
+  :func:`leopod.gnss.attitude.gnss_attitude_axes`, with the Sun of
   :func:`~leopod.astro.sun.sun_position_ef` rotated to the GCRF) — zero, i.e. the
   SP3 centre of mass, unless an ANTEX file is given; then also the nadir-dependent PCV;
 * satellite clock ``dt^s = dt^s_product(t − τ) + Δt_rel`` with the periodic relativistic term
@@ -72,7 +73,7 @@ from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
 from leopod.frames.attitude import nominal_axes_inertial
 from leopod.frames.earth_rotation import itrf_to_gcrf
-from leopod.gnss.attitude import gnss_body_axes
+from leopod.gnss.attitude import gnss_attitude_axes, satellite_families
 from leopod.gnss.corrections import (
     relativistic_clock_s,
     shapiro_delay_m,
@@ -134,6 +135,11 @@ class ObservationSettings(Settings):
     bds2_scb : bool
         Add the BDS-2 satellite-induced code bias to the B1I/B2I/B3I codes of the BDS-2 IGSO
         and MEO satellites (module docstring).
+    gnss_attitude : str
+        ``eclipse_models``: the GNSS satellites follow the published yaw laws of their ANTEX
+        block type (noon/midnight turns, shadow crossings, orbit-normal modes,
+        :mod:`leopod.gnss.attitude`) for their antenna offsets and the wind-up; ``nominal``:
+        yaw steering.
     """
 
     noise_m: dict
@@ -149,6 +155,7 @@ class ObservationSettings(Settings):
     gap_max_epochs: int
     ambiguity_max_cyc: int
     bds2_scb: bool
+    gnss_attitude: str
 
     def sigma_m(self, code: str, el_deg: np.ndarray) -> np.ndarray:
         """Noise STD [m] of ``code`` at antenna elevations ``el_deg`` [deg]."""
@@ -270,7 +277,7 @@ class _Geometry:
 
 
 def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m,
-              bands_by_sv, antex, eop) -> _Geometry:
+              bands_by_sv, antex, eop, gnss_attitude: str = "nominal") -> _Geometry:
     """Light time, ranges per band, angles, clocks, Shapiro and wind-up (module docstring)."""
     axes = nominal_axes_inertial(leo_pos, leo_vel)                         # (n, 3, 3) rows
     names = _band_names(bands_by_sv)
@@ -284,7 +291,10 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
     # time would differ by < 2 ns, i.e. < 8 µm of satellite motion
     t_tx, sv_pos, sv_vel = _light_time(world, svs, t_rx_s, leo_pos)
     sun_gcrf, _ = itrf_to_gcrf(times_rx, sun_position_ef(times_rx), eop=eop)
-    sv_axes = gnss_body_axes(sv_pos, sun_gcrf[:, None, :])                 # (n, s, 3, 3)
+    families = None
+    if gnss_attitude == "eclipse_models" and antex is not None:
+        families = np.broadcast_to(satellite_families(antex, svs, times_rx[0]), t_tx.shape)
+    sv_axes = gnss_attitude_axes(sv_pos, sv_vel, sun_gcrf[:, None, :], families)  # (n, s, 3, 3)
     sat_pco, sat_pcv = _sat_antenna(antex, svs, times_rx[0], bands_by_sv)
     los = sv_pos - leo_pos[:, None, :]
     los /= np.linalg.norm(los, axis=-1, keepdims=True)
@@ -418,7 +428,7 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
     leo_pos, leo_vel = _leo_at(truth, world.epoch, t_rx_s)
     codes, phases, bands = _signals_by_sv(svs, signal_codes)
     geo = _geometry(world, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m, bands, antex,
-                    eop)
+                    eop, settings.gnss_attitude)
     system_of = np.array([sv[0] for sv in svs])
     tracked = track(geo.el_deg, system_of, settings, dt_s, rng)
     phase_codes = {sys: [c for c in signal_codes[sys] if c[0] == "L"] for sys in signal_codes}
