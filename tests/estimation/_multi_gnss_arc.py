@@ -22,7 +22,10 @@ from types import SimpleNamespace
 import numpy as np
 import xarray as xr
 
+from leopod.ambiguity.products import ar_product
+from leopod.ambiguity.resolve import ArSettings, resolve_systems
 from leopod.estimation.arc import ArcData, run_arc
+from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
@@ -132,3 +135,39 @@ def orbit_error_3d_m(arc, truth: xr.Dataset) -> float:
     d = arc.orbit.pos_itrf_m.values - ref
     ok = np.isfinite(d).all(axis=1)
     return float(np.sqrt(np.mean(np.sum(d[ok] ** 2, axis=1))))
+
+
+def resolve_combined(world: SimpleNamespace, arc, ambiguity: dict | None = None):
+    """Single-difference AR of a combined float arc, each system with its own OSB-based AR
+    product (the simulated Bias-SINEX ``g.bia`` with the ordinary clocks of the POD; Jiang et
+    al. 2023) and signals; returns the :class:`~leopod.ambiguity.resolve.Resolution` and the
+    ArSettings."""
+    amb = arc.ambiguities
+    sv = amb.sv.values.astype(str)
+    epoch = arc.residuals.time.values[arc.residuals.sizes["time"] // 2]
+    signals = signal_settings(SIGNALS)
+    wl, ifb = {}, {}
+    for x in arc.observations.system_order:
+        sig = signals[x]
+        mine = sv[np.char.startswith(sv, x)]
+        product = ar_product(epoch, mine, sig.phase, sig.pod_code,
+                             osb_path=world.folder / "g.bia")
+        wl[x], ifb[x] = product.wl_sat_cyc, product.per_ambiguity(mine)
+    ar = ArSettings.from_config(with_defaults("ambiguity", {**world.cfg["ambiguity"],
+                                                            **(ambiguity or {})}))
+    order = {x: signals[x] for x in arc.observations.system_order}
+    return resolve_systems(amb, arc.residuals, world.obs, order, wl, ar,
+                           sat_if_bias_m=ifb), ar
+
+
+def fixed_arc(world: SimpleNamespace, arc, constraints, systems, hours=(1.0, 5.0), **pod):
+    """The fixed solution of ``arc`` (float solution of :func:`float_arc` with the same
+    ``systems``, ``hours`` and ``pod``) with ``constraints``."""
+    section = with_defaults("pod", {**world.cfg["pod"], "system": systems, **pod})
+    settings = pod_settings(SIGNALS, section, world.cfg["code_bias"])
+    limits = tuple(T0 + np.timedelta64(round(3600 * h), "s") for h in hours)
+    start = FloatSolution(parameters=arc.parameters, ambiguities=arc.ambiguities,
+                          residuals=arc.residuals, orbit=arc.orbit)
+    return FixedSolutions(DAY, world.data, settings["signals"], settings["arc"],
+                          settings["pod"], settings["forces"], world.pco, start,
+                          limits=limits).solve(constraints)
