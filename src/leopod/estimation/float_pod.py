@@ -592,7 +592,9 @@ class _Problem:
         n_x = len(self.systems) - 1
         if n_x:
             # the ISB as further components of the row directions: 1 for the code of system
-            # x > 0, whose "partials" are the ISB column of the epoch's piece
+            # x > 0, whose "partials" are the ISB column of the epoch's piece (the ISB
+            # columns follow the pulses and are non-zero in every block of epochs, so the
+            # blocked sum of normals.accumulate works on all columns for combined arcs)
             system = self.pair_system[pair]
             isb_row = (~is_phase) & (system > 0)
             misclosure = misclosure - np.where(

@@ -207,8 +207,8 @@ def ambiguity_dataset(result: PodResult, obs: PodObservations) -> xr.Dataset:
         },
         attrs=({"nl_wavelength_m": obs.nl_wavelength_m}
                if np.ndim(obs.nl_wavelength_m) == 0 else
-               {"nl_wavelength_m_" + x: float(np.asarray(obs.nl_wavelength_m)[
-                   obs.sat_system == i][0]) for i, x in enumerate(obs.system_order)}),
+               {"nl_wavelength_m_" + str(sv)[0]: float(nl)      # per system (one per sv)
+                for sv, nl in zip(obs.sv, obs.nl_wavelength_m, strict=True)}),
     )
 
 
