@@ -131,7 +131,7 @@ def resolution(world, arcs):
 
 
 def test_single_differences_within_each_system(world, arcs, resolution):
-    """(d) SDs only between satellites of one system (Zhang et al. 2024 eqs. (1)-(4): the
+    """(d) SDs only between satellites of one system (Zhang et al. 2024 eqs. (1)-(2): the
     receiver bias d_r,IF of a signal pair cancels only between satellites tracking it), each
     with its system's pair; the constraints of both systems enter the one fixed solution."""
     res, ar = resolution

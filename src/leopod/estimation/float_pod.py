@@ -32,7 +32,7 @@ Weights: ``σ(e) = σ0`` above ``weight_elevation_deg`` and ``σ0 / (2 sin e)`` 
 (continuous at 30°), e the antenna-frame elevation (floored at 1°).
 
 Several systems in one arc (``PodObservations.systems``, e.g. GPS L1/L2 and BDS-3 B1C/B2a,
-Zhang et al. 2024 sec. 3; Jiang et al. 2023): each system has its own ionosphere-free pair
+Zhang et al. 2024, sec. 2; Jiang et al. 2023): each system has its own ionosphere-free pair
 (and narrow-lane wavelength of the wind-up), the receiver clock of an epoch is common to all,
 and the code of every system but the first carries an inter-system bias (ISB) ``isb_<X>``
 [m], one per arc or per piece of ``isb_interval_s``: the difference of the receiver's
@@ -79,6 +79,10 @@ __all__ = ["FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart"
 log = logging.getLogger(__name__)
 
 _MAD_TO_SIGMA = 1.4826
+#: Weight [1/m²] of the zero-misclosure pseudo-observation of each ISB increment (σ = 10 km):
+#: 1e-9 of the weight of one code observation of σ 0.3 m, so the solution of an observed piece
+#: is unchanged (at convergence the increment is 0 either way).
+_ISB_DAMPING_WEIGHT = 1.0e-8
 _MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
 #: Largest shift of the reception times [ns] over which the ITRF -> GCRF matrices are carried
 #: by the Earth rotation angle alone (_ReceptionRotation).
@@ -470,6 +474,9 @@ class _Problem:
         if n_p:
             w[6 + sig.size:self.k_orbit] = np.tile(1.0 / np.asarray(settings.pulse_sigma_m_s)**2,
                                                    n_p)
+        # ISB: a negligible damping of the increments (no a-priori value: the misclosure is
+        # always 0) that keeps a piece without code observations of its system solvable
+        w[self.k_isb:self.k] = _ISB_DAMPING_WEIGHT
         self.constraint_weight = w
         self.pco_dz = 0.0
         self.clk_rx_m = np.asarray(obs.clk_rx_m, dtype=float).copy()
