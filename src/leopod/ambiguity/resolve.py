@@ -28,6 +28,12 @@ candidate check of Peng et al. (2021) and integer least squares of the NL set
 decision and the reason of a rejection. Fixing rates follow Jiang et al. (2023): fixed independent /
 all independent.
 
+A combined POD of several systems (:func:`resolve_systems`) resolves the ambiguities of each
+system with its own signal pair (WL and NL wavelengths, HMW, AR product) and single differences
+only between satellites of that system (the receiver biases of different signals do not
+cancel between systems; :func:`~leopod.ambiguity.pairs.sd_pairs`), and hands the constraints
+of all systems to the one fixed solution.
+
 Before anything is fixed, the product guard (:mod:`~leopod.ambiguity.consistency`) tests that the
 WL and NL fractional parts cluster at zero; a refused product fixes nothing, and the table's
 ``product_guard*`` attributes say why. Fixed NL whose integer lies more than
@@ -57,7 +63,7 @@ from leopod.gnss.combinations import narrow_lane_wavelength_m
 from leopod.settings import Settings
 from leopod.signals import frequency_hz
 
-__all__ = ["ArSettings", "Resolution", "resolve_arc"]
+__all__ = ["ArSettings", "Resolution", "resolve_arc", "resolve_systems"]
 
 log = logging.getLogger(__name__)
 
@@ -311,3 +317,69 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
         table.attrs.update(product_guard="not tested", product_guard_reason=(
             "guard disabled" if not settings.product_guard else "no AR product or no pairs"))
     return Resolution(table=table, constraints=constraints)
+
+
+def resolve_systems(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, signals,
+                    wl_sat_cyc, settings: ArSettings, *, sat_if_bias_m=None,
+                    antenna: xr.Dataset | None = None) -> Resolution:
+    """:func:`resolve_arc` of each system of a combined float arc, joined (module docstring).
+
+    Parameters
+    ----------
+    amb, residuals, obs, settings, antenna
+        As for :func:`resolve_arc` (all systems of the arc).
+    signals : mapping of str to leopod.signals.SystemSignals
+        Signals (``phase`` and ``pod_code`` pairs) per system letter, in the order of the POD.
+    wl_sat_cyc : mapping of str to (xarray.DataArray or None)
+        Satellite WL biases per system (:func:`resolve_arc`).
+    sat_if_bias_m : mapping of str to array_like, optional
+        Satellite IF phase bias per float ambiguity of each system's ambiguities (in the
+        order of ``amb`` restricted to the system).
+
+    Returns
+    -------
+    Resolution
+        The tables of the systems concatenated along ``pair`` with a ``system`` variable;
+        ``amb_i``/``amb_j`` index ``amb``; attributes ``<system>_<attribute>`` of each
+        system's table, and the fixing rates of all systems together
+        (:func:`leopod.ambiguity.independent.fixing_rate` of all pairs).
+    """
+    sv = amb.sv.values.astype(str)
+    tables, parts, used = [], [], []
+    for x, sig in signals.items():
+        index = np.flatnonzero(np.char.startswith(sv, x))
+        if not index.size:
+            continue
+        used.append(x)
+        sub = amb.isel(ambiguity=index, ambiguity_b=index)
+        columns = [s for s in residuals.sv.values if str(s)[0] == x]
+        res = resolve_arc(sub, residuals.sel(sv=columns), obs, x, sig.phase, sig.pod_code,
+                          wl_sat_cyc.get(x), settings,
+                          sat_if_bias_m=None if sat_if_bias_m is None else sat_if_bias_m.get(x),
+                          antenna=antenna)
+        table = res.table
+        table["amb_i"] = table.amb_i.copy(data=index[table.amb_i.values].astype(np.int32))
+        table["amb_j"] = table.amb_j.copy(data=index[table.amb_j.values].astype(np.int32))
+        table["system"] = (("pair",), np.full(table.sizes["pair"], x),
+                           {"units": "1", "long_name": "GNSS of the single difference"})
+        tables.append(table)
+        parts.append(res.constraints)
+    if not tables:
+        raise ValueError("no float ambiguity of the systems " + " ".join(signals))
+    joined = xr.concat([t.drop_attrs() for t in tables], dim="pair")
+    for x, t in zip(used, tables, strict=True):
+        joined.attrs.update({f"{x}_{k}": v for k, v in t.attrs.items()})
+    i, j = joined.amb_i.values, joined.amb_j.values
+    joined.attrs["systems"] = " ".join(used)
+    joined.attrs["wl_fixing_rate"] = (fixing_rate(i, j, joined.wl_fixed.values == 1)
+                                      if i.size else np.nan)
+    joined.attrs["nl_fixing_rate"] = (fixing_rate(i, j, joined.nl_fixed.values == 1)
+                                      if i.size else np.nan)
+    joined.attrs["ar_product"] = "; ".join(f"{x}: {t.attrs.get('ar_product')}"
+                                           for x, t in zip(used, tables, strict=True))
+    constraints = tuple(np.concatenate([c[k] for c in parts]) for k in range(4))
+    log.info("combined AR: %d single differences of %s, fixing rates WL %.1f %%, NL %.1f %%, "
+             "%d constraints", i.size, joined.attrs["systems"],
+             100 * joined.attrs["wl_fixing_rate"], 100 * joined.attrs["nl_fixing_rate"],
+             constraints[0].size)
+    return Resolution(table=joined, constraints=constraints)

@@ -32,7 +32,12 @@ from leopod.dynamics.force_config import ForceModelSettings, arc_environment, bu
 from leopod.dynamics.forces import ForceModel, tabulated_orbit
 from leopod.dynamics.orbit_fit import FitResult, fit_orbit, starting_forces, starting_step_s
 from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings, float_pod
-from leopod.estimation.inputs import pod_observations, receiver_pco_if, satellite_antenna
+from leopod.estimation.inputs import (
+    as_system_signals,
+    pod_observations,
+    receiver_pco_if,
+    satellite_antennas,
+)
 from leopod.estimation.outputs import (
     ambiguity_dataset,
     orbit_dataset,
@@ -62,8 +67,9 @@ class ArcSettings(Settings):
 
     Attributes
     ----------
-    system : str
-        GNSS of the POD (RINEX letter).
+    system : str or tuple of str
+        GNSS of the POD (RINEX letter), or letters of a combined POD (the first is the
+        reference of the inter-system biases).
     sampling_s : float
         Observation sampling [s].
     arc_before_s, arc_after_s : float
@@ -81,7 +87,7 @@ class ArcSettings(Settings):
 
     SCHEMA_DEF = "pod"
 
-    system: str
+    system: str | tuple[str, ...]
     sampling_s: float
     arc_before_s: float
     arc_after_s: float
@@ -89,6 +95,11 @@ class ArcSettings(Settings):
     apriori_fit_sigma_m: float
     apriori_fit_degree: int
     gnss_attitude: str
+
+    @property
+    def systems(self) -> tuple[str, ...]:
+        """The systems of the POD, reference first."""
+        return (self.system,) if isinstance(self.system, str) else tuple(self.system)
 
     def limits(self, date: str) -> tuple[np.datetime64, np.datetime64]:
         """Arc start and end of the day ``date`` (:func:`arc_limits`)."""
@@ -229,8 +240,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
         Day ``YYYY-DDD``.
     data : ArcData
         The arc's observations and GNSS products.
-    signals : SystemSignals
-        Signals of the POD's system (``arc.system``).
+    signals : SystemSignals or mapping of str to SystemSignals
+        Signals of the POD's system (``arc.system``), or of each of its systems.
     arc : ArcSettings
     forces : ForceModelSettings
         The estimator's force model, model files resolved to paths
@@ -254,11 +265,13 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     -------
     ArcProblem
     """
-    system = arc.system
+    systems = arc.systems
+    by_system = as_system_signals(signals, systems)
+    observed = list(dict.fromkeys(o for sig in by_system.values() for o in sig.observations))
     start, end = (arc.limits(date) if limits is None
                   else (np.datetime64(limits[0], "ns"), np.datetime64(limits[1], "ns")))
     # satellite code (and phase) biases of each hour's own day (leopod.gnss.signal_bias)
-    obs_days = [correct_signal_biases(obs, data.signal_biases, signals.observations)[0]
+    obs_days = [correct_signal_biases(obs, data.signal_biases, observed)[0]
                 for obs in data.obs]
     if code_correction is not None and code_correction.bds2_scb:
         obs_days = [correct_bds2_scb(obs, qual)[0]
@@ -268,16 +281,16 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
                                   empty_cells=code_correction.empty_cells,
                                   yaw_flips=yaw_flips)[0]
                     for obs, qual in zip(obs_days, data.quality, strict=True)]
-    po = pod_observations(obs_days, data.quality, data.leo, signals, system, start,
+    po = pod_observations(obs_days, data.quality, data.leo, by_system, systems, start,
                           end - np.timedelta64(1, "ns"), float(arc.sampling_s))
     t_ref = po.times[0]
-    products = GnssProducts.from_datasets(data.orbit, data.clock, t_ref, systems=[system],
+    products = GnssProducts.from_datasets(data.orbit, data.clock, t_ref, systems=list(systems),
                                           max_extrapolation_s=0.0)
     if arc.gnss_attitude == "eclipse_models" and data.antex is not None:
         products.attitude = satellite_families(data.antex, products.sv, t_ref)
     sat_pco, sat_pcv = None, None
     if data.antex is not None:
-        sat_pco, sat_pcv = satellite_antenna(data.antex, po.sv, t_ref, system, signals)
+        sat_pco, sat_pcv = satellite_antennas(data.antex, po.sv, t_ref, by_system)
         missing = ~np.isfinite(sat_pco).all(axis=1)
         if missing.any():
             log.warning("no ANTEX entry for %s: their observations are not used",
@@ -287,7 +300,11 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
             po.phase_m[drop] = np.nan
             po.pass_index[drop] = -1
         sat_pco = np.nan_to_num(sat_pco)
-    leo_pco = receiver_pco_if(pco_body_m, system, signals)
+    if len(systems) == 1:
+        leo_pco = receiver_pco_if(pco_body_m, systems[0], by_system[systems[0]])
+    else:       # each satellite with the ionosphere-free PCO of its system's pair
+        per_system = {x: receiver_pco_if(pco_body_m, x, sig) for x, sig in by_system.items()}
+        leo_pco = np.array([per_system[str(sv)[0]] for sv in po.sv]).reshape(-1, 3)
     t_s = seconds_since(po.times, t_ref)
     environment = arc_environment(forces, t_ref, t_s[0], t_s[-1], eop=eop)
     force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop,

@@ -30,6 +30,19 @@ solution, solved once per set of ambiguity constraints.
 
 Weights: ``σ(e) = σ0`` above ``weight_elevation_deg`` and ``σ0 / (2 sin e)`` below
 (continuous at 30°), e the antenna-frame elevation (floored at 1°).
+
+Several systems in one arc (``PodObservations.systems``, e.g. GPS L1/L2 and BDS-3 B1C/B2a,
+Zhang et al. 2024, sec. 2; Jiang et al. 2023): each system has its own ionosphere-free pair
+(and narrow-lane wavelength of the wind-up), the receiver clock of an epoch is common to all,
+and the code of every system but the first carries an inter-system bias (ISB) ``isb_<X>``
+[m], one per arc or per piece of ``isb_interval_s``: the difference of the receiver's
+ionosphere-free code biases of system X and of the first system, which the clock absorbs
+(the datum: ISB of the first system = 0). The receiver phase biases of each system go into
+its ambiguities, which single differences within a system remove
+(:mod:`leopod.ambiguity.pairs`). With ``vce`` the weights of each system and observation type
+are scaled by variance components (:func:`leopod.estimation.vce.variance_components`,
+Förstner 1979 as used by Bähr et al. 2007, cited for the combined solution of Zhang et al.
+2024, Table 1), iterated at each linearisation once the screening has started.
 """
 
 from __future__ import annotations
@@ -53,6 +66,7 @@ from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
 from leopod.estimation.orbit_correction import CorrectedOrbit
+from leopod.estimation.vce import group_redundancy
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.gnss.products import GnssProducts
 from leopod.settings import Settings
@@ -65,6 +79,10 @@ __all__ = ["FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart"
 log = logging.getLogger(__name__)
 
 _MAD_TO_SIGMA = 1.4826
+#: Weight [1/m²] of the zero-misclosure pseudo-observation of each ISB increment (σ = 10 km):
+#: 1e-9 of the weight of one code observation of σ 0.3 m, so the solution of an observed piece
+#: is unchanged (at convergence the increment is 0 either way).
+_ISB_DAMPING_WEIGHT = 1.0e-8
 _MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
 #: Largest shift of the reception times [ns] over which the ITRF -> GCRF matrices are carried
 #: by the Earth rotation angle alone (_ReceptionRotation).
@@ -102,6 +120,14 @@ class PodSettings(Settings):
     gross_code_m : float
         Before the first solution, code observations deviating from the median misclosure
         of their epoch by more than this are rejected (gross errors in the data) [m].
+    isb_interval_s : float or None
+        Length of the pieces of the inter-system biases [s] (None: one per system and arc).
+    vce : bool
+        Estimate a variance factor per system and observation type (module docstring).
+    vce_max_iterations : int
+        Largest number of variance-component iterations at one linearisation.
+    vce_tolerance : float
+        The iterations stop when every estimated factor is within ``1 ± vce_tolerance``.
     """
 
     SCHEMA_DEF = "pod"
@@ -119,6 +145,10 @@ class PodSettings(Settings):
     tolerance_m: float
     min_phase_obs: int
     gross_code_m: float
+    isb_interval_s: float | None
+    vce: bool
+    vce_max_iterations: int
+    vce_tolerance: float
 
 
 @dataclass
@@ -139,8 +169,12 @@ class PodObservations:
         Ambiguity (pass) index of the phase, −1 where the phase is not used.
     clk_rx_m : ndarray, shape (m,)
         A-priori receiver clock [m] (e.g. from code-only positioning).
-    nl_wavelength_m : float
-        ``c/(f1+f2)`` of the phase pair (wind-up scale) [m].
+    nl_wavelength_m : float or ndarray, shape (s,)
+        ``c/(f1+f2)`` of the phase pair (wind-up scale) [m]: one value, or one per satellite
+        (several systems).
+    systems : tuple of str
+        GNSS letters of the arc, the reference of the inter-system biases first (empty: the
+        systems of ``sv`` in order of appearance).
     """
 
     times: np.ndarray
@@ -151,7 +185,21 @@ class PodObservations:
     phase_m: np.ndarray
     pass_index: np.ndarray
     clk_rx_m: np.ndarray
-    nl_wavelength_m: float
+    nl_wavelength_m: float | np.ndarray
+    systems: tuple[str, ...] = ()
+
+    @property
+    def system_order(self) -> tuple[str, ...]:
+        """The systems of the arc, reference first (``systems`` or those of ``sv``)."""
+        if self.systems:
+            return tuple(self.systems)
+        return tuple(dict.fromkeys(str(s)[0] for s in self.sv))
+
+    @property
+    def sat_system(self) -> np.ndarray:
+        """Index into :attr:`system_order` of each satellite of ``sv`` (s,)."""
+        order = {x: i for i, x in enumerate(self.system_order)}
+        return np.array([order[str(s)[0]] for s in self.sv], dtype=int)
 
 
 @dataclass
@@ -174,6 +222,8 @@ class PodStart:
         Receiver clock per epoch of the observations [m] (NaN: unknown).
     code_rejected, phase_rejected : ndarray of bool, shape (n,)
         Outliers of the earlier solution (per observation pair); screening continues.
+    variance_factors : ndarray, shape (2 × systems,), optional
+        Variance factors of the earlier solution (``PodResult.variance_factors``); None: 1.
     """
 
     parameter_names: list[str]
@@ -183,6 +233,7 @@ class PodStart:
     clk_rx_m: np.ndarray
     code_rejected: np.ndarray
     phase_rejected: np.ndarray
+    variance_factors: np.ndarray | None = None
 
 
 @dataclass(eq=False)
@@ -228,6 +279,20 @@ class PodResult:
         Orbit integrations (with the variational equations) of the run.
     force_evaluations : int
         Force-model evaluations of these integrations.
+    systems : tuple of str
+        Systems of the arc, reference first.
+    variance_factors : ndarray, shape (2 × systems,)
+        Variance factor of each group ``2 × system + (0 code, 1 phase)`` that scales the
+        a-priori variances (1 without VCE): weight = 1 / (factor σ²).
+    variance_sigmas : ndarray, shape (2 × systems,)
+        Approximate standard deviations of the factors, ``factor · √(2 / r_g)`` (NaN
+        without VCE).
+    redundancy : ndarray, shape (2 × systems,)
+        Redundancy number of each group in the final solution (NaN without VCE).
+    group_rms_m : ndarray, shape (2 × systems,)
+        Residual RMS of each group of the final solution [m] (NaN without observations).
+    group_count : ndarray of int, shape (2 × systems,)
+        Observations of each group in the final solution.
     """
 
     t_ref: np.datetime64
@@ -255,6 +320,12 @@ class PodResult:
     converged: bool
     integrations: int
     force_evaluations: int
+    systems: tuple[str, ...] = ("G",)
+    variance_factors: np.ndarray = field(default_factory=lambda: np.ones(2))
+    variance_sigmas: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    redundancy: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    group_rms_m: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    group_count: np.ndarray = field(default_factory=lambda: np.zeros(2, int))
 
     def orbit_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """GCRF state and formal position covariance at epochs [s since ``t_ref``].
@@ -379,13 +450,33 @@ class _Problem:
         self.k_orbit = len(self.names)
         if settings.estimate_pco_z:
             self.names.append("pco_z_m")
+        # systems, inter-system biases (code of every system but the first), VCE groups
+        self.systems = obs.system_order
+        self.pair_system = obs.sat_system[obs.sat]                       # (n,)
+        interval = settings.isb_interval_s
+        piece = (np.zeros(obs.times.size, int) if not interval
+                 else np.floor((self.t_nom_s - self.t0) / interval + 1e-9).astype(int))
+        self.isb_piece = piece                                           # (m,)
+        self.n_pieces = int(piece.max(initial=0)) + 1
+        self.k_isb = len(self.names)
+        for x in self.systems[1:]:
+            self.names += ([f"isb_{x}_m"] if self.n_pieces == 1 else
+                           [f"isb_{x}_{p:03d}_m" for p in range(self.n_pieces)])
+        self.isb = np.zeros((len(self.systems) - 1, self.n_pieces))
+        self.variance_factor = np.ones(2 * len(self.systems))
+        self.vce_sigma = np.full(2 * len(self.systems), np.nan)
+        self.vce_redundancy = np.full(2 * len(self.systems), np.nan)
         self.k = len(self.names)
+        self.vce_iterations = 0
         w = np.zeros(self.k)
         w[6:6 + sig.size] = np.where(np.isfinite(sig), 1.0 / np.where(np.isfinite(sig), sig,
                                                                          1.0)**2, 0.0)
         if n_p:
             w[6 + sig.size:self.k_orbit] = np.tile(1.0 / np.asarray(settings.pulse_sigma_m_s)**2,
                                                    n_p)
+        # ISB: a negligible damping of the increments (no a-priori value: the misclosure is
+        # always 0) that keeps a piece without code observations of its system solvable
+        w[self.k_isb:self.k] = _ISB_DAMPING_WEIGHT
         self.constraint_weight = w
         self.pco_dz = 0.0
         self.clk_rx_m = np.asarray(obs.clk_rx_m, dtype=float).copy()
@@ -416,6 +507,7 @@ class _Problem:
         parts = [state0, self.params[self.est], self.dv.ravel()]
         if self.settings.estimate_pco_z:
             parts.append([self.pco_dz])
+        parts.append(self.isb.ravel())
         return np.concatenate(parts)
 
     def load(self, start: PodStart) -> np.ndarray:
@@ -430,6 +522,9 @@ class _Problem:
         self.dv = est[6 + n_e:self.k_orbit].reshape(self.dv.shape).copy()
         if self.settings.estimate_pco_z:
             self.pco_dz = float(est[self.k_orbit])
+        self.isb = est[self.k_isb:self.k].reshape(self.isb.shape).copy()
+        if start.variance_factors is not None:
+            self.variance_factor = np.asarray(start.variance_factors, dtype=float).copy()
         self.ambiguity = np.zeros_like(self.ambiguity)
         self.ambiguity[np.asarray(start.ambiguity_pass, dtype=int)] = start.ambiguity_m
         self.clk_rx_m = np.where(np.isfinite(start.clk_rx_m), start.clk_rx_m,
@@ -444,11 +539,13 @@ class _Problem:
         self.dv += dx[6 + n_e:self.k_orbit].reshape(self.dv.shape)
         if self.settings.estimate_pco_z:
             self.pco_dz += dx[self.k_orbit]
+        self.isb += dx[self.k_isb:self.k].reshape(self.isb.shape)
         return state0 + dx[:6]
 
     def constraint_rhs(self, state0: np.ndarray) -> np.ndarray:
         apriori = np.concatenate([state0, self.apriori[self.est], np.zeros(self.dv.size),
-                                  [0.0] * self.settings.estimate_pco_z])
+                                  [0.0] * self.settings.estimate_pco_z,
+                                  self.isb.ravel()])           # no a-priori value of the ISB
         return self.constraint_weight * (apriori - self.current_vector(state0))
 
     # -- observations -----------------------------------------------------------------------
@@ -495,10 +592,35 @@ class _Problem:
         sigma = np.where(is_phase,
                          _sigma(model.el_deg[pair], s.phase_sigma_m, s.weight_elevation_deg),
                          _sigma(model.el_deg[pair], s.code_sigma_m, s.weight_elevation_deg))
-        rows = Rows(direction=-model.los_gcrf[pair], partials=g, amb=amb, epoch=ep,
-                    misclosure=observed - computed - amb_value, weight=1.0 / sigma**2,
-                    n_amb=active.size)
+        group = self.group(pair, is_phase)
+        variance = sigma**2 * self.variance_factor[group]
+        direction = -model.los_gcrf[pair]
+        misclosure = observed - computed - amb_value
+        n_x = len(self.systems) - 1
+        if n_x:
+            # the ISB as further components of the row directions: 1 for the code of system
+            # x > 0, whose "partials" are the ISB column of the epoch's piece (the ISB
+            # columns follow the pulses and are non-zero in every block of epochs, so the
+            # blocked sum of normals.accumulate works on all columns for combined arcs)
+            system = self.pair_system[pair]
+            isb_row = (~is_phase) & (system > 0)
+            misclosure = misclosure - np.where(
+                isb_row, self.isb[np.maximum(system - 1, 0), self.isb_piece[ep]], 0.0)
+            extra = np.zeros((pair.size, n_x))
+            extra[isb_row, system[isb_row] - 1] = 1.0
+            direction = np.concatenate([direction, extra], axis=1)
+            m = g.shape[0]
+            g_isb = np.zeros((m, n_x, self.k))
+            for x in range(n_x):
+                g_isb[np.arange(m), x, self.k_isb + x * self.n_pieces + self.isb_piece] = 1.0
+            g = np.concatenate([g, g_isb], axis=1)
+        rows = Rows(direction=direction, partials=g, amb=amb, epoch=ep,
+                    misclosure=misclosure, weight=1.0 / variance, n_amb=active.size)
         return rows, pair, is_phase, active
+
+    def group(self, pair: np.ndarray, is_phase: np.ndarray) -> np.ndarray:
+        """Variance group ``2 × system + (0 code, 1 phase)`` of rows (pair indices)."""
+        return 2 * self.pair_system[pair] + is_phase.astype(int)
 
     def reject_gross_code(self, model: ModelResult) -> int:
         """Reject code observations far from the median misclosure of their epoch."""
@@ -577,11 +699,54 @@ def _solve_linearised(prob: _Problem, state: np.ndarray, model: ModelResult, g: 
                         np.concatenate([prob.constraint_rhs(state), np.zeros(active.size)]))
         clocks, res = epoch_clocks(rows, dx)
         if not screening or prob.screen(rows, res, pair, is_phase) == 0:
-            break
+            if not (screening and prob.settings.vce) or _vce_step(prob, rows, res, pair,
+                                                                  is_phase, cov):
+                break
     shift = float(np.max(np.linalg.norm(np.einsum("mik,k->mi", g[:, :, :prob.k],
                                                   dx[:prob.k]), axis=1)))
     return _Solution(rows=rows, pair=pair, is_phase=is_phase, active=active, dx=dx, cov=cov,
                      clocks=clocks, residuals=res, shift_m=shift)
+
+
+def _vce_step(prob: _Problem, rows: Rows, residuals: np.ndarray, pair: np.ndarray,
+              is_phase: np.ndarray, q: np.ndarray) -> bool:
+    """One variance-component update of the groups (:mod:`leopod.estimation.vce`).
+
+    ``σ̂²_g = v_gᵀ P_g v_g / r_g`` with the redundancy ``r_g = n_g − tr(N⁻¹ N_g)`` of the
+    group (clocks included, :func:`leopod.estimation.vce.group_redundancy`); the factors of
+    the groups are multiplied by ``σ̂²_g``. Returns True when every ``σ̂²_g`` is within
+    ``1 ± vce_tolerance`` (converged) or the iterations are used up; False: solve again.
+    """
+    group = prob.group(pair, is_phase)
+    n_groups = prob.variance_factor.size
+    estimate = np.ones(n_groups)
+    redundancy = np.full(n_groups, np.nan)
+    for g in range(n_groups):
+        sel = group == g
+        if not sel.any():
+            continue
+        redundancy[g] = group_redundancy(rows, q, sel)
+        if redundancy[g] > 1.0:
+            estimate[g] = float(np.sum(rows.weight[sel] * residuals[sel] ** 2) / redundancy[g])
+    prob.variance_factor = prob.variance_factor * estimate
+    prob.vce_redundancy = redundancy
+    # sigma of an estimated variance with r degrees of freedom (Koch 1999): σ² √(2/r)
+    prob.vce_sigma = prob.variance_factor * np.sqrt(2.0 / np.where(redundancy > 0,
+                                                                   redundancy, np.nan))
+    prob.vce_iterations += 1
+    log.info("variance components (iteration %d): %s", prob.vce_iterations, ", ".join(
+        f"{prob.systems[g // 2]} {'phase' if g % 2 else 'code'} {prob.variance_factor[g]:.4g} "
+        f"(r {redundancy[g]:.1f})" for g in range(n_groups) if np.isfinite(redundancy[g])))
+    done = bool(np.all(np.abs(estimate - 1.0) <= prob.settings.vce_tolerance))
+    if prob.vce_iterations >= prob.settings.vce_max_iterations:
+        if not done:
+            log.warning("variance components not converged after %d iterations",
+                        prob.vce_iterations)
+        prob.vce_iterations = 0
+        return True
+    if done:
+        prob.vce_iterations = 0
+    return done
 
 
 def _update(prob: _Problem, state: np.ndarray, sol: _Solution) -> np.ndarray:
@@ -609,6 +774,20 @@ def _result(label: str, prob: _Problem, state: np.ndarray, orbit: CorrectedOrbit
     code_used[pair[~is_phase]] = True
     phase_used[pair[is_phase]] = True
     sig = np.sqrt(np.diag(cov))
+    group = prob.group(pair, is_phase)
+    n_groups = prob.variance_factor.size
+    count = np.bincount(group, minlength=n_groups)
+    rms = np.sqrt(np.bincount(group, weights=res**2, minlength=n_groups)
+                  / np.where(count > 0, count, 1))
+    rms = np.where(count > 0, rms, np.nan)
+    for g in range(n_groups):
+        if count[g]:
+            log.info("%s: %s %s residual RMS %.4f m (%d observations), variance factor %.4g",
+                     label, prob.systems[g // 2], "phase" if g % 2 else "code", rms[g],
+                     count[g], prob.variance_factor[g])
+    for name, value, sigma in zip(prob.names[prob.k_isb:], prob.isb.ravel(),
+                                  sig[prob.k_isb:prob.k], strict=True):
+        log.info("%s: %s %.4f ± %.4f m", label, name, value, sigma)
     log.info("%s: sigma0 %.3f, code RMS %.3f m, phase RMS %.4f m, %d passes; %d integrations, "
              "%d force evaluations", label, sigma0, np.sqrt(np.mean(res[~is_phase]**2)),
              np.sqrt(np.mean(res[is_phase]**2)), active.size, prob.integrations,
@@ -623,7 +802,13 @@ def _result(label: str, prob: _Problem, state: np.ndarray, orbit: CorrectedOrbit
         code_used=code_used, phase_used=phase_used, code_rejected=prob.code_rej.copy(),
         phase_rejected=prob.phase_rej.copy(), sigma0=sigma0, iterations=iterations,
         converged=converged, integrations=prob.integrations,
-        force_evaluations=prob.force_evaluations)
+        force_evaluations=prob.force_evaluations, systems=prob.systems,
+        variance_factors=prob.variance_factor.copy(),
+        variance_sigmas=(prob.vce_sigma.copy() if prob.settings.vce
+                         else np.full(n_groups, np.nan)),
+        redundancy=(prob.vce_redundancy.copy() if prob.settings.vce
+                    else np.full(n_groups, np.nan)),
+        group_rms_m=rms, group_count=count)
 
 
 def _announce(label: str, prob: _Problem) -> None:

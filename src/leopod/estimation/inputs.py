@@ -3,7 +3,9 @@
 Observations of consecutive days are concatenated (passes keep separate ambiguities per day:
 a pass crossing midnight gets a new ambiguity, which costs one parameter), decimated to the
 POD sampling, clipped to the arc, and combined to ionosphere-free code and phase of the
-``pod_code`` and ``phase`` signal pairs of one system.
+``pod_code`` and ``phase`` signal pairs of one system, or of several systems each with its own
+pairs (GPS L1/L2, BDS-3 B1C/B2a, Galileo E1/E5a, ...: the frequencies come from
+:mod:`leopod.signals`) as columns of one arc, the satellites of the first system first.
 """
 
 from __future__ import annotations
@@ -17,7 +19,28 @@ from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free, narrow_lane_wavelength_m
 from leopod.signals import SystemSignals
 
-__all__ = ["pod_observations", "receiver_pco_if", "satellite_antenna"]
+__all__ = ["as_system_signals", "pod_observations", "receiver_pco_if", "satellite_antenna",
+           "satellite_antennas"]
+
+
+def as_system_signals(signal_cfg, systems) -> dict[str, SystemSignals]:
+    """``{system: SystemSignals}`` of ``systems`` (a letter or a sequence of letters) from one
+    :class:`SystemSignals` (one system) or a mapping of them.
+
+    Raises
+    ------
+    KeyError
+        If a system has no signals.
+    """
+    systems = (systems,) if isinstance(systems, str) else tuple(systems)
+    if isinstance(signal_cfg, SystemSignals):
+        if len(systems) != 1:
+            raise KeyError(f"one set of signals for the systems {systems}: give one per system")
+        return {systems[0]: signal_cfg}
+    missing = [x for x in systems if x not in signal_cfg]
+    if missing:
+        raise KeyError(f"no signals (phase and pod_code pairs) for the systems {missing}")
+    return {x: signal_cfg[x] for x in systems}
 
 
 def _on_grid(times: np.ndarray, sampling_s: float) -> np.ndarray:
@@ -27,7 +50,7 @@ def _on_grid(times: np.ndarray, sampling_s: float) -> np.ndarray:
 
 
 def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
-                     leo_days: list[xr.Dataset], signal_cfg: SystemSignals, system: str,
+                     leo_days: list[xr.Dataset], signal_cfg, system,
                      arc_start, arc_end, sampling_s: float) -> PodObservations:
     """Ionosphere-free observations of an arc.
 
@@ -36,10 +59,10 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     obs_days, quality_days, leo_days : list of xarray.Dataset
         Ingest observations, quality (``pass_id``), and a-priori orbit (``clk_rx_m``) of
         consecutive days, in time order.
-    signal_cfg : SystemSignals
-        Campaign signals of the system (``phase`` and ``pod_code`` pairs).
-    system : str
-        GNSS letter.
+    signal_cfg : SystemSignals or mapping of str to SystemSignals
+        Campaign signals of the system (``phase`` and ``pod_code`` pairs), or per system.
+    system : str or sequence of str
+        GNSS letter, or letters (the first is the reference of the inter-system biases).
     arc_start, arc_end : datetime64
         Arc limits (inclusive).
     sampling_s : float
@@ -49,27 +72,56 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     -------
     PodObservations
     """
-    p1, p2 = signal_cfg.phase
-    c1, c2 = signal_cfg.pod_code
-    f1, f2 = signals.frequency_hz(system, p1), signals.frequency_hz(system, p2)
-    fc1, fc2 = signals.frequency_hz(system, c1), signals.frequency_hz(system, c2)
-    sv_all = sorted({str(s) for ds in obs_days for s in ds.sv.values if str(s)[0] == system})
+    by_system = as_system_signals(signal_cfg, system)
+    sv_of = {x: sorted({str(s) for ds in obs_days for s in ds.sv.values if str(s)[0] == x})
+             for x in by_system}
+    sv_all = [s for x in by_system for s in sv_of[x]]
+    nl_sys = {}
+    for x, sig in by_system.items():
+        f1, f2 = (signals.frequency_hz(x, p) for p in sig.phase)
+        nl_sys[x] = narrow_lane_wavelength_m(f1, f2)
+
+    def combined(o: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+        """IF code and phase (time, sv_all) of each system's pairs."""
+        code, phase = [], []
+        for x, sig in by_system.items():
+            ox = o.sel(sv=sv_of[x])
+            (p1, p2), (c1, c2) = sig.phase, sig.pod_code
+            f1, f2 = signals.frequency_hz(x, p1), signals.frequency_hz(x, p2)
+            fc1, fc2 = signals.frequency_hz(x, c1), signals.frequency_hz(x, c2)
+            code.append(ionosphere_free(ox[c1].values, ox[c2].values, fc1, fc2))
+            phase.append(ionosphere_free(ox[p1].values, ox[p2].values, f1, f2))
+        return np.concatenate(code, axis=1), np.concatenate(phase, axis=1)
+    columns = {x: np.isin(sv_all, sv_of[x]) for x in by_system}
+
+    def day_passes(qual: xr.Dataset) -> tuple[dict, int]:
+        """Offset of each system's pass ids of a day and the day's total: the quality step
+        numbers the passes of each system from 0, so they are made distinct here."""
+        offsets, total = {}, 0
+        for x in by_system:
+            offsets[x] = total
+            ids = qual.pass_id.sel(sv=[s for s in qual.sv.values if str(s)[0] == x]).values
+            total += int(ids.max(initial=-1)) + 1
+        return offsets, total
+
     blocks = []
     pass_offset = 0
     start, end = np.datetime64(arc_start, "ns"), np.datetime64(arc_end, "ns")
     for obs, qual, leo in zip(obs_days, quality_days, leo_days, strict=True):
         t = obs.time.values
         sel = (t >= start) & (t <= end) & _on_grid(t, sampling_s)
+        offsets, total = day_passes(qual)
         if not sel.any():
-            pass_offset += int(qual.pass_id.max()) + 1
+            pass_offset += total
             continue
         o = obs.isel(time=sel).reindex(sv=sv_all)
         q = qual.isel(time=sel).reindex(sv=sv_all, fill_value={"pass_id": -1})
-        code = ionosphere_free(o[c1].values, o[c2].values, fc1, fc2)
-        phase = ionosphere_free(o[p1].values, o[p2].values, f1, f2)
+        code, phase = combined(o)
         pid = q.pass_id.values.astype(int)
-        pid = np.where(pid >= 0, pid + pass_offset, -1)
-        pass_offset += int(qual.pass_id.max()) + 1
+        for x, cols in columns.items():
+            pid[:, cols] = np.where(pid[:, cols] >= 0, pid[:, cols] + pass_offset + offsets[x],
+                                    -1)
+        pass_offset += total
         clk = leo.clk_rx_m.sel(time=o.time.values).values
         blocks.append((o.time.values, code, phase, pid, clk))
     if not blocks:
@@ -89,10 +141,12 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     # renumber passes densely
     used, dense = np.unique(pid[ep, sat], return_inverse=True)
     pass_index = np.where(pid[ep, sat] >= 0, dense - (used[0] < 0), -1)
+    nl = np.array([nl_sys[s[0]] for s in sv_all])
     return PodObservations(times=times, sv=np.array(sv_all), epoch=ep, sat=sat,
                            code_m=code[ep, sat], phase_m=phase[ep, sat],
                            pass_index=pass_index, clk_rx_m=clk,
-                           nl_wavelength_m=narrow_lane_wavelength_m(f1, f2))
+                           nl_wavelength_m=float(nl[0]) if len(by_system) == 1 else nl,
+                           systems=tuple(by_system))
 
 
 def satellite_antenna(antex, sv, epoch, system: str, signal_cfg: SystemSignals):
@@ -128,6 +182,45 @@ def satellite_antenna(antex, sv, epoch, system: str, signal_cfg: SystemSignals):
             v1 = pat.pcv_m(freq[0], nadir_deg[sel], outside="nearest")
             v2 = pat.pcv_m(freq[1], nadir_deg[sel], outside="nearest")
             out[sel] = ionosphere_free(v1, v2, f1, f2)
+        return out
+
+    return pco, pcv
+
+
+def satellite_antennas(antex, sv, epoch, signal_cfg: dict[str, SystemSignals]):
+    """:func:`satellite_antenna` of several systems: PCO (s, 3) [m] and one PCV function.
+
+    Parameters
+    ----------
+    antex : leopod.io.antex.AntexFile
+    sv : ndarray of str, shape (s,)
+        Satellites; the first letter selects the system's signals in ``signal_cfg``.
+    epoch : datetime64
+    signal_cfg : dict of str to SystemSignals
+    """
+    sv = np.asarray(sv).astype(str)
+    pco = np.full((sv.size, 3), np.nan)
+    functions, members = [], []
+    for x, sig in signal_cfg.items():
+        idx = np.flatnonzero(np.char.startswith(sv, x))
+        if not idx.size:
+            continue
+        p, f = satellite_antenna(antex, sv[idx], epoch, x, sig)
+        pco[idx] = p
+        functions.append(f)
+        members.append(idx)
+    local = np.zeros(sv.size, int)
+    owner = np.full(sv.size, -1)
+    for o, idx in enumerate(members):
+        local[idx] = np.arange(idx.size)
+        owner[idx] = o
+
+    def pcv(sat_index: np.ndarray, nadir_deg: np.ndarray) -> np.ndarray:
+        out = np.zeros(nadir_deg.shape)
+        for o, f in enumerate(functions):
+            sel = owner[sat_index] == o
+            if sel.any():
+                out[sel] = f(local[sat_index[sel]], nadir_deg[sel])
         return out
 
     return pco, pcv

@@ -103,7 +103,7 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
                   products: GnssProducts, sun_itrf_m: np.ndarray, *,
                   leo_pco_body_m: np.ndarray | None = None,
                   sat_pco_body_m: np.ndarray | None = None,
-                  sat_pcv_m=None, nl_wavelength_m: float = 0.0) -> ModelResult:
+                  sat_pcv_m=None, nl_wavelength_m: float | np.ndarray = 0.0) -> ModelResult:
     """Model ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -118,14 +118,16 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     products : GnssProducts
     sun_itrf_m : ndarray, shape (m, 3)
         Earth-fixed Sun position at the epochs [m] (GNSS yaw attitude).
-    leo_pco_body_m : ndarray, shape (3,), optional
-        Ionosphere-free LEO antenna PCO in the body frame [m].
+    leo_pco_body_m : ndarray, shape (3,) or (s_obs, 3), optional
+        Ionosphere-free LEO antenna PCO in the body frame [m]; one per observation-file
+        satellite (``pairs.sat``) when systems with different signal pairs are combined.
     sat_pco_body_m : ndarray, shape (s_obs, 3), optional
         Ionosphere-free transmitter PCO per observation-file satellite (``pairs.sat``) [m].
     sat_pcv_m : callable, optional
         ``sat_pcv_m(sat_index, nadir_deg) -> m``: ionosphere-free transmitter PCV.
-    nl_wavelength_m : float
-        Narrow-lane wavelength ``c/(f1+f2)`` scaling the wind-up [m] (0: no wind-up).
+    nl_wavelength_m : float or ndarray, shape (s_obs,)
+        Narrow-lane wavelength ``c/(f1+f2)`` scaling the wind-up [m] (0: no wind-up), or one
+        per observation-file satellite (the signal pair of its system).
 
     Returns
     -------
@@ -135,7 +137,9 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     axes = nominal_axes_inertial(pos_leo_gcrf_m, vel_leo_gcrf_m_s)          # (m, 3, 3)
     rx = pos_leo_gcrf_m[ep]
     if leo_pco_body_m is not None:
-        rx = rx + np.einsum("nij,i->nj", axes[ep], leo_pco_body_m)
+        pco = np.asarray(leo_pco_body_m, dtype=float)
+        rx = rx + (np.einsum("nij,i->nj", axes[ep], pco) if pco.ndim == 1
+                   else np.einsum("nij,ni->nj", axes[ep], pco[pairs.sat]))
     rot = rot_gcrf_itrf[ep]
     t_rx = t_rx_s[ep]
     rx_itrf = np.einsum("nji,nj->ni", rot, rx)                               # R^T rx
@@ -176,10 +180,11 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     el = np.degrees(np.arcsin(np.clip(-body[:, 2], -1.0, 1.0)))
     az = np.degrees(np.arctan2(body[:, 1], body[:, 0])) % 360.0
     phase = geometric.copy()
-    if nl_wavelength_m:
+    nl = np.asarray(nl_wavelength_m, dtype=float)
+    if np.any(nl):
         sv_axes = np.einsum("nij,nkj->nki", rot, sv_axes_itrf)               # GCRF rows
         wind = windup_cycles(-los, axes[ep, 0], -axes[ep, 1], sv_axes[:, 0], sv_axes[:, 1])
         wind[valid] = unwrap_windup(wind[valid], isv[valid], ep[valid])
-        phase += nl_wavelength_m * wind
+        phase += (nl if nl.ndim == 0 else nl[pairs.sat]) * wind
     return ModelResult(code_m=geometric, phase_m=phase, los_gcrf=los, el_deg=el, az_deg=az,
                        z_body_gcrf=axes[ep, 2], valid=valid)

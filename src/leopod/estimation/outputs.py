@@ -11,7 +11,11 @@ residuals (dims ``time``, ``sv``)
     (antenna frame), ``pass_index`` (−1: none), ``code_rejected``, ``phase_rejected``
     (int8), and ``clk_rx_m`` (time).
 parameters (dim ``parameter``)
-    ``estimate``, ``sigma`` (units in ``unit``), ``covariance`` (parameter, parameter_b).
+    ``estimate``, ``sigma`` (units in ``unit``), ``covariance`` (parameter, parameter_b);
+    inter-system biases are the parameters ``isb_<system>[_<piece>]_m``. Per variance group
+    (dim ``group``: ``<system>_code``, ``<system>_phase``): ``variance_factor``,
+    ``variance_factor_sigma``, ``redundancy`` (VCE, :mod:`leopod.estimation.vce`),
+    ``residual_rms_m`` and ``n_obs``; attribute ``systems`` (reference first).
 ambiguities (dim ``ambiguity``)
     ``sv``, ``pass_index``, ``start``, ``end``, ``n_obs``, ``value_m``, ``sigma_m``
     (float ionosphere-free ambiguity incl. phase biases), ``covariance_m2`` (ambiguity,
@@ -129,9 +133,13 @@ def residual_dataset(result: PodResult, obs: PodObservations) -> xr.Dataset:
 
 
 def parameter_dataset(result: PodResult) -> xr.Dataset:
-    """Estimated arc parameters with formal sigmas and covariance."""
+    """Estimated arc parameters with formal sigmas and covariance, and per variance group
+    (system and observation type) the variance factor, its sigma, the redundancy, the
+    residual RMS and the number of observations."""
     k = len(result.parameter_names)
     names = np.array(result.parameter_names)
+    groups = [f"{x}_{kind}" for x in result.systems for kind in ("code", "phase")]
+    g = ("group",)
     return xr.Dataset(
         {
             "estimate": (("parameter",), result.estimates,
@@ -144,9 +152,22 @@ def parameter_dataset(result: PodResult) -> xr.Dataset:
             "covariance": (("parameter", "parameter_b"), result.covariance[:k, :k],
                            {"units": "various (products of units)",
                             "long_name": "formal covariance (sigma0-scaled)"}),
+            "variance_factor": (g, result.variance_factors,
+                                {"units": "1", "long_name": "variance factor of the a-priori "
+                                 "variances of the group (1: not estimated)"}),
+            "variance_factor_sigma": (g, result.variance_sigmas,
+                                      {"units": "1", "long_name": "standard deviation of the "
+                                       "variance factor (NaN: not estimated)"}),
+            "redundancy": (g, result.redundancy,
+                           {"units": "1", "long_name": "redundancy number of the group"}),
+            "residual_rms_m": (g, result.group_rms_m,
+                               {"units": "m", "long_name": "RMS of the post-fit residuals"}),
+            "n_obs": (g, np.asarray(result.group_count, dtype=np.int32),
+                      {"units": "1", "long_name": "observations used"}),
         },
-        coords={"parameter": names, "parameter_b": names},
-        attrs={"sigma0": result.sigma0, "iterations": result.iterations,
+        coords={"parameter": names, "parameter_b": names, "group": groups},
+        attrs={"systems": " ".join(result.systems),
+               "sigma0": result.sigma0, "iterations": result.iterations,
                "converged": int(result.converged), "t_ref": str(result.t_ref)},
     )
 
@@ -184,7 +205,10 @@ def ambiguity_dataset(result: PodResult, obs: PodObservations) -> xr.Dataset:
             "covariance_m2": (("ambiguity", "ambiguity_b"), result.covariance[k:, k:],
                               {"units": "m2", "long_name": "formal covariance"}),
         },
-        attrs={"nl_wavelength_m": obs.nl_wavelength_m},
+        attrs=({"nl_wavelength_m": obs.nl_wavelength_m}
+               if np.ndim(obs.nl_wavelength_m) == 0 else
+               {"nl_wavelength_m_" + str(sv)[0]: float(nl)      # per system (one per sv)
+                for sv, nl in zip(obs.sv, obs.nl_wavelength_m, strict=True)}),
     )
 
 
@@ -222,7 +246,9 @@ def pod_start(parameters: xr.Dataset, ambiguities: xr.Dataset, residuals: xr.Dat
                     ambiguity_m=ambiguities.value_m.values,
                     clk_rx_m=residuals.clk_rx_m.values,
                     code_rejected=flags("code_rejected"),
-                    phase_rejected=flags("phase_rejected"))
+                    phase_rejected=flags("phase_rejected"),
+                    variance_factors=(parameters.variance_factor.values
+                                      if "variance_factor" in parameters else None))
 
 
 def output_epochs(t_start, t_end, step_s: float) -> np.ndarray:

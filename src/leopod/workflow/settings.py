@@ -29,13 +29,17 @@ def pod_settings(signals: Mapping, pod: Mapping, code_bias: Mapping) -> dict:
     Returns
     -------
     dict
-        ``signals`` (:class:`~leopod.signals.SystemSignals` of ``pod.system``), ``arc``
+        ``signals`` (:class:`~leopod.signals.SystemSignals` of ``pod.system``, or a dict of
+        them per system when ``pod.system`` is a list), ``arc``
         (:class:`~leopod.estimation.arc.ArcSettings`), ``pod``
         (:class:`~leopod.estimation.float_pod.PodSettings`), ``forces`` (the force
         configuration with ``satkit:`` model names resolved to installed files) and
         ``code_correction`` (:class:`~leopod.codebias.apply.CodeCorrection`).
     """
-    return {"signals": signal_settings(signals)[pod["system"]],
+    system = pod["system"]
+    by_system = signal_settings(signals)
+    return {"signals": (by_system[system] if isinstance(system, str)
+                        else {x: by_system[x] for x in system}),
             "arc": ArcSettings.from_config(pod), "pod": PodSettings.from_config(pod),
             "forces": ForceModelSettings.from_config(resolve_model_paths(pod["forces"])),
             "code_correction": CodeCorrection.from_config(code_bias)}
