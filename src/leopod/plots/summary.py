@@ -37,6 +37,8 @@ _OFFSET_H = 2.0
 """Horizontal shift between the solutions of one day [h], so error bars do not overlap."""
 _MAX_DAY_TICKS = 10
 """Campaigns up to this many days get one labelled tick (``YYYY-DDD``) per day."""
+_RATE_MARGIN_PCT = 5.0
+"""Space below the lowest fixing rate of a panel [%] (the top is 100 % plus a fifth of it)."""
 _NOTE = {"ha": "center", "va": "center", "fontsize": 11, "color": "grey"}
 
 
@@ -156,6 +158,10 @@ def plot_fixing_rates(table: pd.DataFrame, path, title: str = "") -> None:
             mean = _value(table, "mean", solution, column)
             ax.plot(days.index, days[column], marker=marker, ms=4, lw=0.8,
                     label=f"{text}: mean {mean:.1f} %")
+        low = np.nanmin(days[[f"{lane}_fixing_rate_pct", f"{lane}_sd_fixed_pct"]].to_numpy(float))
+        ax.set_ylim(max(0.0, low - _RATE_MARGIN_PCT) if np.isfinite(low) else 0.0,
+                    100 + _RATE_MARGIN_PCT / 5)
+        ax.ticklabel_format(axis="y", useOffset=False)
         ax.set_ylabel(f"{name} [%]")
         _legend_above(ax, 2)
         _date_axis(ax, days.index)

@@ -230,14 +230,15 @@ def campaign_table(rows: list[dict]) -> pd.DataFrame:
     table = pd.DataFrame(rows).set_index(["date", "solution"])
     table = table.reindex(columns=_ordered(table.columns))
     counts = [c for c in table.columns if _is_count(c)]
-    summaries = []
+    means, stds = [], []
     for solution, group in table.groupby(level="solution", sort=False):
         mean = group.mean(numeric_only=True)
         std = group.std(ddof=1, numeric_only=True)
         for count in counts:
             mean[count] = group[count].sum(min_count=1)
             std[count] = np.nan
-        summaries += [mean.rename(("mean", solution)), std.rename(("std", solution))]
-    out = pd.concat([table, pd.DataFrame(summaries)])
+        means.append(mean.rename(("mean", solution)))
+        stds.append(std.rename(("std", solution)))
+    out = pd.concat([table, pd.DataFrame(means + stds)])
     out.index = pd.MultiIndex.from_tuples(out.index, names=["date", "solution"])
     return out
