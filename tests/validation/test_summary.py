@@ -84,15 +84,32 @@ def test_both_fixing_rate_definitions():
     # Authority: graph theory (rank of an incidence matrix = nodes - components). Passes 0..3;
     # SDs 0-1, 1-2, 0-2 (a triangle: rank 2) and 2-3. WL: the triangle is fixed, 2-3 not:
     # graph-rank rate 2/3 (Jiang et al. 2023: fixed independent / all independent), share of
-    # SDs 3/4. NL: only 0-1 and 2-3 fixed: rank 2 / 3, share 2/4 - the definitions differ.
-    amb = _graph_ambiguities([0, 1, 0, 2], [1, 2, 2, 3], [1, 1, 1, 0], [1, 0, 0, 1])
+    # SDs 3/4: the share is the larger. NL (only where the WL is fixed): 0-1 alone: rank 1/3,
+    # share 1/4.
+    amb = _graph_ambiguities([0, 1, 0, 2], [1, 2, 2, 3], [1, 1, 1, 0], [1, 0, 0, 0])
     row = day_row("2019-001", "fixed_pod", residuals=_residuals([[0.001]], [[0.1]]),
                   ambiguity=amb)
     assert row["wl_fixing_rate_pct"] == pytest.approx(100 * 2 / 3)
     assert row["wl_sd_fixed_pct"] == pytest.approx(75.0)
-    assert row["nl_fixing_rate_pct"] == pytest.approx(100 * 2 / 3)
-    assert row["nl_sd_fixed_pct"] == pytest.approx(50.0)
+    assert row["nl_fixing_rate_pct"] == pytest.approx(100 / 3)
+    assert row["nl_sd_fixed_pct"] == pytest.approx(25.0)
     assert row["n_sd"] == 4
+    assert "n_sd_G" not in row          # no satellite ids in this table: no per-system shares
+    # per system (SDs are formed within a system; Jiang et al. 2023 report BDS-3 and GPS
+    # apart): the triangle is BDS, the 2-3 SD GPS -> C: WL 3/3, NL 1/3; G: WL 0/1, NL 0/1
+    amb["sv_i"] = ("pair", ["C20", "C21", "C20", "G05"])
+    row = day_row("2019-001", "fixed_pod", residuals=_residuals([[0.001]], [[0.1]]),
+                  ambiguity=amb)
+    assert row["n_sd_C"] == 3 and row["n_sd_G"] == 1
+    assert row["wl_sd_fixed_C_pct"] == pytest.approx(100.0)
+    assert row["nl_sd_fixed_C_pct"] == pytest.approx(100 / 3)
+    assert row["wl_sd_fixed_G_pct"] == 0.0 and row["nl_sd_fixed_G_pct"] == 0.0
+    table = campaign_table([row])
+    after = list(table.columns[list(table.columns).index("nl_sd_fixed_pct") + 1:][:6])
+    assert after == ["n_sd_C", "wl_sd_fixed_C_pct", "nl_sd_fixed_C_pct",
+                     "n_sd_G", "wl_sd_fixed_G_pct", "nl_sd_fixed_G_pct"]
+    assert table.loc[("mean", "fixed_pod"), "n_sd_C"] == 3
+    assert np.isnan(table.loc[("std", "fixed_pod"), "n_sd_C"])
     # no candidates: no share (NaN), not 0 %
     empty = _graph_ambiguities([], [], [], [])
     empty.attrs.update(wl_fixing_rate=np.nan, nl_fixing_rate=np.nan)

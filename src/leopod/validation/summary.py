@@ -23,10 +23,12 @@ Jiang et al. (2023), Fig. 8; NaN where it is not estimated.
 
 Per-system columns: residuals are split by GNSS system (first letter of the satellite id,
 ``G``, ``C``, ``E``, ...), and for each system present in the data of a campaign the table has
-``phase_rms_<S>_mm``, ``code_rms_<S>_m`` and ``n_phase_<S>`` (:data:`SYSTEM_COLUMNS`) after the
-all-system columns; a system absent on a day is NaN there. A wide table keeps one row per day and
-solution in the CSV, HTML and netCDF alike (the netCDF carries each column with units and
-long name), and a single-system campaign simply has one such group.
+``phase_rms_<S>_mm``, ``code_rms_<S>_m`` and ``n_phase_<S>`` after the all-system residual
+columns, and ``n_sd_<S>``, ``wl_sd_fixed_<S>_pct``, ``nl_sd_fixed_<S>_pct`` (single differences
+are formed within a system; the system of satellite i) after the all-system shares
+(:data:`SYSTEM_COLUMNS`); a system absent on a day is NaN there. A wide table keeps one row per
+day and solution in the CSV, HTML and netCDF alike (the netCDF carries each column with units
+and long name), and a single-system campaign simply has one such group.
 
 Besides the daily rows, :func:`campaign_table` adds per solution a ``mean`` row (means of the
 daily figures; counts summed) and a ``std`` row (sample STD of the daily figures over the days;
@@ -75,13 +77,19 @@ SYSTEM_COLUMNS = {
     "phase_rms_{system}_mm": ("mm", "post-fit ionosphere-free phase residual RMS, system {system}"),
     "code_rms_{system}_m": ("m", "post-fit ionosphere-free code residual RMS, system {system}"),
     "n_phase_{system}": ("1", "phase observations used, system {system}"),
+    "n_sd_{system}": ("1", "single-difference ambiguities, system {system}"),
+    "wl_sd_fixed_{system}_pct": ("%", "share of single differences with the wide lane fixed, "
+                                      "system {system}"),
+    "nl_sd_fixed_{system}_pct": ("%", "share of single differences with the narrow lane fixed, "
+                                      "system {system}"),
 }
 
 #: Count columns: summed in the ``mean`` row, no ``std`` row value.
 COUNTS = ("n_phase", "n_sd", "n_constraints", "slr_n")
 
-#: All-system column after which the per-system columns follow.
-_SYSTEMS_AFTER = "n_phase"
+#: All-system column -> the per-system templates that follow it in the table.
+_SYSTEMS_AFTER = {"n_phase": tuple(SYSTEM_COLUMNS)[:3],
+                  "nl_sd_fixed_pct": tuple(SYSTEM_COLUMNS)[3:]}
 _SYSTEM_PATTERNS = {template: re.compile(re.escape(template).replace(r"\{system\}",
                                                                      "(?P<system>[A-Z])"))
                     for template in SYSTEM_COLUMNS}
@@ -111,20 +119,20 @@ def column_meta(name: str) -> tuple[str, str]:
 
 
 def _is_count(name: str) -> bool:
-    return name in COUNTS or name.startswith("n_phase_")
+    return name in COUNTS or name.startswith(("n_phase_", "n_sd_"))
 
 
 def _ordered(names) -> list[str]:
-    """:data:`COLUMNS` order with the per-system columns (sorted by system) after n_phase."""
+    """:data:`COLUMNS` order, each group of per-system columns (sorted by system) after its
+    all-system column (:data:`_SYSTEMS_AFTER`)."""
     names = set(names)
     systems = sorted({m["system"] for n in names for p in _SYSTEM_PATTERNS.values()
                       if (m := p.fullmatch(n))})
-    per_system = [t.format(system=s) for s in systems for t in SYSTEM_COLUMNS]
     out = []
     for name in COLUMNS:
         out.append(name)
-        if name == _SYSTEMS_AFTER:
-            out += [n for n in per_system if n in names]
+        group = [t.format(system=s) for s in systems for t in _SYSTEMS_AFTER.get(name, ())]
+        out += [n for n in group if n in names]
     return out
 
 
@@ -153,7 +161,8 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         ``sv`` coordinate of satellite ids the per-system columns are filled.
     ambiguity : xarray.Dataset, optional
         Ambiguity table (attrs ``wl_fixing_rate``, ``nl_fixing_rate``; ``wl_fixed``,
-        ``nl_fixed``, ``constrained`` (pair) 0/1).
+        ``nl_fixed``, ``constrained`` (pair) 0/1; with ``sv_i`` (pair) the per-system shares
+        are filled).
     overlap : xarray.Dataset, optional
         :func:`leopod.validation.overlap.overlap` of the day's arc with the next one.
     reference : xarray.Dataset, optional
@@ -168,7 +177,7 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
     -------
     dict
         ``date``, ``solution``, the :data:`COLUMNS` and the :data:`SYSTEM_COLUMNS` of the
-        systems in ``residuals``.
+        systems in ``residuals`` and ``ambiguity``.
     """
     row = {"date": date, "solution": solution} | dict.fromkeys(COLUMNS, np.nan)
     phase = residuals.phase_residual_m.values
@@ -192,6 +201,14 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
             row["n_sd"] = int(ambiguity.wl_fixed.size)
             for lane in ("wl", "nl"):
                 row[f"{lane}_sd_fixed_pct"] = _sd_share(ambiguity[f"{lane}_fixed"].values)
+            if "sv_i" in ambiguity:
+                systems = system_of(ambiguity.sv_i.values) if ambiguity.sv_i.size else []
+                for system in np.unique(systems):
+                    sel = systems == system
+                    row[f"n_sd_{system}"] = int(sel.sum())
+                    for lane in ("wl", "nl"):
+                        row[f"{lane}_sd_fixed_{system}_pct"] = _sd_share(
+                            ambiguity[f"{lane}_fixed"].values[sel])
         verdict = ambiguity.attrs.get("product_guard")
         if verdict in ("accepted", "refused"):
             row["ar_product_accepted"] = float(verdict == "accepted")
