@@ -149,7 +149,7 @@ def plot_fixing_rates(table: pd.DataFrame, path, title: str = "") -> None:
         _note(fig, axes[0], "no ambiguity resolution in this campaign")
         save_figure(fig, path)
         return
-    solution = with_ar[-1]
+    solution = with_ar[0]
     days = _days(table, solution)
     for ax, lane, name in zip(axes, ("wl", "nl"), ("wide lane", "narrow lane"), strict=True):
         for column, text, marker in ((f"{lane}_fixing_rate_pct",
