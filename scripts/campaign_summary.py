@@ -1,5 +1,7 @@
-"""Rule campaign_summary: per day and solution residual RMS, fixing rates, overlap,
-reference-orbit and SLR statistics of a satellite (leopod.validation.summary)."""
+"""Rule campaign_summary: per day and solution residual RMS (all systems and per system),
+fixing rates (graph rank and share of SDs), overlap, reference-orbit and SLR statistics and the
+PCO-Z estimates of a satellite (leopod.validation.summary), with the PCO-Z and fixing-rate
+figures (leopod.plots.summary)."""
 
 import logging
 from collections.abc import Mapping
@@ -9,7 +11,8 @@ import xarray as xr
 
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
-from leopod.validation.summary import COLUMNS, campaign_table, day_row
+from leopod.plots.summary import plot_fixing_rates, plot_pco_z
+from leopod.validation.summary import campaign_table, column_meta, day_row
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
@@ -32,8 +35,9 @@ def _cell(value: float) -> str:
 
 def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> None:
     """Campaign table from ``files`` (``{solution: {product: {date: path}}}``, products
-    ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``) into ``outputs``:
-    ``nc``, ``csv`` and ``html``; ``input_files`` are recorded as provenance."""
+    ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``, ``parameters``) into
+    ``outputs``: ``nc``, ``csv``, ``html``, ``pco_z_png`` and ``fixing_png``;
+    ``input_files`` are recorded as provenance."""
     rows = []
     for solution, products in files.items():
         for date in days:
@@ -41,11 +45,13 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> 
                                 ambiguity=_load(products, "ambiguity", date),
                                 overlap=_load(products, "overlap", date),
                                 reference=_load(products, "reference", date),
-                                slr=_load(products, "slr", date)))
+                                slr=_load(products, "slr", date),
+                                parameters=_load(products, "parameters", date)))
     table = campaign_table(rows)
     log.info("campaign summary:\n%s", table.to_string(float_format=lambda v: f"{v:.3g}"))
     ds = xr.Dataset.from_dataframe(table.reset_index().rename_axis("row"))
-    for name, (unit, text) in COLUMNS.items():
+    meta = {name: column_meta(name) for name in table.columns}
+    for name, (unit, text) in meta.items():
         ds[name].attrs.update(units=unit, long_name=text)
     for name in ("date", "solution"):
         ds[name].attrs.update(units="1", long_name=name)
@@ -53,7 +59,7 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> 
                  time_system="GPS", title=f"campaign summary {title}")
     write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
     header = "".join(f"<th title='{text}'>{name}<br>[{unit}]</th>"
-                     for name, (unit, text) in COLUMNS.items())
+                     for name, (unit, text) in meta.items())
     body = "\n".join(
         "<tr><td>{}</td><td>{}</td>{}</tr>".format(
             d, s, "".join(f"<td>{_cell(v)}</td>" for v in row.to_numpy()))
@@ -61,6 +67,8 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> 
     write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>"
                                 f"<table border='1' cellpadding='3'><tr><th>day</th>"
                                 f"<th>solution</th>{header}</tr>\n{body}</table></body></html>\n")
+    plot_pco_z(table, outputs["pco_z_png"], title=title)
+    plot_fixing_rates(table, outputs["fixing_png"], title=title)
 
 
 def run(sm) -> None:

@@ -77,6 +77,34 @@ def test_overlap_main_from_plain_paths(tmp_path):
                                [0.01, 0.02, 0.03, math.sqrt(14e-4)], atol=2e-4)
 
 
+def test_campaign_summary_main_with_two_systems_and_pco_z(tmp_path):
+    # GPS+BDS residuals and a PCO-Z parameter reach all three tables and both figures; every
+    # column of the netCDF, per-system ones included, carries units and a long name
+    # (authority: the summary's own column definitions, leopod.validation.summary).
+    res = xr.Dataset({"phase_residual_m": (("time", "sv"), [[0.003, 0.004, -0.002]]),
+                      "code_residual_m": (("time", "sv"), [[0.3, 0.4, 0.5]])},
+                     coords={"sv": ["G01", "C20", "C30"]})
+    par = xr.Dataset({"estimate": ("parameter", [0.0169]), "sigma": ("parameter", [0.0071])},
+                     coords={"parameter": ["pco_z_m"]})
+    res.to_netcdf(tmp_path / "res.nc")
+    par.to_netcdf(tmp_path / "par.nc")
+    files = {s: {"residuals": {"2021-186": str(tmp_path / "res.nc")},
+                 "parameters": {"2021-186": str(tmp_path / "par.nc")}}
+             for s in ("float_pod", "fixed_pod")}
+    outputs = {k: tmp_path / f"summary.{k}" for k in ("nc", "csv", "html")}
+    outputs |= {"pco_z_png": tmp_path / "pco.png", "fixing_png": tmp_path / "rates.png"}
+    _script("campaign_summary").main(files, ["2021-186"], [], outputs, title="test")
+    ds = xr.load_dataset(outputs["nc"])
+    assert float(ds.phase_rms_C_mm[0]) == pytest.approx(np.sqrt(10.0))
+    assert ds.phase_rms_C_mm.attrs["units"] == "mm" and "system C" in \
+        ds.phase_rms_C_mm.attrs["long_name"]
+    assert float(ds.pco_z_cm[0]) == pytest.approx(1.69)
+    html = outputs["html"].read_text()
+    assert "pco_z_sigma_cm" in html and "phase_rms_G_mm" in html and "0.71" in html
+    assert outputs["pco_z_png"].read_bytes().startswith(b"\x89PNG")
+    assert outputs["fixing_png"].read_bytes().startswith(b"\x89PNG")
+
+
 @pytest.mark.shared
 def test_products_ingest_and_quality_main_from_plain_paths(shared_data, tmp_path):
     d = shared_data / "grace-a_2007-080"

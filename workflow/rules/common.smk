@@ -344,7 +344,11 @@ def summary_files(sat):
     files = {}
     for solution in solutions():
         residuals = pod_output(solution, "residuals")
-        f = {"residuals": {d: fill(residuals, sat=sat, date=d) for d in DAYS}}
+        parameters = pod_output(solution, "parameters")
+        f = {
+            "residuals": {d: fill(residuals, sat=sat, date=d) for d in DAYS},
+            "parameters": {d: fill(parameters, sat=sat, date=d) for d in DAYS},
+        }
         if CONFIG["ambiguity"]["enabled"]:
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {

@@ -210,8 +210,10 @@ rule slr_summary:
         "../../scripts/slr_summary.py"
 
 
-# Campaign summary: per day and solution the residual RMS, fixing rates, overlap, reference
-# orbit and SLR statistics (the tables of the source papers), as netCDF, CSV and an HTML table.
+# Campaign summary: per day and solution the residual RMS (all and per GNSS system), fixing
+# rates (graph rank and share of SDs), overlap, reference orbit and SLR statistics and the PCO-Z
+# estimates (the tables of the source papers), as netCDF, CSV and an HTML table, with the PCO-Z
+# (float vs fixed) and fixing-rate figures.
 rule campaign_summary:
     input:
         summary_inputs,
@@ -224,6 +226,18 @@ rule campaign_summary:
             caption="../report/campaign_summary.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "campaign summary"},
+        ),
+        pco_z_png=report(
+            "results/summary/{sat}_pco_z.png",
+            caption="../report/summary_pco_z.rst",
+            category="Summary",
+            labels={"satellite": "{sat}", "figure": "PCO-Z float vs fixed"},
+        ),
+        fixing_png=report(
+            "results/summary/{sat}_fixing_rates.png",
+            caption="../report/summary_fixing_rates.rst",
+            category="Summary",
+            labels={"satellite": "{sat}", "figure": "fixing rates"},
         ),
     log:
         "logs/campaign_summary/{sat}.log",
