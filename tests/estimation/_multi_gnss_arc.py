@@ -28,7 +28,7 @@ from leopod.estimation.arc import ArcData, run_arc
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.products import GnssProducts
-from leopod.gnss.quality import QualitySettings, assess_quality
+from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
 from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
@@ -105,9 +105,7 @@ def simulated_world(folder: Path) -> SimpleNamespace:
     qs = QualitySettings.from_config(cfg["quality"])
     parts = [assess_quality(obs, el, az, x, sig.phase, sig.code, sig.pod_code, qs)
              for x, sig in signals.items()]
-    # the per-satellite variables (leopod.gnss.quality.merge_systems fails on the per-epoch
-    # n_sv_tracked that both systems write under the same name)
-    quality = xr.concat([p[["pass_id"]] for p in parts], dim="sv", join="outer")
+    quality = merge_systems(parts)   # as scripts/quality.py
     with xr.open_dataset(folder / "t.nc") as f:
         truth_day = f.load()
     with xr.open_dataset(folder / "b.nc") as f:

@@ -68,3 +68,27 @@ def test_missing_configured_signal_is_named(bds_pass):
         canonical_observations(raw, signal_settings({"C": {"phase": ["L1P", "L5P"],
                                                            "code": ["C7I"],
                                                            "pod_code": ["C1P", "C5P"]}}))
+
+
+def test_merged_systems_sum_the_satellites_tracked_per_epoch():
+    # two systems tracked over overlapping epochs: the merged count is the sum of both
+    # (satellite ids are unique across systems), the per-satellite series are concatenated
+    import numpy as np
+    import xarray as xr
+
+    from leopod.gnss.quality import merge_systems
+
+    def part(system, svs, times, counts):
+        return xr.Dataset(
+            {"n_sv_tracked": (("time",), np.array(counts, np.int16)),
+             "mp_C1_m": (("time", "sv"), np.zeros((len(times), len(svs)))),
+             f"{system}_mp_rms_C1_m": ((), 0.3)},
+            coords={"time": np.array(times, "datetime64[s]"), "sv": svs},
+            attrs={"system": system})
+
+    g = part("G", ["G01", "G02"], ["2019-01-01T00:00:00", "2019-01-01T00:00:30"], [2, 1])
+    c = part("C", ["C20"], ["2019-01-01T00:00:30", "2019-01-01T00:01:00"], [1, 1])
+    merged = merge_systems([g, c])
+    assert merged.n_sv_tracked.values.tolist() == [2, 2, 1]
+    assert merged.sizes["sv"] == 3 and merged.attrs["systems"] == "G C"
+    assert {"G_mp_rms_C1_m", "C_mp_rms_C1_m"} <= set(merged.data_vars)

@@ -226,7 +226,7 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
     expected = int(round(day_span / interval))
     completeness = (n_sv > 0).sum() / expected
     utilisation = complete.sum() / max(any_obs.sum(), 1)
-    data["n_sv_tracked"] = (("time",), n_sv.astype(np.int16),
+    data[_TRACKED] = (("time",), n_sv.astype(np.int16),
                             {"units": "1", "long_name": "GNSS satellites tracked per epoch"})
     hist_da = xr.DataArray(hist, dims="n_sats", coords={"n_sats": np.arange(hist.size)},
                            attrs={"units": "1", "long_name": "number of epochs with n_sats satellites tracked"})
@@ -334,16 +334,27 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
     return ds
 
 
+#: Satellites tracked per epoch (time,): a per-system series that merging sums.
+_TRACKED = "n_sv_tracked"
+
+
 def merge_systems(parts: list[xr.Dataset]) -> xr.Dataset:
     """Combine the per-system results of :func:`assess_quality` into one Dataset.
 
     Series and per-satellite variables are concatenated along ``sv`` (satellite ids are
-    unique across systems); the per-system scalars and histograms keep their prefixes.
+    unique across systems); the per-system scalars and histograms keep their prefixes; the
+    satellites tracked per epoch are summed over the systems.
     """
     if len(parts) == 1:
         return parts[0]
     per_sv = [p[[k for k in p.data_vars if "sv" in p[k].dims]] for p in parts]
-    other = [p[[k for k in p.data_vars if "sv" not in p[k].dims]] for p in parts]
+    other = [p[[k for k in p.data_vars if "sv" not in p[k].dims and k != _TRACKED]]
+             for p in parts]
+    tracked = [p[_TRACKED] for p in parts if _TRACKED in p]
+    if tracked:   # satellites of all systems tracked per epoch
+        total = sum(t.astype(np.int32) for t in xr.align(*tracked, join="outer", fill_value=0))
+        other.append(total.astype(np.int16).assign_attrs(tracked[0].attrs).to_dataset(
+            name=_TRACKED))
     merged = xr.merge([xr.concat(per_sv, dim="sv", join="outer")] + other, join="outer")
     merged.attrs = {"systems": " ".join(p.attrs["system"] for p in parts)}
     return merged
