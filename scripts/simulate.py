@@ -13,14 +13,14 @@ from leopod.workflow.log import configure_logging
 
 def main(date: str, sat: str, settings: SimulationSettings, world_start: str, world_end: str,
          pco_body_m, truth_path, biases_path, outputs: Mapping) -> None:
-    """Simulate ``sat`` on ``date`` into ``outputs``: ``rinex3``, ``rinex2``, ``truth_sp3``,
-    ``truth_nc`` and ``crd``."""
+    """Simulate ``sat`` on ``date`` into ``outputs``: ``rinex3``, ``rinex2`` (absent without
+    simulated GPS), ``truth_sp3``, ``truth_nc`` and ``crd``."""
     with xr.open_dataset(truth_path) as f:
         truth = f.load()
     with xr.open_dataset(biases_path) as f:
         biases = f.load()
     simulate_leo_day(date, sat, settings, world_start, world_end, truth, biases,
-                     pco_body_m or None, rinex3=outputs["rinex3"], rinex2=outputs["rinex2"],
+                     pco_body_m or None, rinex3=outputs["rinex3"], rinex2=outputs.get("rinex2"),
                      truth_sp3=outputs["truth_sp3"], truth_nc=outputs["truth_nc"],
                      crd=outputs["crd"])
 

@@ -298,3 +298,53 @@ def test_signal_errors():
         simulate_biases(["R01"], None, rng, epoch=EPOCH, settings=DEFAULTS)
     with pytest.raises(ValueError, match="does not divide one day"):
         ar_products(_biases(), window_s=7000.0)
+
+
+def _b1i_clock_biases(signals):
+    settings = BiasSettings.from_config(with_defaults(
+        "simulate_biases", {"clock_reference": {"C": ["C2I", "C6I"]}}))
+    return simulate_biases(BDS, {"C": signals}, np.random.default_rng(3), epoch=EPOCH,
+                           settings=settings)
+
+
+def test_bds_clocks_of_b1i_b3i_give_b1c_b2a_osbs_a_nonzero_if_part(tmp_path):
+    # design constraint (module docstring; Bias-SINEX: the IF code OSB of the clock-reference
+    # observables is zero): with clocks of B1I/B3I the IF of C2I/C6I vanishes and that of the
+    # B1C/B2a codes does not; the OSB file declares the B1I/B3I reference
+    b = _b1i_clock_biases(["C1P", "C5P", "C2I", "C6I", "L1P", "L5P"])
+    d = b.code_sat_m
+
+    def if_of(c1, c2):
+        return ionosphere_free(d.sel(code_signal=c1), d.sel(code_signal=c2),
+                               frequency_hz("C", c1), frequency_hz("C", c2))
+
+    np.testing.assert_allclose(if_of("C2I", "C6I"), 0.0, atol=1e-12)
+    # B1C/B2a IF part: 0.68 DCB(B1I-B3I) plus the B1C-B1I and B2a-B3I DCBs (4 and 1 ns
+    # sigma), i.e. about 1 m; at least 0.2 m on average
+    assert float(np.mean(np.abs(if_of("C1P", "C5P")))) > 0.2
+    # B1C refers to B1I and B2a to B3I (nearest in frequency): DCBs of the 'other' sigma (1 ns)
+    for code, ref in (("C1P", "C2I"), ("C5P", "C6I")):
+        dcb_ns = (d.sel(code_signal=ref) - d.sel(code_signal=code)).values / C_LIGHT_M_S * 1e9
+        assert 0.5 < np.std(dcb_ns) < 2.0
+    path = tmp_path / "b1i.bia"
+    write_bias_sinex(ar_products(b).osb, path)
+    assert read_bias_sinex(path).attrs["satellite_clock_reference_observables_C"] == "C2I C6I"
+
+
+def test_clock_reference_need_not_be_simulated():
+    # a B1C/B2a receiver with B1I/B3I clocks: the reference codes are drawn but not output;
+    # the B1C/B2a biases keep the law of the previous test: a non-zero IF part, zero mean
+    # over the satellites
+    b = _b1i_clock_biases(["C1P", "C5P", "L1P", "L5P"])
+    assert sorted(b.code_sat_m.code_signal.values) == ["C1P", "C5P"]
+    assert b.clock_reference["C"] == ("C2I", "C6I")
+    d = b.code_sat_m
+    if_part = ionosphere_free(d.sel(code_signal="C1P"), d.sel(code_signal="C5P"),
+                              frequency_hz("C", "C1P"), frequency_hz("C", "C5P"))
+    assert float(np.mean(np.abs(if_part))) > 0.2
+    assert abs(float(np.mean(if_part))) < 1e-9   # demeaned DCBs: the IGS datum
+    # default settings keep the B1C/B2a clock reference and a zero IF part
+    d0 = _biases(svs=BDS).code_sat_m
+    np.testing.assert_allclose(ionosphere_free(
+        d0.sel(code_signal="C1P"), d0.sel(code_signal="C5P"), frequency_hz("C", "C1P"),
+        frequency_hz("C", "C5P")), 0.0, atol=1e-12)

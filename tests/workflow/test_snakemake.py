@@ -81,6 +81,21 @@ def test_default_dry_run_has_three_days(tmp_path):
     assert benchmarks and all(b.startswith("logs/benchmarks/") for b in benchmarks)
 
 
+def test_bds3_campaign_dry_run_plans_no_rinex2(tmp_path):
+    # config/hy2d-sim.yaml simulates BDS-3 only: RINEX 2.11 holds GPS observations only
+    # (RINEX 2.11 section 5.1: BeiDou B1C/B2a have no RINEX 2 observation code), so the
+    # simulate rule must not promise a RINEX 2 file it cannot write (it did, and the job
+    # failed with MissingOutputException); the whole chain to the summary is planned
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile", "config/hy2d-sim.yaml"],
+                check=True)
+    out = proc.stdout + proc.stderr
+    assert "resources/simulate/hy2d-sim/2021-193.rnx" in out
+    assert "hy2d-sim/2021-193.obs" not in out
+    for rule in ("simulate", "ingest", "quality", "code_bias", "float_pod", "ambiguity",
+                 "fixed_pod", "overlap", "slr", "campaign_summary"):
+        assert f"rule {rule}:" in out, rule
+
+
 def _job_files(sm) -> list[str]:
     return [str(p) for p in sm.input]
 

@@ -98,7 +98,9 @@ rule simulate:
         code=library_code("simulate"),
     output:
         rinex3="resources/simulate/{sat}/{date}.rnx",
-        rinex2="resources/simulate/{sat}/{date}.obs",
+        # RINEX 2.11 holds the GPS observations only: no file without simulated GPS
+        **({"rinex2": "resources/simulate/{sat}/{date}.obs"}
+           if "G" in CONFIG["simulate"]["systems"] else {}),
         truth_sp3="resources/simulate/{sat}/{date}_truth.sp3",
         truth_nc="resources/simulate/{sat}/{date}_truth.nc",
         crd="resources/simulate/{sat}/{date}.crd",

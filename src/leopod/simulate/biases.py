@@ -16,10 +16,15 @@ separable from the integer ``N_i``). Sign conventions of the products made here:
 Bias-SINEX OSB (:func:`leopod.io.bias_sinex_write.write_bias_sinex`)
     "observation corrected = observation − OSB" (Bias-SINEX 1.00): code OSB = ``d^s_i``,
     phase OSB = ``λ_i β^s_i``. The satellite clock ``dt^s`` refers to the ionosphere-free
-    combination of the clock-reference codes :data:`CLOCK_REFERENCE_CODES` (GPS C1W/C2W, BDS-3
-    C1P/C5P), whose satellite code biases are therefore drawn with a zero ionosphere-free
-    combination ``(f1² d1 − f2² d2)/(f1² − f2²) = 0``, as in the real CODE and WHU files
-    (checked in tests/simulate/test_biases.py).
+    combination of the clock-reference codes (``BiasSettings.clock_reference``; by default
+    :data:`CLOCK_REFERENCE_CODES`: GPS C1W/C2W, BDS-3 C1P/C5P), whose satellite code biases
+    are therefore drawn with a zero ionosphere-free combination
+    ``(f1² d1 − f2² d2)/(f1² − f2²) = 0``, as in the real CODE and WHU files (checked in
+    tests/simulate/test_biases.py). The clock reference need not be simulated: BDS clocks
+    referring to B1I/B3I (C2I/C6I, the convention of most analysis centres) with a B1C/B2a
+    receiver give B1C/B2a code OSBs ``d^s = d^s_ref − DCB`` (reference code of the same band,
+    else the nearest in frequency) whose ionosphere-free combination is not zero: the
+    estimator must remove them.
 Wide-lane satellite bias ``w^s`` [WL cycles] (HMW convention)
     With ``HMW = (f1 L1 − f2 L2)/(f1 − f2) − (f1 P1 + f2 P2)/(f1 + f2)`` (Peng et al. 2021, eq. (3))
     and ``λ_WL = c/(f1 − f2)``: ``HMW/λ_WL = (N1 − N2) + w_r + w^s`` with
@@ -47,7 +52,7 @@ both frequencies, so ``w^s`` stays constant and the ionosphere-free phase bias d
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -71,8 +76,8 @@ __all__ = [
     "wide_lane_bias_cyc",
 ]
 
-#: Code pair of the satellite clock products per system (Bias-SINEX
-#: SATELLITE_CLOCK_REFERENCE_OBSERVABLES; GPS as in CODE/WHU products).
+#: Code pair of the wide-lane and integer-clock products per system, and the default clock
+#: reference (Bias-SINEX SATELLITE_CLOCK_REFERENCE_OBSERVABLES; GPS as in CODE/WHU products).
 CLOCK_REFERENCE_CODES = {"G": ("C1W", "C2W"), "C": ("C1P", "C5P")}
 
 #: Simulated signals per system (GPS: C/A, P1, P2 codes and the L1C/L2W phases a RINEX 2
@@ -106,6 +111,10 @@ class BiasSettings(Settings):
     nl_drift_sigma_cyc_per_day : float
         Standard deviation of the narrow-lane drift ``ν^s`` of the satellite phase biases
         [cycles/day] (0: constant).
+    clock_reference : dict
+        System -> the two codes the satellite clocks refer to (their ionosphere-free code
+        OSB is zero); systems not given use :data:`CLOCK_REFERENCE_CODES`. E.g. BDS
+        ``("C2I", "C6I")``: clocks of B1I/B3I, the convention of most analysis centres.
     """
 
     dcb_clock_pair_sigma_ns: dict
@@ -113,6 +122,11 @@ class BiasSettings(Settings):
     rx_code_sigma_ns: float
     phase_half_range_cyc: float
     nl_drift_sigma_cyc_per_day: float
+    clock_reference: dict
+
+    def reference_codes(self, system: str) -> tuple[str, str]:
+        """The clock-reference code pair of ``system``."""
+        return tuple(self.clock_reference.get(system, CLOCK_REFERENCE_CODES[system]))
 
 
 @dataclass(frozen=True)
@@ -134,7 +148,11 @@ class SimulatedBiases:
     epoch : numpy.datetime64
         Start of the day (reference of the drift), GPS time.
     phase_pairs : dict
-        System -> the two phase signals on the clock-reference bands (``("L1C", "L2W")``).
+        System -> the two phase signals on the bands of :data:`CLOCK_REFERENCE_CODES`
+        (``("L1C", "L2W")``).
+    clock_reference : dict
+        System -> the codes the satellite clocks refer to (default
+        :data:`CLOCK_REFERENCE_CODES`).
     """
 
     code_sat_m: xr.DataArray
@@ -144,6 +162,7 @@ class SimulatedBiases:
     phase_rx_cyc: xr.DataArray
     epoch: np.datetime64
     phase_pairs: dict
+    clock_reference: dict = field(default_factory=lambda: dict(CLOCK_REFERENCE_CODES))
 
     @property
     def systems(self) -> tuple[str, ...]:
@@ -191,23 +210,35 @@ def _phase_pair(system: str, phases: list[str]) -> tuple[str, str]:
     return pair[0], pair[1]
 
 
+def _reference_of(system: str, code: str, c1: str, c2: str) -> str:
+    """Clock-reference code a code's DCB refers to: the one on its band, else the nearest
+    in frequency (BDS B1C -> B1I, B2a -> B3I)."""
+    for ref in (c2, c1):
+        if code[1] == ref[1]:
+            return ref
+    f = frequency_hz(system, code)
+    return min((c1, c2), key=lambda ref: abs(frequency_hz(system, ref) - f))
+
+
 def _sat_code_biases(system: str, codes: list[str], n: int, rng: np.random.Generator,
                      settings: BiasSettings) -> dict[str, np.ndarray]:
     """Satellite code biases [m] of one system: clock pair with zero IF, others by DCBs."""
-    c1, c2 = CLOCK_REFERENCE_CODES[system]
-    if c1 not in codes or c2 not in codes:
-        raise ValueError(f"system {system}: the clock-reference codes {c1}/{c2} must be "
+    p1, p2 = CLOCK_REFERENCE_CODES[system]
+    if p1 not in codes or p2 not in codes:
+        raise ValueError(f"system {system}: the clock-reference codes {p1}/{p2} must be "
                          f"simulated, got {codes}")
-    f1, f2 = _pair_frequencies(system)
+    c1, c2 = settings.reference_codes(system)
+    f1, f2 = frequency_hz(system, c1), frequency_hz(system, c2)
     dcb = _demeaned_normal(rng, settings.dcb_clock_pair_sigma_ns[system], n) * _NS_TO_M
     # d1 − d2 = DCB and f1² d1 − f2² d2 = 0
-    out = {c1: -dcb * f2**2 / (f1**2 - f2**2), c2: -dcb * f1**2 / (f1**2 - f2**2)}
+    ref = {c1: -dcb * f2**2 / (f1**2 - f2**2), c2: -dcb * f1**2 / (f1**2 - f2**2)}
+    out = {c: v for c, v in ref.items() if c in codes}
     for code in codes:
         if code in out:
             continue
-        ref = c2 if code[1] == c2[1] else c1
         # DCB(ref − code) = OSB(ref) − OSB(code), as P1−C1 = OSB(C1W) − OSB(C1C)
-        out[code] = out[ref] - _demeaned_normal(rng, settings.dcb_other_sigma_ns, n) * _NS_TO_M
+        out[code] = (ref[_reference_of(system, code, c1, c2)]
+                     - _demeaned_normal(rng, settings.dcb_other_sigma_ns, n) * _NS_TO_M)
     return out
 
 
@@ -290,6 +321,7 @@ def simulate_biases(svs, signals_by_system: dict | None, rng: np.random.Generato
                                   coords={k: coords[k] for k in ("system", "phase_signal")}),
         epoch=np.datetime64(epoch, "ns"),
         phase_pairs=pairs,
+        clock_reference={s: settings.reference_codes(s) for s in systems},
     )
 
 
@@ -443,7 +475,7 @@ def truth_dataset(biases: SimulatedBiases) -> xr.Dataset:
     ds.attrs["epoch"] = str(biases.epoch)
     ds.attrs["time_system"] = "GPS"
     for system in biases.systems:
-        ds.attrs[f"clock_reference_codes_{system}"] = " ".join(CLOCK_REFERENCE_CODES[system])
+        ds.attrs[f"clock_reference_codes_{system}"] = " ".join(biases.clock_reference[system])
         ds.attrs[f"phase_pair_{system}"] = " ".join(biases.phase_pairs[system])
     ds.attrs["conventions"] = (
         "P_i = rho + c(dt_r - dt^s) + gamma_i I + d_r,i + d^s_i; "
@@ -513,7 +545,7 @@ def _osb_dataset(biases: SimulatedBiases, window_s: float, agency: str) -> xr.Da
         reference_software="leopod")
     for system in biases.systems:
         ds.attrs[f"satellite_clock_reference_observables_{system}"] = " ".join(
-            CLOCK_REFERENCE_CODES[system])
+            biases.clock_reference[system])
     return ds
 
 

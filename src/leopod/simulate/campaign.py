@@ -283,7 +283,9 @@ def biases_for(truth: xr.Dataset, sat: str | None = None) -> SimulatedBiases:
         code_sat_m=bare(truth["code_bias_sat_m"]), phase_sat_cyc=bare(truth["phase_bias_sat_cyc"]),
         phase_drift_sat_cyc_s=bare(truth["phase_drift_sat_cyc_s"]), code_rx_m=code_rx,
         phase_rx_cyc=phase_rx, epoch=np.datetime64(truth.attrs["epoch"], "ns"),
-        phase_pairs={s: tuple(truth.attrs[f"phase_pair_{s}"].split()) for s in systems})
+        phase_pairs={s: tuple(truth.attrs[f"phase_pair_{s}"].split()) for s in systems},
+        clock_reference={s: tuple(truth.attrs[f"clock_reference_codes_{s}"].split())
+                         for s in systems})
 
 
 def _day_biases(biases: SimulatedBiases, day0: np.datetime64) -> SimulatedBiases:
