@@ -84,7 +84,8 @@ def test_merged_systems_sum_the_satellites_tracked_per_epoch():
              "mp_C1_m": (("time", "sv"), np.zeros((len(times), len(svs)))),
              f"{system}_mp_rms_C1_m": ((), 0.3)},
             coords={"time": np.array(times, "datetime64[s]"), "sv": svs},
-            attrs={"system": system})
+            attrs={"system": system, "codes": "C1" if system == "G" else "C1P",
+                   "phase_pair": "L1 L2", "pod_code": "C1 C2", "interval_s": 30.0})
 
     g = part("G", ["G01", "G02"], ["2019-01-01T00:00:00", "2019-01-01T00:00:30"], [2, 1])
     c = part("C", ["C20"], ["2019-01-01T00:00:30", "2019-01-01T00:01:00"], [1, 1])
@@ -92,3 +93,6 @@ def test_merged_systems_sum_the_satellites_tracked_per_epoch():
     assert merged.n_sv_tracked.values.tolist() == [2, 2, 1]
     assert merged.sizes["sv"] == 3 and merged.attrs["systems"] == "G C"
     assert {"G_mp_rms_C1_m", "C_mp_rms_C1_m"} <= set(merged.data_vars)
+    # the code-bias maps find every system's codes (leopod.codebias.period)
+    assert merged.attrs["codes"].split() == ["C1", "C1P"]
+    assert merged.attrs["interval_s"] == 30.0 and merged.attrs["C_pod_code"] == "C1 C2"

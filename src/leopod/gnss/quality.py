@@ -343,7 +343,9 @@ def merge_systems(parts: list[xr.Dataset]) -> xr.Dataset:
 
     Series and per-satellite variables are concatenated along ``sv`` (satellite ids are
     unique across systems); the per-system scalars and histograms keep their prefixes; the
-    satellites tracked per epoch are summed over the systems.
+    satellites tracked per epoch are summed over the systems. Attributes: ``systems``, the
+    ``codes`` of all systems, ``<system>_phase_pair`` and ``<system>_pod_code``, and the
+    shared ones (sampling, mask, antenna terms) of the first.
     """
     if len(parts) == 1:
         return parts[0]
@@ -356,5 +358,10 @@ def merge_systems(parts: list[xr.Dataset]) -> xr.Dataset:
         other.append(total.astype(np.int16).assign_attrs(tracked[0].attrs).to_dataset(
             name=_TRACKED))
     merged = xr.merge([xr.concat(per_sv, dim="sv", join="outer")] + other, join="outer")
-    merged.attrs = {"systems": " ".join(p.attrs["system"] for p in parts)}
+    shared = {k: v for k, v in parts[0].attrs.items()
+              if k not in ("system", "phase_pair", "codes", "pod_code")}
+    merged.attrs = {**shared, "systems": " ".join(p.attrs["system"] for p in parts),
+                    "codes": " ".join(p.attrs["codes"] for p in parts),
+                    **{f"{p.attrs['system']}_{k}": p.attrs[k] for p in parts
+                       for k in ("phase_pair", "pod_code")}}
     return merged
