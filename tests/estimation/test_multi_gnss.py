@@ -141,6 +141,8 @@ def test_single_differences_within_each_system(world, arcs, resolution):
     assert np.all(first == np.array([s[0] for s in sv_j]))
     np.testing.assert_array_equal(t.system.values.astype(str), first)
     assert set(first) == {"G", "C"}
+    # the joined table keeps the units and names of its variables (write_netcdf needs them)
+    assert all({"units", "long_name"} <= set(t[v].attrs) for v in t.data_vars)
     amb_sv = arcs["GC"].ambiguities.sv.values.astype(str)
     np.testing.assert_array_equal(amb_sv[t.amb_i.values], sv_i)
     np.testing.assert_array_equal(amb_sv[t.amb_j.values], sv_j)

@@ -366,7 +366,7 @@ def resolve_systems(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, sig
         parts.append(res.constraints)
     if not tables:
         raise ValueError("no float ambiguity of the systems " + " ".join(signals))
-    joined = xr.concat([t.drop_attrs() for t in tables], dim="pair")
+    joined = xr.concat([t.drop_attrs(deep=False) for t in tables], dim="pair")
     for x, t in zip(used, tables, strict=True):
         joined.attrs.update({f"{x}_{k}": v for k, v in t.attrs.items()})
     i, j = joined.amb_i.values, joined.amb_j.values
