@@ -66,6 +66,13 @@ def test_row_reports_the_product_guard():
     untested = xr.Dataset(attrs={"product_guard": "not tested"})
     assert np.isnan(day_row("2019-001", "fixed_pod", residuals=res,
                             ambiguity=untested)["ar_product_accepted"])
+    # a combined arc (leopod.ambiguity.resolve.resolve_systems) has one verdict per system:
+    # accepted only if every system's product is
+    for c_verdict, accepted in (("accepted", 1.0), ("refused", 0.0)):
+        joined = xr.Dataset(attrs={"G_product_guard": "accepted", "C_product_guard": c_verdict,
+                                   "G_product_guard_reason": ""})
+        assert day_row("2019-001", "fixed_pod", residuals=res,
+                       ambiguity=joined)["ar_product_accepted"] == accepted
 
 
 def _graph_ambiguities(i, j, wl_fixed, nl_fixed):

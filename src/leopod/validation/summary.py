@@ -57,7 +57,8 @@ COLUMNS = {
     "wl_sd_fixed_pct": ("%", "share of single differences with the wide lane fixed"),
     "nl_sd_fixed_pct": ("%", "share of single differences with the narrow lane fixed"),
     "n_constraints": ("1", "fixed single differences constraining the solution"),
-    "ar_product_accepted": ("1", "AR product accepted by the consistency guard (0: refused)"),
+    "ar_product_accepted": ("1", "AR product accepted by the consistency guard (0: refused; "
+                                 "combined arcs: by the guard of every system)"),
     "wl_guard_mean_cos": ("1", "mean cosine of the WL fractional parts (guard)"),
     "nl_guard_mean_cos": ("1", "mean cosine of the NL fractional parts (guard)"),
     "overlap_3d_rms_cm": ("cm", "3D RMS of the overlap with the next arc"),
@@ -209,9 +210,11 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
                     for lane in ("wl", "nl"):
                         row[f"{lane}_sd_fixed_{system}_pct"] = _sd_share(
                             ambiguity[f"{lane}_fixed"].values[sel])
-        verdict = ambiguity.attrs.get("product_guard")
-        if verdict in ("accepted", "refused"):
-            row["ar_product_accepted"] = float(verdict == "accepted")
+        # one verdict, or one per system of a combined arc (``<system>_product_guard``)
+        verdicts = [v for k, v in ambiguity.attrs.items()
+                    if k == "product_guard" or (k.endswith("_product_guard") and len(k) == 15)]
+        if verdicts and set(verdicts) <= {"accepted", "refused"}:
+            row["ar_product_accepted"] = float(all(v == "accepted" for v in verdicts))
         for lane in ("wl", "nl"):
             row[f"{lane}_guard_mean_cos"] = float(ambiguity.attrs.get(f"{lane}_guard_mean_cos",
                                                                        np.nan))
