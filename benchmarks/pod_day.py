@@ -9,6 +9,10 @@ best wall time, the orbit integrations and force evaluations, and the peak memor
 POD's time is what it adds on top of the float POD and the ambiguity step.
 
     .venv/bin/python benchmarks/pod_day.py [--date 2019-002] [--repeat 3] [--directory D]
+                                           [--configfile F]
+
+``--configfile`` (with ``--directory``) benchmarks another campaign, e.g. a combined GPS+BDS
+one (``pod.system: [G, C]``); the default is config/config.yaml.
 """
 
 from __future__ import annotations
@@ -29,14 +33,15 @@ SAT = "hy2b-sim"
 STEPS = ("float_pod", "ambiguity", "fixed_pod")
 
 
-def _one(step: str, date: str, root: Path) -> None:
+def _one(step: str, date: str, root: Path, config: Path) -> None:
     """Run one job in this process and print its figures as JSON."""
     import importlib.util
 
     from leopod.workflow.boundary import mock_snakemake
 
     logging.basicConfig(level=logging.WARNING)
-    job = mock_snakemake(step, root=root, sat=SAT, date=date)
+    job = mock_snakemake(step, root=root, configfiles=[config], snakefile=REPO / "Snakefile",
+                         sat=SAT, date=date)
     spec = importlib.util.spec_from_file_location(step, REPO / "scripts" / f"{step}.py")
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
@@ -55,23 +60,25 @@ def main() -> None:
     parser.add_argument("--date", default="2019-002")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--directory", type=Path, default=REPO)
+    parser.add_argument("--configfile", type=Path, default=REPO / "config" / "config.yaml")
     parser.add_argument("--step", choices=STEPS, help=argparse.SUPPRESS)   # internal
     args = parser.parse_args()
     root = args.directory.resolve()
     if args.step:
-        _one(args.step, args.date, root)
+        _one(args.step, args.date, root, args.configfile.resolve())
         return
     target = f"results/ambiguity/{SAT}/{args.date}.nc"
     subprocess.run([str(Path(sys.executable).with_name("snakemake")), target, "--cores", "2",
                     "--snakefile", str(REPO / "Snakefile"), "--directory", str(root),
-                    "--configfile", str(REPO / "config" / "config.yaml")],
+                    "--configfile", str(args.configfile.resolve())],
                    check=True, capture_output=True)
-    print(f"default campaign, {SAT} {args.date}: best of {args.repeat} runs per step")
+    print(f"{args.configfile.name}, {SAT} {args.date}: best of {args.repeat} runs per step")
     for step in STEPS:
         runs = []
         for _ in range(args.repeat):
             out = subprocess.run([sys.executable, __file__, "--step", step, "--date", args.date,
-                                  "--directory", str(root)], check=True, capture_output=True,
+                                  "--directory", str(root), "--configfile",
+                                  str(args.configfile.resolve())], check=True, capture_output=True,
                                  text=True, cwd=REPO / "benchmarks")
             runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
         best = min(runs, key=lambda r: r["wall_s"])

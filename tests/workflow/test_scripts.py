@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+import yaml
 
 from leopod.constants import GM_EARTH_M3_S2
 from leopod.frames.earth_rotation import gcrf_to_itrf
@@ -167,3 +168,17 @@ def test_mock_snakemake_rebuilds_a_job_of_the_default_campaign(monkeypatch):
     assert sm.rule == "float_pod" and str(sm.log[0]) == "logs/float_pod/hy2b-sim/2019-002.log"
     with pytest.raises(ValueError, match="wildcards"):
         mock_snakemake("float_pod", sat="hy2b-sim")
+
+
+def test_mock_snakemake_of_a_campaign_directory(monkeypatch, tmp_path):
+    # a campaign run elsewhere (snakemake --directory D --configfile F): the job of that
+    # directory, with its own settings
+    monkeypatch.chdir(Path.cwd())
+    repo = Path(__file__).resolve().parents[2]
+    cfg = yaml.safe_load((repo / "config" / "config.yaml").read_text())
+    cfg["pod"]["system"] = ["G", "C"]
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump(cfg))
+    sm = mock_snakemake("float_pod", root=tmp_path, configfiles=[tmp_path / "c.yaml"],
+                        snakefile=repo / "Snakefile", sat="hy2b-sim", date="2019-002")
+    assert Path.cwd() == tmp_path and sm.params.pod["system"] == ["G", "C"]
+    assert sm.output.sp3 == "results/float_pod/hy2b-sim/2019-002.sp3"

@@ -39,7 +39,8 @@ def plain(named) -> dict[str, str | list[str]]:
 
 
 def mock_snakemake(rule: str, *, configfiles: Iterable[str | Path] = ("config/config.yaml",),
-                   root: str | Path = REPOSITORY, **wildcards: str):
+                   root: str | Path = REPOSITORY, snakefile: str | Path | None = None,
+                   **wildcards: str):
     """The ``snakemake`` object of one job, built by Snakemake itself outside a workflow run.
 
     The working directory becomes ``root`` (the job's paths are relative to it), as in a
@@ -52,7 +53,9 @@ def mock_snakemake(rule: str, *, configfiles: Iterable[str | Path] = ("config/co
     configfiles : iterable of str or Path
         Campaign files (relative to ``root``), merged in order as ``--configfile``.
     root : str or Path
-        Directory of the Snakefile and the working directory of the job.
+        Working directory of the job (a campaign directory, as ``snakemake --directory``).
+    snakefile : str or Path, optional
+        The workflow (default: ``root/Snakefile``).
     **wildcards : str
         The job's wildcards, e.g. ``sat="hy2b-sim", date="2019-002"``.
 
@@ -86,7 +89,9 @@ def mock_snakemake(rule: str, *, configfiles: Iterable[str | Path] = ("config/co
         workflow_api = api.workflow(
             resource_settings=ResourceSettings(), storage_settings=StorageSettings(),
             config_settings=ConfigSettings(configfiles=[root / c for c in configfiles]),
-            workflow_settings=WorkflowSettings(), snakefile=root / "Snakefile", workdir=root)
+            workflow_settings=WorkflowSettings(),
+            snakefile=Path(snakefile).resolve() if snakefile else root / "Snakefile",
+            workdir=root)
         workflow = workflow_api.dag(dag_settings=DAGSettings()).workflow_api._workflow
         job_rule = workflow.get_rule(rule)
         if set(job_rule.wildcard_names) != set(wildcards):
