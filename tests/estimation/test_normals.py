@@ -37,7 +37,8 @@ def _dense(direction, partials, epoch):
     return np.einsum("ni,nik->nk", direction, partials[epoch])
 
 
-def _brute(rows):
+def _full_design(rows: Rows) -> np.ndarray:
+    """Dense design matrix with one column per arc parameter, ambiguity and epoch clock."""
     r = rows.epoch.size
     a_o = _dense(rows.direction, rows.partials, rows.epoch)
     k = a_o.shape[1]
@@ -46,6 +47,11 @@ def _brute(rows):
     ph = rows.amb >= 0
     h[np.flatnonzero(ph), k + rows.amb[ph]] = 1.0
     h[np.arange(r), k + rows.n_amb + rows.epoch] = 1.0
+    return h
+
+
+def _brute(rows):
+    h = _full_design(rows)
     sw = np.sqrt(rows.weight)
     x, *_ = np.linalg.lstsq(h * sw[:, None], rows.misclosure * sw, rcond=None)
     cov = np.linalg.inv((h * rows.weight[:, None]).T @ h)

@@ -9,22 +9,10 @@ residual projector).
 """
 
 import numpy as np
-from test_normals import _dense, _problem
+from test_normals import _full_design, _problem
 
-from leopod.estimation.normals import Rows, accumulate, solve
+from leopod.estimation.normals import accumulate, solve
 from leopod.estimation.vce import group_redundancy
-
-
-def _full_design(rows: Rows) -> np.ndarray:
-    r = rows.epoch.size
-    a_o = _dense(rows.direction, rows.partials, rows.epoch)
-    k = a_o.shape[1]
-    h = np.zeros((r, k + rows.n_amb + rows.n_epochs))
-    h[:, :k] = a_o
-    ph = rows.amb >= 0
-    h[np.flatnonzero(ph), k + rows.amb[ph]] = 1.0
-    h[np.arange(r), k + rows.n_amb + rows.epoch] = 1.0
-    return h
 
 
 def test_group_redundancy_equals_dense_computation():

@@ -69,7 +69,8 @@ def test_row_reports_the_product_guard():
     # a combined arc (leopod.ambiguity.resolve.resolve_systems) has one verdict per system:
     # accepted only if every system's product is
     for c_verdict, accepted in (("accepted", 1.0), ("refused", 0.0)):
-        joined = xr.Dataset(attrs={"G_product_guard": "accepted", "C_product_guard": c_verdict,
+        joined = xr.Dataset(attrs={"systems": "G C", "G_product_guard": "accepted",
+                                   "C_product_guard": c_verdict,
                                    "G_product_guard_reason": ""})
         assert day_row("2019-001", "fixed_pod", residuals=res,
                        ambiguity=joined)["ar_product_accepted"] == accepted

@@ -211,8 +211,9 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
                         row[f"{lane}_sd_fixed_{system}_pct"] = _sd_share(
                             ambiguity[f"{lane}_fixed"].values[sel])
         # one verdict, or one per system of a combined arc (``<system>_product_guard``)
-        verdicts = [v for k, v in ambiguity.attrs.items()
-                    if k == "product_guard" or (k.endswith("_product_guard") and len(k) == 15)]
+        keys = (["product_guard"] if "product_guard" in ambiguity.attrs else
+                [f"{x}_product_guard" for x in ambiguity.attrs.get("systems", "").split()])
+        verdicts = [ambiguity.attrs[k] for k in keys if k in ambiguity.attrs]
         if verdicts and set(verdicts) <= {"accepted", "refused"}:
             row["ar_product_accepted"] = float(all(v == "accepted" for v in verdicts))
         for lane in ("wl", "nl"):
