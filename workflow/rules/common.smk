@@ -23,6 +23,7 @@ from leopod.workflow.campaign import (
     signal_bias_inputs,
 )
 from leopod.workflow.config import validated
+from leopod.workflow.variants import pod_lines, variant_config
 from leopod.workflow.downloads import (
     destination_template,
     load_catalogue,
@@ -51,6 +52,15 @@ INPUTS = input_templates(_located)
 
 DAYS = campaign_days(CONFIG)
 SATS = satellite_ids(CONFIG)
+#: POD lines {line id: (satellite, variant or None)}: each satellite's own solution, then one
+#: line <sat>_<variant> per solution variant (leopod.workflow.variants). The POD, ambiguity
+#: and validation rules run per line; their {sat} wildcard is a line id.
+LINES = pod_lines(CONFIG)
+#: The validated campaign of each variant (its pod and ambiguity keys replaced).
+VARIANTS = {
+    name: variant_config(config, name, f"{workflow.basedir}/workflow/schemas/config.schema.yaml")
+    for name in CONFIG["variants"]
+}
 #: Satellites whose files the simulate rules write.
 SIMULATED_SATS = [s for s in SATS if CONFIG["satellites"][s].get("source") == "simulate"]
 PERIODS = code_bias_periods(CONFIG)
@@ -60,7 +70,7 @@ LIBRARY_ROOT = library_root(workflow.basedir)
 
 
 wildcard_constraints:
-    sat="|".join(SATS),
+    sat="|".join(re.escape(line) for line in LINES),
     entry="|".join(re.escape(e) for e in LOCATED) or "no-located-input",
     date=r"\d{4}-\d{3}",
     period=r"\d{4}-\d{2}|campaign",
@@ -93,9 +103,30 @@ def download_log(family):
     return f"logs/download/{family}/{name}.log"
 
 
+def satellite(wildcards):
+    """The satellite of a job (of its POD line for the POD and validation steps)."""
+    return LINES[wildcards.sat][0]
+
+
 def sat_config(wildcards):
     """The config block of the satellite of a job."""
-    return CONFIG["satellites"][wildcards.sat]
+    return CONFIG["satellites"][satellite(wildcards)]
+
+
+def line_config(wildcards):
+    """The validated campaign of a job's POD line (a variant's, or the campaign)."""
+    variant = LINES[wildcards.sat][1]
+    return CONFIG if variant is None else VARIANTS[variant]
+
+
+def line_pod(wildcards):
+    """The pod section of a job's POD line."""
+    return line_config(wildcards)["pod"]
+
+
+def line_ambiguity(wildcards):
+    """The ambiguity section of a job's POD line."""
+    return line_config(wildcards)["ambiguity"]
 
 
 def is_simulated(sat):
@@ -148,7 +179,7 @@ def applied_code_bias_map(wildcards):
     period = applied_code_bias_period(CONFIG, wildcards.date)
     if period is None:
         return {}
-    return {"code_bias": fill(rules.code_bias.output.nc, sat=wildcards.sat, period=period)}
+    return {"code_bias": fill(rules.code_bias.output.nc, sat=satellite(wildcards), period=period)}
 
 
 # --- input functions -----------------------------------------------------------------------
@@ -252,7 +283,7 @@ def float_pod_inputs(wildcards):
     if not product_file("gnss_clock"):
         raise ValueError("float_pod needs a GNSS clock product (products.gnss_clock)")
     days = arc_days(CONFIG, wildcards.date)
-    sat = wildcards.sat
+    sat = satellite(wildcards)
     files = {
         "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
         "leo": expand(rules.ingest.output.leo, sat=sat, date=days),
@@ -270,7 +301,7 @@ def float_pod_inputs(wildcards):
 def ambiguity_inputs(wildcards):
     """Observations and quality of the arc's days, the code-bias map and the AR product."""
     days = arc_days(CONFIG, wildcards.date)
-    sat = wildcards.sat
+    sat = satellite(wildcards)
     files = {
         "obs": expand(rules.ingest.output.obs, sat=sat, date=days),
         "quality": expand(rules.quality.output.nc, sat=sat, date=days),
@@ -300,12 +331,13 @@ def overlap_inputs(wildcards):
 
 def reference_files(wildcards):
     """Reference-orbit file(s) of a satellite-day."""
-    return [expand_template(reference_template(wildcards.sat), wildcards.date, wildcards.sat)]
+    sat = satellite(wildcards)
+    return [expand_template(reference_template(sat), wildcards.date, sat)]
 
 
 def slr_inputs(wildcards):
     """Orbit, normal points, station coordinates and eccentricities of an SLR validation."""
-    sat, date = wildcards.sat, wildcards.date
+    sat, date = satellite(wildcards), wildcards.date
     files = {
         "orbit": pod_orbit(wildcards),
         "normal_points": expand_template(slr_template(sat), date, sat),
@@ -340,7 +372,8 @@ def per_day_validation(pattern, days=None):
 
 
 def summary_files(sat):
-    """``{solution: {product: {date: file}}}`` of the campaign summary of a satellite."""
+    """``{solution: {product: {date: file}}}`` of the campaign summary of a POD line."""
+    base = LINES[sat][0]
     files = {}
     for solution in solutions():
         residuals = pod_output(solution, "residuals")
@@ -354,12 +387,12 @@ def summary_files(sat):
         f["overlap"] = {
             d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in DAYS[:-1]
         }
-        if reference_template(sat):
+        if reference_template(base):
             f["reference"] = {
                 d: fill(rules.reference_orbit.output.nc, sat=sat, solution=solution, date=d)
                 for d in DAYS
             }
-        if slr_template(sat):
+        if slr_template(base):
             f["slr"] = {
                 d: fill(rules.slr.output.nc, sat=sat, solution=solution, date=d) for d in DAYS
             }
@@ -386,18 +419,25 @@ def all_targets():
         per_day.append(rules.float_pod.output.sp3)
         if CONFIG["ambiguity"]["enabled"]:
             per_day += [rules.ambiguity.output.table, rules.fixed_pod.output.sp3]
-    targets = expand([str(p) for p in per_day], sat=SATS, date=DAYS)
+    targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
+    targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
     if len(PERIODS) > 1:
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
     if solutions():
         if len(DAYS) > 1:
-            targets += expand(rules.overlap_summary.output.nc, sat=SATS)
+            targets += expand(rules.overlap_summary.output.nc, sat=LINES)
         targets += expand(
-            rules.reference_summary.output.nc, sat=[s for s in SATS if reference_template(s)]
+            rules.reference_summary.output.nc,
+            sat=[line for line, (s, _) in LINES.items() if reference_template(s)],
         )
-        targets += expand(rules.slr_summary.output.nc, sat=[s for s in SATS if slr_template(s)])
-        targets += expand(rules.campaign_summary.output.nc, sat=SATS)
+        targets += expand(
+            rules.slr_summary.output.nc,
+            sat=[line for line, (s, _) in LINES.items() if slr_template(s)],
+        )
+        targets += expand(rules.campaign_summary.output.nc, sat=LINES)
+        if VARIANTS:
+            targets += expand(rules.variant_comparison.output.csv, sat=SATS)
     return targets
 
 
@@ -412,8 +452,10 @@ def sat_simulation(wildcards):
 
 
 def sat_name(wildcards):
-    """Full name of the satellite, for titles."""
-    return sat_config(wildcards).get("name", wildcards.sat)
+    """Full name of the satellite (and the variant of a POD line), for titles."""
+    sat, variant = LINES.get(wildcards.sat, (wildcards.sat, None))
+    name = CONFIG["satellites"][sat].get("name", sat)
+    return name if variant is None else f"{name} [{variant}]"
 
 
 def sat_title(wildcards):
@@ -434,6 +476,16 @@ def solution_title(wildcards):
 def solution_name(wildcards):
     """The POD solution of a validation job (float_pod or fixed_pod)."""
     return wildcards.solution
+
+
+def sat_lines(wildcards):
+    """POD line ids of a satellite: its own, then those of its variants."""
+    return [line for line, (sat, _) in LINES.items() if sat == wildcards.sat]
+
+
+def line_summaries(wildcards):
+    """Campaign summaries (netCDF) of the POD lines of a satellite, in line order."""
+    return [fill(rules.campaign_summary.output.nc, sat=line) for line in sat_lines(wildcards)]
 
 
 def campaign_summary_files(wildcards):

@@ -20,7 +20,7 @@ rule float_pod:
     params:
         step="float_pod",
         signals=CONFIG["signals"],
-        pod=CONFIG["pod"],
+        pod=line_pod,
         pco_body_m=sat_pco,
         title=sat_title,
         sp3_id=sat_pod_sp3_id,
@@ -63,8 +63,8 @@ rule ambiguity:
         runtime=10,
     params:
         signals=CONFIG["signals"],
-        pod=CONFIG["pod"],
-        settings=CONFIG["ambiguity"],
+        pod=line_pod,
+        settings=line_ambiguity,
         code_bias=CONFIG["code_bias"],
         yaw_flips=sat_yaw_flips,
         signal_bias=arc_signal_bias,
@@ -95,8 +95,8 @@ use rule float_pod as fixed_pod with:
     params:
         step="fixed_pod",
         signals=CONFIG["signals"],
-        pod=CONFIG["pod"],
-        settings=CONFIG["ambiguity"],
+        pod=line_pod,
+        settings=line_ambiguity,
         pco_body_m=sat_pco,
         title=sat_title,
         sp3_id=sat_pod_sp3_id,

@@ -256,3 +256,34 @@ rule campaign_summary:
         title=sat_name,
     script:
         "../../scripts/campaign_summary.py"
+
+
+# Solution variants (config 'variants'): the campaign summaries of a satellite's POD lines side
+# by side, mean +- STD over the days (e.g. GPS, BDS-3 and GPS + BDS-3; Jiang et al. 2023).
+rule variant_comparison:
+    input:
+        summaries=line_summaries,
+        code=library_code("variant_comparison"),
+    output:
+        csv="results/summary/{sat}_variants.csv",
+        html=report(
+            "results/summary/{sat}_variants.html",
+            caption="../report/variant_comparison.rst",
+            category="Summary",
+            labels={"satellite": "{sat}", "figure": "solution variants"},
+        ),
+    log:
+        "logs/variant_comparison/{sat}.log",
+    benchmark:
+        "logs/benchmarks/variant_comparison/{sat}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    params:
+        lines=sat_lines,
+        title=sat_name,
+    script:
+        "../../scripts/variant_comparison.py"
