@@ -56,3 +56,12 @@ def test_the_page_shows_mean_and_std_per_line_and_solution():
 def test_no_summary_rows_is_an_error():
     with pytest.raises(ValueError, match="mean/std"):
         compare_lines({})
+
+
+def test_figures_keep_the_summary_order():
+    # the summary's column order (residuals, fixing, validation, PCO-Z), not alphabetical
+    table = compare_lines({"a": _table({"G01": 0.002}), "a_C": _table({"C19": 0.004})})
+    names = list(table.index)
+    assert names.index("phase_rms_mm") < names.index("code_rms_m") < names.index("n_phase")
+    assert names.index("phase_rms_G_mm") < names.index("phase_rms_C_mm") or \
+        names.index("phase_rms_C_mm") < names.index("code_rms_m")

@@ -137,6 +137,37 @@ def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) ->
                      "(rounding or dong_bock)")
 
 
+def _require_common_data(decision: FixDecision, n_common, times, min_common_s: float
+                         ) -> FixDecision:
+    """No WL fix from less than ``min_common_s`` of common HMW data.
+
+    The pairs are formed from the passes' spans (:func:`~leopod.ambiguity.pairs.sd_pairs`);
+    inside a common span, epochs without both HMW values (gaps, codes dropped by a code-bias
+    map) leave fewer epochs. Peng et al. (2021, sec. IV-B) ignore SDs observed together for
+    less than 8 min; with a handful of epochs the empirical STD of the series, and so the
+    sigma, can be small by chance (a wrong WL fix from 2 epochs with STD 0.05 cycles was seen
+    in config/hy2d-sim-gc.yaml).
+
+    Parameters
+    ----------
+    decision : FixDecision
+        WL decision of every single difference.
+    n_common : ndarray of int, shape (n_pair,)
+        Common epochs with both HMW values.
+    times : ndarray of datetime64, shape (n_time,)
+        Epochs of the POD grid (their spacing is the sampling).
+    min_common_s : float
+        Least common data [s].
+    """
+    step_s = float(np.median(np.diff(times)) / np.timedelta64(1, "s")) if times.size > 1 else 0.0
+    short = np.asarray(n_common) * step_s < min_common_s
+    if not short.any():
+        return decision
+    reason = np.where(short, f"common HMW data < {min_common_s:g} s",
+                      np.asarray(decision.reason, dtype=object))
+    return decision._replace(fixed=decision.fixed & ~short, reason=reason)
+
+
 def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system: str,
                 phases, codes, wl_sat_cyc: xr.DataArray | None,
                 settings: ArSettings, *, sat_if_bias_m=None,
@@ -197,8 +228,10 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
     else:
         wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], wl_sat_cyc,
                           sigma_method=wl_sigma_method(settings))
-        wl_dec = _decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
-                         settings.wl_max_sigma_cyc, settings, dof=wl.dof)
+        wl_dec = _require_common_data(
+            _decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
+                    settings.wl_max_sigma_cyc, settings, dof=wl.dof),
+            wl.n_common, pid.time.values, settings.min_common_s)
     n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
     nl = sd_narrow_lane(amb.value_m.values, amb.covariance_m2.values, i, j, n_wl, f1, f2,
                         sat_bias_m=sat_if_bias_m)

@@ -40,7 +40,8 @@ def compare_lines(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
                     parts[(line, solution, statistic)] = table.loc[(statistic, solution)]
     if not parts:
         raise ValueError("no mean/std rows in the campaign summaries to compare")
-    out = pd.DataFrame(parts)
+    order = list(dict.fromkeys(name for row in parts.values() for name in row.index))
+    out = pd.DataFrame(parts).reindex(order)
     out.columns = pd.MultiIndex.from_tuples(out.columns, names=["line", "solution", "statistic"])
     return out
 
