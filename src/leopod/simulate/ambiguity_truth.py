@@ -124,7 +124,7 @@ def wrong_fixes_per_system(table: xr.Dataset, true_wl: np.ndarray,
     ``sv_i``; single differences are formed within a system): ``{system: counts}``."""
     letters = _system_letters(table.sv_i.values)
     true_wl, true_nl = np.asarray(true_wl), np.asarray(true_nl)
-    return {x: wrong_fixes(table.isel(pair=sel), true_wl[sel], true_nl[sel])
+    return {str(x): wrong_fixes(table.isel(pair=sel), true_wl[sel], true_nl[sel])
             for x in np.unique(letters) for sel in [np.flatnonzero(letters == x)]}
 
 
