@@ -212,7 +212,7 @@ def plot_isb(series: pd.DataFrame, path, title: str = "") -> None:
                                 color=colour, alpha=0.25, lw=0)
             ax.plot([], [], color=colour, lw=1.5,
                     label=f"{_LABELS.get(solution, solution)}: mean {np.mean(est):.3f}{spread} m "
-                          f"({est.size} pieces)")
+                          f"({est.size} piece{'s' if est.size > 1 else ''})")
         ax.set_ylabel(f"ISB {system} [m]")
         ax.ticklabel_format(axis="y", useOffset=False)
         ax.grid(alpha=0.3)
