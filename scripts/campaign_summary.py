@@ -29,12 +29,13 @@ def _load(files: dict, key: str, date: str):
 
 
 def _cell(value: float) -> str:
-    """HTML table cell: a dash for no value, counts in full, other numbers to 3 digits."""
+    """HTML table cell: a dash for no value, counts in full, other numbers to 4 digits (an ISB of
+    metres keeps its millimetres)."""
     if not np.isfinite(value):
         return "&ndash;"
     if value == round(value) and abs(value) >= 1000:
         return f"{value:.0f}"
-    return f"{value:.3g}"
+    return f"{value:.4g}"
 
 
 def _html_table(table, columns: list[str]) -> str:
