@@ -1,18 +1,22 @@
 """Rule campaign_summary: per day and solution residual RMS (all systems and per system),
-fixing rates (graph rank and share of SDs), overlap, reference-orbit and SLR statistics and the
-PCO-Z estimates of a satellite (leopod.validation.summary), with the PCO-Z and fixing-rate
-figures (leopod.plots.summary)."""
+fixing rates (graph rank and share of SDs, per system), product-guard statistics per system,
+wrong fixes against the simulated truth, overlap, reference-orbit and SLR statistics, the
+PCO-Z estimates, inter-system biases and variance components of a satellite
+(leopod.validation.summary), with the PCO-Z, fixing-rate and ISB figures
+(leopod.plots.summary)."""
 
 import logging
 from collections.abc import Mapping
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
 from leopod.io.netcdf import write_netcdf
-from leopod.plots.summary import plot_fixing_rates, plot_pco_z
-from leopod.validation.summary import campaign_table, column_meta, day_row
+from leopod.plots.summary import plot_fixing_rates, plot_isb, plot_pco_z
+from leopod.simulate.ambiguity_truth import wrong_fix_counts
+from leopod.validation.summary import campaign_table, column_meta, day_row, isb_series, sections
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
@@ -25,28 +29,52 @@ def _load(files: dict, key: str, date: str):
 
 
 def _cell(value: float) -> str:
-    """HTML table cell: a dash for no value, counts in full, other numbers to 3 digits."""
+    """HTML table cell: a dash for no value, counts in full, other numbers to 4 digits (an ISB of
+    metres keeps its millimetres)."""
     if not np.isfinite(value):
         return "&ndash;"
     if value == round(value) and abs(value) >= 1000:
         return f"{value:.0f}"
-    return f"{value:.3g}"
+    return f"{value:.4g}"
 
 
-def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> None:
+def _html_table(table, columns: list[str]) -> str:
+    """One HTML table of the (day, solution) rows and ``columns`` of the campaign table."""
+    header = "".join(f"<th title='{text}'>{c}<br>[{unit}]</th>"
+                     for c in columns for unit, text in [column_meta(c)])
+    body = "\n".join(
+        "<tr><td>{}</td><td>{}</td>{}</tr>".format(
+            d, s, "".join(f"<td>{_cell(v)}</td>" for v in row.to_numpy(dtype=float)))
+        for (d, s), row in table[columns].iterrows())
+    return (f"<table border='1' cellpadding='3'><tr><th>day</th><th>solution</th>{header}"
+            f"</tr>\n{body}</table>")
+
+
+def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
+         phases: Mapping | None = None) -> None:
     """Campaign table from ``files`` (``{solution: {product: {date: path}}}``, products
-    ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``, ``parameters``) into
-    ``outputs``: ``nc``, ``csv``, ``html``, ``pco_z_png`` and ``fixing_png``;
+    ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``, ``parameters``, and
+    ``truth`` (``{date: [simulator truth files of the arc's days]}``, simulated satellites))
+    into ``outputs``: ``nc``, ``csv``, ``html``, ``pco_z_png``, ``fixing_png`` and
+    ``isb_png``; ``phases`` (phase pair per system) count the wrong fixes against the truth;
     ``input_files`` are recorded as provenance."""
-    rows = []
+    rows, isb = [], []
     for solution, products in files.items():
         for date in days:
-            rows.append(day_row(date, solution, residuals=_load(products, "residuals", date),
-                                ambiguity=_load(products, "ambiguity", date),
+            residuals = _load(products, "residuals", date)
+            parameters = _load(products, "parameters", date)
+            ambiguity = _load(products, "ambiguity", date)
+            truth = [xr.load_dataset(p) for p in products.get("truth", {}).get(date, [])]
+            wrong = (wrong_fix_counts(ambiguity, residuals, truth, phases)
+                     if truth and ambiguity is not None else None)
+            rows.append(day_row(date, solution, residuals=residuals, ambiguity=ambiguity,
                                 overlap=_load(products, "overlap", date),
                                 reference=_load(products, "reference", date),
                                 slr=_load(products, "slr", date),
-                                parameters=_load(products, "parameters", date)))
+                                parameters=parameters, wrong_fixes=wrong))
+            if parameters is not None:
+                isb.append(isb_series(parameters, residuals).assign(solution=solution,
+                                                                    date=date))
     table = campaign_table(rows)
     log.info("campaign summary:\n%s", table.to_string(float_format=lambda v: f"{v:.3g}"))
     ds = xr.Dataset.from_dataframe(table.reset_index().rename_axis("row"))
@@ -58,17 +86,15 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str) -> 
     write_netcdf(ds, outputs["nc"], step="campaign_summary", inputs=list(input_files),
                  time_system="GPS", title=f"campaign summary {title}")
     write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
-    header = "".join(f"<th title='{text}'>{name}<br>[{unit}]</th>"
-                     for name, (unit, text) in meta.items())
-    body = "\n".join(
-        "<tr><td>{}</td><td>{}</td>{}</tr>".format(
-            d, s, "".join(f"<td>{_cell(v)}</td>" for v in row.to_numpy()))
-        for (d, s), row in table.iterrows())
-    write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>"
-                                f"<table border='1' cellpadding='3'><tr><th>day</th>"
-                                f"<th>solution</th>{header}</tr>\n{body}</table></body></html>\n")
+    parts = "\n".join(f"<h4>{name}</h4>\n{_html_table(table, columns)}"
+                       for name, columns in sections(table.columns).items())
+    write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>\n{parts}"
+                                "</body></html>\n")
     plot_pco_z(table, outputs["pco_z_png"], title=title)
     plot_fixing_rates(table, outputs["fixing_png"], title=title)
+    plot_isb(pd.concat(isb, ignore_index=True) if isb else pd.DataFrame(
+        columns=["system", "start", "end", "estimate_m", "sigma_m", "solution"]),
+        outputs["isb_png"], title=title)
 
 
 def run(sm) -> None:
@@ -76,7 +102,7 @@ def run(sm) -> None:
     configure_logging(sm)
     p = sm.params
     main({s: p.files[s] for s in p.solutions}, list(p.days), [str(f) for f in sm.input],
-         plain(sm.output), title=p.title)
+         plain(sm.output), title=p.title, phases=dict(p.phases))
 
 
 if __name__ == "__main__":

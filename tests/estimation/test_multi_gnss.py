@@ -14,7 +14,10 @@ simulator's truth (receiver code biases, noise levels, orbit) and the least-squa
     GPS (code 4, phase 0.25) within 15 %;
 (c) the combined orbit is at least as close to the truth as either single-system orbit (more
     observations of the same orbit; Zhang et al. 2024: combined baselines 0.5 mm vs 0.6/0.8);
-and each system keeps its own ionosphere-free pair and narrow-lane wavelength.
+and each system keeps its own ionosphere-free pair and narrow-lane wavelength;
+(e) wrong fixes are counted per system against the simulator's integers of each system's own
+    phase pair (``leopod.simulate.ambiguity_truth``), and an integer altered by one cycle is
+    counted as wrong in its system only.
 
 To make the variance components a property of the noise (not of unmodelled dynamics), the
 estimator uses the truth's gravity degree (30) and 5-min pulses here.
@@ -27,6 +30,7 @@ import pytest
 from _multi_gnss_arc import (
     CODE_RATIO,
     PHASE_RATIO,
+    SIGNALS,
     fixed_arc,
     float_arc,
     orbit_error_3d_m,
@@ -36,6 +40,7 @@ from _multi_gnss_arc import (
 
 from leopod.constants import C_LIGHT_M_S
 from leopod.signals import frequency_hz
+from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes_per_system
 
 
 @pytest.fixture(scope="module")
@@ -175,3 +180,34 @@ def test_single_differences_within_each_system(world, arcs, resolution):
     err_float = orbit_error_3d_m(arcs["GC"], world.truth)
     err_fixed = orbit_error_3d_m(fixed, world.truth)
     assert err_fixed < err_float, (err_fixed, err_float)       # measured 1.4 vs 4.9 mm
+
+
+def test_wrong_fixes_per_system(world, arcs, resolution):
+    """(e) True SD integers of a combined arc from the simulator (each system with its own
+    phase pair: GPS L1C/L2W, BDS-3 L1P/L5P); the fixes of both systems agree with them, and
+    one NL integer of BDS-3 altered by a cycle is one wrong fix of BDS-3, none of GPS."""
+    t = resolution[0].table
+    pairs = {x: tuple(SIGNALS[x]["phase"]) for x in "GC"}
+    wl, nl = true_single_differences(t, arcs["GC"].residuals, [world.truth], pairs)
+    assert np.isfinite(wl).all() and np.isfinite(nl).all()
+    counts = wrong_fixes_per_system(t, wl, nl)
+    assert set(counts) == {"G", "C"}
+    print("\nwrong fixes per system:", counts)
+    for x in "GC":
+        assert counts[x]["constrained"] > 10, (x, counts[x])
+        assert counts[x]["wl_wrong"] == 0 and counts[x]["constrained_wrong"] == 0, (x, counts[x])
+        assert counts[x]["nl_wrong"] <= 0.01 * counts[x]["nl_fixed"], (x, counts[x])
+    # a deliberately altered integer: the first constrained BDS-3 SD, NL + 1 cycle
+    k = int(np.flatnonzero((t.system.values == "C") & (t.constrained.values == 1))[0])
+    altered = t.copy(deep=True)
+    altered["nl_integer"].values[k] += 1
+    after = wrong_fixes_per_system(altered, wl, nl)
+    assert after["C"]["nl_wrong"] == counts["C"]["nl_wrong"] + 1
+    assert after["C"]["constrained_wrong"] == counts["C"]["constrained_wrong"] + 1
+    assert after["G"] == counts["G"]
+    # with the GPS pair alone BDS-3 has no true integers: every BDS-3 fix would count as wrong
+    wl_g, nl_g = true_single_differences(t, arcs["GC"].residuals, [world.truth],
+                                         pairs["G"])
+    only_g = wrong_fixes_per_system(t, wl_g, nl_g)
+    assert only_g["C"]["wl_wrong"] == only_g["C"]["wl_fixed"] > 0
+    assert only_g["G"] == counts["G"]

@@ -1,14 +1,15 @@
 """Figures of the campaign summary (issue 20 part 5): PCO-Z float vs fixed (Jiang et al. 2023,
-Fig. 8) and fixing rates; PNGs written, byte-identical on reruns, a note instead of data where
-the campaign has none (PCO-Z not estimated, no ambiguity resolution)."""
+Fig. 8), fixing rates and inter-system biases over time; PNGs written, byte-identical on reruns, a note instead of data where
+the campaign has none (PCO-Z not estimated, no ambiguity resolution, one system)."""
 
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 
-from leopod.plots.summary import plot_fixing_rates, plot_pco_z
+from leopod.plots.summary import plot_fixing_rates, plot_isb, plot_pco_z
 from leopod.validation.summary import campaign_table, day_row
 
 pytestmark = pytest.mark.filterwarnings("error")
@@ -68,4 +69,20 @@ def test_fixing_rate_figure(tmp_path):
     plot_fixing_rates(table, tmp_path / "rates.png", title="HY-2D")
     data = _png(tmp_path / "rates.png")
     plot_fixing_rates(_table(pco=False, ar=False), tmp_path / "none.png")
+    assert _png(tmp_path / "none.png") != data
+
+
+def test_isb_figure(tmp_path):
+    # piecewise ISBs of two days (6-h pieces), float and fixed, as isb_series gives them
+    day0 = np.datetime64("2021-07-05T00:00", "ns")
+    rows = [{"solution": s, "system": "C", "start": day0 + np.timedelta64(6 * k, "h"),
+             "end": day0 + np.timedelta64(6 * k + 6, "h") - np.timedelta64(30, "s"),
+             "estimate_m": 1.1 + 0.01 * k + shift, "sigma_m": 0.02}
+            for s, shift in (("float_pod", 0.0), ("fixed_pod", 0.005)) for k in range(8)]
+    series = pd.DataFrame(rows)
+    plot_isb(series, tmp_path / "a.png", title="HY-2D")
+    plot_isb(series, tmp_path / "b.png", title="HY-2D")
+    data = _png(tmp_path / "a.png")
+    assert data == (tmp_path / "b.png").read_bytes()
+    plot_isb(series.iloc[:0], tmp_path / "none.png", title="HY-2D")
     assert _png(tmp_path / "none.png") != data

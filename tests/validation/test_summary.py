@@ -1,5 +1,6 @@
 """Campaign summary table (issue 8; issue 20 part 5: per-system RMS, both fixing-rate
-definitions, PCO-Z float vs fixed).
+definitions, PCO-Z float vs fixed, ISB and variance components, per-system guard statistics,
+graph-rank rates and wrong fixes).
 
 Authority: analytic construction — residuals, fixing rates and statistics with known values
 must appear unchanged (units converted) in the row; means are means of the daily rows.
@@ -10,7 +11,15 @@ import pytest
 import xarray as xr
 
 from leopod.ambiguity.independent import fixing_rate
-from leopod.validation.summary import COLUMNS, campaign_table, column_meta, day_row
+from leopod.simulate.ambiguity_truth import wrong_fix_counts
+from leopod.validation.summary import (
+    COLUMNS,
+    campaign_table,
+    column_meta,
+    day_row,
+    isb_series,
+    sections,
+)
 
 
 def _residuals(phase_m, code_m):
@@ -187,3 +196,147 @@ def test_pco_z_float_and_fixed_with_sigma():
                          coords={"parameter": names})
     row = day_row("2021-150", "float_pod", residuals=res, parameters=without)
     assert np.isnan(row["pco_z_cm"]) and np.isnan(row["pco_z_sigma_cm"])
+
+
+def _combined_parameters(isb_names, isb_m, isb_cov, factors, factor_sigmas):
+    """Parameter file of a combined G+C POD as leopod.estimation.outputs.parameter_dataset
+    writes it (ISB parameters after x0_m, variance groups on ``group``)."""
+    names = ["x0_m", *isb_names]
+    k = len(names)
+    cov = np.zeros((k, k))
+    cov[0, 0] = 1e-4
+    cov[1:, 1:] = isb_cov
+    groups = ["G_code", "G_phase", "C_code", "C_phase"]
+    return xr.Dataset(
+        {"estimate": ("parameter", [7e6, *isb_m]),
+         "sigma": ("parameter", np.sqrt(np.diag(cov))),
+         "covariance": (("parameter", "parameter_b"), cov),
+         "variance_factor": ("group", factors),
+         "variance_factor_sigma": ("group", factor_sigmas),
+         "apriori_sigma_m": ("group", [0.3, 0.005, 0.3, 0.005])},
+        coords={"parameter": names, "parameter_b": names, "group": groups},
+        attrs={"systems": "G C", "sigma0": 1.02})
+
+
+def test_isb_and_variance_components():
+    # Authority: arithmetic. Three ISB pieces 1.0, 1.2, 1.1 m with covariance C: their mean
+    # 1.1 m, the sigma of the mean sqrt(1'C1)/3, the STD of the pieces 0.1 m. Variance factors
+    # 0.25 (G code), 4 (C code), 0.5 (C phase) scale the a-priori variances 0.3 m / 5 mm
+    # (weight = 1/(factor sigma^2), leopod.estimation.float_pod): sigmas 0.15 m, 0.6 m,
+    # sqrt(0.5) 5 mm.
+    cov = np.array([[0.04, 0.01, 0.0], [0.01, 0.09, 0.02], [0.0, 0.02, 0.01]])
+    names = ["isb_C_000_m", "isb_C_001_m", "isb_C_002_m"]
+    params = _combined_parameters(names, [1.0, 1.2, 1.1], cov, [0.25, 1.0, 4.0, 0.5],
+                                  [0.01, 0.05, 0.2, 0.03])
+    res = _sv_residuals(["G01", "C20"], [[0.001, 0.002]] * 4, [[0.1, 0.2]] * 4)
+    res["isb_piece"] = ("time", [0, 0, 1, 2])
+    res = res.assign_coords(time=np.datetime64("2021-07-12T00:00", "ns")
+                            + np.arange(4) * np.timedelta64(30, "s"))
+    row = day_row("2021-193", "float_pod", residuals=res, parameters=params)
+    assert row["isb_C_m"] == pytest.approx(1.1)
+    assert row["isb_C_sigma_m"] == pytest.approx(np.sqrt(cov.sum()) / 3)
+    assert row["isb_C_std_m"] == pytest.approx(0.1) and row["n_isb_C"] == 3
+    assert "isb_G_m" not in row                           # GPS is the datum
+    assert row["vf_G_code"] == 0.25 and row["vf_C_code_sigma"] == 0.2
+    assert row["sigma_G_code_m"] == pytest.approx(0.15)
+    assert row["sigma_C_code_m"] == pytest.approx(0.6)
+    assert row["sigma_C_phase_mm"] == pytest.approx(5 * np.sqrt(0.5))
+    assert row["sigma_G_phase_mm"] == pytest.approx(5.0) and row["sigma0"] == 1.02
+    # the pieces over time: each over the epochs of its isb_piece
+    series = isb_series(params, res)
+    assert list(series.estimate_m) == [1.0, 1.2, 1.1]
+    np.testing.assert_allclose(series.sigma_m, np.sqrt(np.diag(cov)))
+    assert series.start[1] == series.end[1] == res.time.values[2]
+    assert series.end[0] == res.time.values[1]
+    with pytest.raises(ValueError, match="isb_piece"):
+        isb_series(params, res.drop_vars("isb_piece"))
+    # one ISB per arc: the parameter and its sigma, no STD; the table's last section
+    one = _combined_parameters(["isb_C_m"], [-3.2], [[0.0025]], [1.0] * 4, [np.nan] * 4)
+    row = day_row("2021-193", "fixed_pod", residuals=res, parameters=one)
+    assert row["isb_C_m"] == -3.2 and row["isb_C_sigma_m"] == pytest.approx(0.05)
+    assert np.isnan(row["isb_C_std_m"]) and row["n_isb_C"] == 1
+    table = campaign_table([row])
+    last = sections(table.columns)["antenna, inter-system biases and variance components"]
+    assert last[:4] == ["pco_z_cm", "pco_z_sigma_cm", "sigma0", "isb_C_m"]
+    assert "vf_G_phase_sigma" in last and "sigma_C_phase_mm" in last
+    assert column_meta("sigma_C_phase_mm")[0] == "mm"
+    assert np.isnan(table.loc[("std", "fixed_pod"), "n_isb_C"])
+
+
+def test_per_system_rates_and_guard():
+    # Authority: the attributes of leopod.ambiguity.resolve.resolve_systems (one resolution,
+    # guard and graph-rank rate per system, ``<S>_*``) reach their per-system columns; a
+    # single-system table (resolve_arc) fills its system's columns with its own figures.
+    res = _residuals([[0.003]], [[0.3]])
+    joined = xr.Dataset(
+        {"sv_i": ("pair", ["G01", "C20"]), "wl_fixed": ("pair", [1, 1]),
+         "nl_fixed": ("pair", [1, 0]), "constrained": ("pair", [1, 0])},
+        attrs={"systems": "G C", "wl_fixing_rate": 1.0, "nl_fixing_rate": 0.5,
+               "G_wl_fixing_rate": 1.0, "G_nl_fixing_rate": 1.0,
+               "C_wl_fixing_rate": 1.0, "C_nl_fixing_rate": 0.0,
+               "G_product_guard": "accepted", "C_product_guard": "refused",
+               "G_wl_guard_mean_cos": 0.97, "G_nl_guard_mean_cos": 0.91,
+               "C_wl_guard_mean_cos": 0.12})
+    row = day_row("2021-193", "fixed_pod", residuals=res, ambiguity=joined)
+    assert row["nl_fixing_rate_G_pct"] == 100.0 and row["nl_fixing_rate_C_pct"] == 0.0
+    assert row["ar_product_accepted_G"] == 1.0 and row["ar_product_accepted_C"] == 0.0
+    assert row["ar_product_accepted"] == 0.0
+    assert row["wl_guard_mean_cos_G"] == 0.97 and row["wl_guard_mean_cos_C"] == 0.12
+    assert np.isnan(row["nl_guard_mean_cos_C"])
+    table = campaign_table([row])
+    cols = list(table.columns)
+    k = cols.index("n_sd_C")
+    assert cols[k:k + 5] == ["n_sd_C", "wl_fixing_rate_C_pct", "nl_fixing_rate_C_pct",
+                             "wl_sd_fixed_C_pct", "nl_sd_fixed_C_pct"]
+    k = cols.index("nl_guard_mean_cos")
+    assert cols[k + 1:k + 4] == ["ar_product_accepted_C", "wl_guard_mean_cos_C",
+                                 "nl_guard_mean_cos_C"]
+    single = joined.drop_attrs().assign(sv_i=("pair", ["C20", "C21"]))
+    single.attrs.update(wl_fixing_rate=0.5, nl_fixing_rate=0.25, product_guard="accepted",
+                        wl_guard_mean_cos=0.8)
+    row = day_row("2021-193", "fixed_pod", residuals=res, ambiguity=single)
+    assert row["wl_fixing_rate_C_pct"] == 50.0 and row["nl_fixing_rate_C_pct"] == 25.0
+    assert row["ar_product_accepted_C"] == 1.0 and row["wl_guard_mean_cos_C"] == 0.8
+    assert "wl_fixing_rate_G_pct" not in row
+
+
+def test_wrong_fixes_per_system_against_truth():
+    # Authority: the simulator's integers (amb_<phase>_cyc), constructed here. Passes 0, 1
+    # (G01, G02: L1C/L2W) and 2, 3 (C20, C21: L1P/L5P); true SD of GPS: N1 5-2 = 3, NWL
+    # (5-1)-(2-4) = 6; of BDS: N1 7-9 = -2, NWL (7-3)-(9-9) = 4. The BDS SD must take the
+    # L1P/L5P pair (GPS's L1C/L2W have no value there). The table's integers are right; one
+    # altered BDS NL integer is one wrong BDS fix.
+    t = np.datetime64("2021-07-12T00:00", "ns") + np.arange(2) * np.timedelta64(30, "s")
+    sv = ["G01", "G02", "C20", "C21"]
+    res = _sv_residuals(sv, [[0.001] * 4] * 2, [[0.1] * 4] * 2).assign_coords(time=t)
+    res["pass_index"] = (("time", "sv"), [[0, 1, 2, 3]] * 2)
+    nan = np.nan
+    amb = {"L1C": [5, 2, nan, nan], "L2W": [1, 4, nan, nan],
+           "L1P": [nan, nan, 7, 9], "L5P": [nan, nan, 3, 9]}
+    truth = xr.Dataset({f"amb_{k}_cyc": (("obs_time", "sv"), [v] * 2) for k, v in amb.items()},
+                       coords={"obs_time": t, "sv": sv})
+    table = xr.Dataset({"pass_i": ("pair", [0, 2]), "pass_j": ("pair", [1, 3]),
+                        "sv_i": ("pair", ["G01", "C20"]), "wl_integer": ("pair", [6, 4]),
+                        "nl_integer": ("pair", [3, -2]), "wl_fixed": ("pair", [1, 1]),
+                        "nl_fixed": ("pair", [1, 1]), "constrained": ("pair", [1, 1])},
+                       attrs={"wl_fixing_rate": 1.0, "nl_fixing_rate": 1.0})
+    phases = {"G": ["L1C", "L2W"], "C": ["L1P", "L5P"]}
+
+    def row_of(tab):
+        return day_row("2021-193", "fixed_pod", residuals=res, ambiguity=tab,
+                       wrong_fixes=wrong_fix_counts(tab, res, [truth], phases))
+
+    row = row_of(table)
+    assert row["nl_wrong"] == 0 and row["wl_wrong_C"] == 0 and row["constrained_wrong_G"] == 0
+    table["nl_integer"] = ("pair", [3, -1])
+    row = row_of(table)
+    assert row["nl_wrong"] == 1 and row["constrained_wrong"] == 1
+    assert row["nl_wrong_C"] == 1 and row["constrained_wrong_C"] == 1 and row["wl_wrong_C"] == 0
+    assert row["nl_wrong_G"] == 0
+    summary = campaign_table([row])
+    assert summary.loc[("mean", "fixed_pod"), "nl_wrong_C"] == 1          # a count: summed
+    # the GPS pair for every system: BDS has no true integers, its fix counts as wrong
+    counts = wrong_fix_counts(table, res, [truth], {"G": phases["G"], "C": phases["G"]})
+    assert counts["C"]["wl_wrong"] == 1 and counts["G"]["wl_wrong"] == 0
+    with pytest.raises(KeyError, match="amb_L2C_cyc"):
+        wrong_fix_counts(table, res, [truth], {"G": ["L1C", "L2C"]})

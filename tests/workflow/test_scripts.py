@@ -79,7 +79,7 @@ def test_overlap_main_from_plain_paths(tmp_path):
 
 
 def test_campaign_summary_main_with_two_systems_and_pco_z(tmp_path):
-    # GPS+BDS residuals and a PCO-Z parameter reach all three tables and both figures; every
+    # GPS+BDS residuals and a PCO-Z parameter reach all three tables and the figures; every
     # column of the netCDF, per-system ones included, carries units and a long name
     # (authority: the summary's own column definitions, leopod.validation.summary).
     res = xr.Dataset({"phase_residual_m": (("time", "sv"), [[0.003, 0.004, -0.002]]),
@@ -93,7 +93,8 @@ def test_campaign_summary_main_with_two_systems_and_pco_z(tmp_path):
                  "parameters": {"2021-186": str(tmp_path / "par.nc")}}
              for s in ("float_pod", "fixed_pod")}
     outputs = {k: tmp_path / f"summary.{k}" for k in ("nc", "csv", "html")}
-    outputs |= {"pco_z_png": tmp_path / "pco.png", "fixing_png": tmp_path / "rates.png"}
+    outputs |= {"pco_z_png": tmp_path / "pco.png", "fixing_png": tmp_path / "rates.png",
+                "isb_png": tmp_path / "isb.png"}
     _script("campaign_summary").main(files, ["2021-186"], [], outputs, title="test")
     ds = xr.load_dataset(outputs["nc"])
     assert float(ds.phase_rms_C_mm[0]) == pytest.approx(np.sqrt(10.0))
@@ -104,6 +105,7 @@ def test_campaign_summary_main_with_two_systems_and_pco_z(tmp_path):
     assert "pco_z_sigma_cm" in html and "phase_rms_G_mm" in html and "0.71" in html
     assert outputs["pco_z_png"].read_bytes().startswith(b"\x89PNG")
     assert outputs["fixing_png"].read_bytes().startswith(b"\x89PNG")
+    assert outputs["isb_png"].read_bytes().startswith(b"\x89PNG")     # "no ISB" note
 
 
 @pytest.mark.shared

@@ -396,6 +396,13 @@ def summary_files(sat):
             f["slr"] = {
                 d: fill(rules.slr.output.nc, sat=sat, solution=solution, date=d) for d in DAYS
             }
+        if is_simulated(base) and CONFIG["ambiguity"]["enabled"]:
+            # the simulator's integers of the arc's days: wrong fixes per system
+            f["truth"] = {
+                d: [fill(rules.simulate.output.truth_nc, sat=base, date=a)
+                    for a in arc_days(CONFIG, d)]
+                for d in DAYS
+            }
         files[solution] = f
     return files
 
@@ -407,7 +414,8 @@ def summary_inputs(wildcards):
             path
             for per_solution in summary_files(wildcards.sat).values()
             for per_day in per_solution.values()
-            for path in per_day.values()
+            for paths in per_day.values()
+            for path in ([paths] if isinstance(paths, str) else paths)
         }
     )
 

@@ -239,6 +239,12 @@ rule campaign_summary:
             category="Summary",
             labels={"satellite": "{sat}", "figure": "fixing rates"},
         ),
+        isb_png=report(
+            "results/summary/{sat}_isb.png",
+            caption="../report/summary_isb.rst",
+            category="Summary",
+            labels={"satellite": "{sat}", "figure": "inter-system biases"},
+        ),
     log:
         "logs/campaign_summary/{sat}.log",
     benchmark:
@@ -254,6 +260,7 @@ rule campaign_summary:
         days=DAYS,
         files=campaign_summary_files,
         title=sat_name,
+        phases={x: CONFIG["signals"][x]["phase"] for x in CONFIG["signals"]},
     script:
         "../../scripts/campaign_summary.py"
 

@@ -293,6 +293,11 @@ class PodResult:
         Residual RMS of each group of the final solution [m] (NaN without observations).
     group_count : ndarray of int, shape (2 × systems,)
         Observations of each group in the final solution.
+    apriori_sigma_m : ndarray, shape (2 × systems,)
+        A-priori standard deviation of each group above ``weight_elevation_deg``
+        (``code_sigma_m``, ``phase_sigma_m``) [m], which its variance factor scales.
+    isb_piece : ndarray of int, shape (m,)
+        Index of the inter-system-bias piece of each epoch (0 with one ISB per arc).
     """
 
     t_ref: np.datetime64
@@ -326,6 +331,8 @@ class PodResult:
     redundancy: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
     group_rms_m: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
     group_count: np.ndarray = field(default_factory=lambda: np.zeros(2, int))
+    apriori_sigma_m: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    isb_piece: np.ndarray | None = None
 
     def orbit_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """GCRF state and formal position covariance at epochs [s since ``t_ref``].
@@ -808,7 +815,10 @@ def _result(label: str, prob: _Problem, state: np.ndarray, orbit: CorrectedOrbit
                          else np.full(n_groups, np.nan)),
         redundancy=(prob.vce_redundancy.copy() if prob.settings.vce
                     else np.full(n_groups, np.nan)),
-        group_rms_m=rms, group_count=count)
+        group_rms_m=rms, group_count=count,
+        apriori_sigma_m=np.tile([prob.settings.code_sigma_m, prob.settings.phase_sigma_m],
+                                len(prob.systems)),
+        isb_piece=prob.isb_piece.copy())
 
 
 def _announce(label: str, prob: _Problem) -> None:

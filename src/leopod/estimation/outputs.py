@@ -9,13 +9,15 @@ orbit (dims ``time``, ``xyz``, ``rtn``)
 residuals (dims ``time``, ``sv``)
     ``code_residual_m``, ``phase_residual_m`` (NaN where not used), ``el_deg``, ``az_deg``
     (antenna frame), ``pass_index`` (−1: none), ``code_rejected``, ``phase_rejected``
-    (int8), and ``clk_rx_m`` (time).
+    (int8), and ``clk_rx_m`` and ``isb_piece`` (index of the inter-system-bias piece of
+    the epoch) (time).
 parameters (dim ``parameter``)
     ``estimate``, ``sigma`` (units in ``unit``), ``covariance`` (parameter, parameter_b);
     inter-system biases are the parameters ``isb_<system>[_<piece>]_m``. Per variance group
     (dim ``group``: ``<system>_code``, ``<system>_phase``): ``variance_factor``,
     ``variance_factor_sigma``, ``redundancy`` (VCE, :mod:`leopod.estimation.vce`),
-    ``residual_rms_m`` and ``n_obs``; attribute ``systems`` (reference first).
+    ``apriori_sigma_m`` (scaled by the square root of the factor), ``residual_rms_m`` and
+    ``n_obs``; attribute ``systems`` (reference first).
 ambiguities (dim ``ambiguity``)
     ``sv``, ``pass_index``, ``start``, ``end``, ``n_obs``, ``value_m``, ``sigma_m``
     (float ionosphere-free ambiguity incl. phase biases), ``covariance_m2`` (ambiguity,
@@ -127,6 +129,11 @@ def residual_dataset(result: PodResult, obs: PodObservations) -> xr.Dataset:
                                {"units": "1", "long_name": "phase rejected as outlier"}),
             "clk_rx_m": (("time",), result.clk_rx_m,
                          {"units": "m", "long_name": "receiver clock offset times c"}),
+            "isb_piece": (("time",), (np.zeros(obs.times.size, np.int32)
+                                      if result.isb_piece is None
+                                      else result.isb_piece.astype(np.int32)),
+                          {"units": "1", "long_name": "index of the inter-system-bias piece "
+                           "of the epoch (parameters isb_<system>_<piece>_m)"}),
         },
         coords={"time": obs.times, "sv": obs.sv},
     )
@@ -160,6 +167,10 @@ def parameter_dataset(result: PodResult) -> xr.Dataset:
                                        "variance factor (NaN: not estimated)"}),
             "redundancy": (g, result.redundancy,
                            {"units": "1", "long_name": "redundancy number of the group"}),
+            "apriori_sigma_m": (g, result.apriori_sigma_m,
+                                {"units": "m", "long_name": "a-priori standard deviation of "
+                                 "the group above the weighting elevation (the variance "
+                                 "factor scales its square)"}),
             "residual_rms_m": (g, result.group_rms_m,
                                {"units": "m", "long_name": "RMS of the post-fit residuals"}),
             "n_obs": (g, np.asarray(result.group_count, dtype=np.int32),

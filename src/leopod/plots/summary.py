@@ -11,7 +11,11 @@ it computed); they compute no statistic themselves:
 - :func:`plot_fixing_rates`: per day the wide- and narrow-lane fixing rates with both
   definitions, the graph-rank rate (fixed independent / all independent single differences,
   Jiang et al. 2023, Fig. 11) and the share of single differences fixed, with the campaign means
-  in the legend. Without ambiguity resolution the figure says so.
+  in the legend. Without ambiguity resolution the figure says so;
+- :func:`plot_isb`: the inter-system biases of a combined POD over time, each piece (one per
+  arc, or per ``pod.isb_interval_s``) as a segment over its epochs with its formal sigma as
+  a band, float and fixed solutions side by side, one panel per system. A single-system
+  campaign gets a figure that says so.
 
 The PNGs carry no software or time stamp, so repeated runs give identical bytes.
 """
@@ -28,7 +32,7 @@ import pandas as pd
 
 from leopod.plots import save_figure
 
-__all__ = ["plot_fixing_rates", "plot_pco_z"]
+__all__ = ["plot_fixing_rates", "plot_isb", "plot_pco_z"]
 
 _SUMMARY_ROWS = ("mean", "std")
 """Index labels of the campaign-table rows that are no day."""
@@ -166,5 +170,56 @@ def plot_fixing_rates(table: pd.DataFrame, path, title: str = "") -> None:
         _legend_above(ax, 2)
         _date_axis(ax, days.index)
     axes[-1].set_xlabel("day")
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def plot_isb(series: pd.DataFrame, path, title: str = "") -> None:
+    """Inter-system-bias pieces over time per system, float and fixed (module docstring).
+
+    Parameters
+    ----------
+    series : pandas.DataFrame
+        :func:`leopod.validation.summary.isb_series` of every day, with a ``solution``
+        column (``system``, ``start``, ``end`` datetime64, ``estimate_m``, ``sigma_m`` [m]).
+    path : str or path-like
+        PNG to write.
+    title : str
+        Prefix of the figure title.
+    """
+    heading = "inter-system code biases (relative to the first system of the POD)"
+    systems = sorted(series["system"].unique()) if len(series) else []
+    fig, axes = plt.subplots(max(len(systems), 1), 1, sharex=True, squeeze=False,
+                             figsize=(10, 1.5 + 2.5 * max(len(systems), 1)))
+    axes = axes[:, 0]
+    fig.suptitle(f"{title}: {heading}" if title else heading)
+    if not systems:
+        _note(fig, axes[0], "no inter-system bias in this campaign (single-system POD)")
+        save_figure(fig, path)
+        return
+    for ax, system in zip(axes, systems, strict=True):
+        mine = series[series["system"] == system]
+        sols = list(dict.fromkeys(mine["solution"]))
+        for k, solution in enumerate(sols):
+            rows = mine[mine["solution"] == solution]
+            colour = f"C{k}"
+            est = rows["estimate_m"].to_numpy(float)
+            spread = f" ± {np.std(est, ddof=1):.3f}" if est.size > 1 else ""
+            for _, r in rows.iterrows():
+                t = [r["start"], r["end"]]
+                ax.plot(t, [r["estimate_m"]] * 2, color=colour, lw=1.5)
+                ax.fill_between(t, r["estimate_m"] - r["sigma_m"], r["estimate_m"] + r["sigma_m"],
+                                color=colour, alpha=0.25, lw=0)
+            ax.plot([], [], color=colour, lw=1.5,
+                    label=f"{_LABELS.get(solution, solution)}: mean {np.mean(est):.3f}{spread} m "
+                          f"({est.size} piece{'s' if est.size > 1 else ''})")
+        ax.set_ylabel(f"ISB {system} [m]")
+        ax.ticklabel_format(axis="y", useOffset=False)
+        ax.grid(alpha=0.3)
+        _legend_above(ax, len(sols))
+    locator = mdates.AutoDateLocator(minticks=3, maxticks=_MAX_DAY_TICKS)
+    axes[-1].xaxis.set_major_locator(locator)
+    axes[-1].xaxis.set_major_formatter(mdates.ConciseDateFormatter(locator))
+    axes[-1].set_xlabel("time (GPS; bands: formal 1-sigma)")
     fig.tight_layout()
     save_figure(fig, path)

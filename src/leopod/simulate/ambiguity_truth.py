@@ -4,15 +4,41 @@ The simulator keeps the integer ambiguity of every observation (``amb_<phase>_cy
 (obs_time, sv) in ``<date>_truth.nc``; satellite and receiver phase biases lie in ±0.5 cycles,
 so they never move the integers). A POD pass has one ambiguity; its true ``N1`` and
 ``N_WL = N1 − N2`` are taken from the truth at the pass's epochs (the median, which is the
-value itself unless a pass wrongly spans a slip).
+value itself unless a pass wrongly spans a slip), with the phase pair of the pass's system:
+a combined arc (e.g. GPS L1C/L2W with BDS-3 L1P/L5P) takes each system's own pair, as its
+ambiguity resolution does (:func:`leopod.ambiguity.resolve.resolve_systems`), and its
+single differences are always within one system.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import xarray as xr
 
-__all__ = ["true_single_differences", "wrong_fixes"]
+__all__ = ["true_single_differences", "wrong_fix_counts", "wrong_fixes", "wrong_fixes_per_system"]
+
+
+def _system_letters(sv) -> np.ndarray:
+    return np.array([str(s)[:1] for s in np.asarray(sv).ravel()], dtype="<U1")
+
+
+def _per_pass_truth(pid: xr.DataArray, truth: xr.Dataset, names) -> dict:
+    """``{"n1": {pass: N1}, "nwl": {pass: N1 − N2}}`` of the passes in ``pid`` (time, sv)."""
+    tr = truth[names].reindex(time=pid.time, sv=pid.sv)
+    p = pid.values.ravel()
+    n1 = tr[names[0]].values.ravel()
+    nwl = n1 - tr[names[1]].values.ravel()
+    ok = p >= 0
+    order = np.argsort(p[ok], kind="stable")
+    keys, first = np.unique(p[ok][order], return_index=True)
+    out = {}
+    for name, v in (("n1", n1), ("nwl", nwl)):
+        parts = np.split(v[ok][order], first[1:])
+        out[name] = dict(zip(keys, (np.nanmedian(x) if np.isfinite(x).any() else np.nan
+                                    for x in parts), strict=True))
+    return out
 
 
 def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days,
@@ -22,34 +48,47 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
     Parameters
     ----------
     table : xarray.Dataset
-        Output of :func:`leopod.ambiguity.resolve.resolve_arc` (``pass_i``, ``pass_j``).
+        Output of :func:`leopod.ambiguity.resolve.resolve_arc` or
+        :func:`~leopod.ambiguity.resolve.resolve_systems` (``pass_i``, ``pass_j``,
+        ``sv_i`` for a combined arc).
     residuals : xarray.Dataset
         Float POD residuals (``pass_index`` on (time, sv)).
     truth_days : list of xarray.Dataset
         Simulator truth files of the arc's days.
-    phases : two str
-        Phase signals of the pair.
+    phases : two str, or mapping of str to two str
+        Phase signals of the pair; for a combined arc the pair of each system letter
+        (e.g. ``{"G": ("L1C", "L2W"), "C": ("L1P", "L5P")}``). Satellites of a system
+        without a pair get no truth.
 
     Returns
     -------
     wl, nl : ndarray of float, shape (n_pair,)
         True integers (NaN where the truth has no value).
+
+    Raises
+    ------
+    KeyError
+        If the truth files have no ``amb_<phase>_cyc`` of a requested phase.
     """
-    names = [f"amb_{p}_cyc" for p in phases]
-    truth = xr.concat([t[names].rename(obs_time="time") for t in truth_days], dim="time")
+    pairs = dict(phases) if isinstance(phases, Mapping) else None
+    needed = sorted({f"amb_{p}_cyc" for pair in (pairs.values() if pairs else [phases])
+                     for p in pair})
+    missing = [n for n in needed if any(n not in t for t in truth_days)]
+    if missing:
+        raise KeyError(f"simulator truth without {', '.join(missing)} (the phases of the "
+                       "ambiguity resolution must be simulated)")
+    truth = xr.concat([t[needed].rename(obs_time="time") for t in truth_days], dim="time")
     pid = residuals.pass_index
-    tr = truth.reindex(time=pid.time, sv=pid.sv)
-    p = pid.values.ravel()
-    n1 = tr[names[0]].values.ravel()
-    nwl = n1 - tr[names[1]].values.ravel()
-    ok = p >= 0
-    order = np.argsort(p[ok], kind="stable")
-    keys, first = np.unique(p[ok][order], return_index=True)
-    per_pass = {}
-    for name, v in (("n1", n1), ("nwl", nwl)):
-        parts = np.split(v[ok][order], first[1:])
-        per_pass[name] = dict(zip(keys, (np.nanmedian(x) if np.isfinite(x).any() else np.nan
-                                         for x in parts), strict=True))
+    per_pass = {"n1": {}, "nwl": {}}
+    if pairs is None:
+        groups = [(pid, [f"amb_{p}_cyc" for p in phases])]
+    else:
+        letters = _system_letters(pid.sv.values)
+        groups = [(pid.isel(sv=np.flatnonzero(letters == x)), [f"amb_{p}_cyc" for p in pair])
+                  for x, pair in pairs.items() if np.any(letters == x)]
+    for part, names in groups:
+        for name, values in _per_pass_truth(part, truth, names).items():
+            per_pass[name].update(values)
 
     def sd(name):
         look = per_pass[name]
@@ -60,7 +99,8 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
 
 
 def wrong_fixes(table: xr.Dataset, true_wl: np.ndarray, true_nl: np.ndarray) -> dict:
-    """Counts of fixed single differences whose integer differs from the truth."""
+    """Counts of fixed single differences whose integer differs from the truth (a fix
+    without a true value counts as wrong)."""
     wl_fixed = table.wl_fixed.values == 1
     nl_fixed = table.nl_fixed.values == 1
     constrained = table.constrained.values == 1
@@ -76,3 +116,35 @@ def wrong_fixes(table: xr.Dataset, true_wl: np.ndarray, true_nl: np.ndarray) -> 
                                         | (table.wl_integer.values[constrained]
                                            != true_wl[constrained]))),
     }
+
+
+def wrong_fixes_per_system(table: xr.Dataset, true_wl: np.ndarray,
+                           true_nl: np.ndarray) -> dict[str, dict]:
+    """:func:`wrong_fixes` of the single differences of each system (first letter of
+    ``sv_i``; single differences are formed within a system): ``{system: counts}``."""
+    letters = _system_letters(table.sv_i.values)
+    true_wl, true_nl = np.asarray(true_wl), np.asarray(true_nl)
+    return {str(x): wrong_fixes(table.isel(pair=sel), true_wl[sel], true_nl[sel])
+            for x in np.unique(letters) for sel in [np.flatnonzero(letters == x)]}
+
+
+def wrong_fix_counts(table: xr.Dataset, residuals: xr.Dataset, truth_days,
+                     phases: Mapping) -> dict[str, dict]:
+    """Wrong fixes of an ambiguity table against the simulated truth, all single
+    differences together (key ``"all"``) and per system (keys ``G``, ``C``, ...).
+
+    Parameters
+    ----------
+    table, residuals, truth_days
+        As for :func:`true_single_differences`.
+    phases : mapping of str to two str
+        Phase pair of each system of the arc (``signals.<S>.phase``).
+
+    Returns
+    -------
+    dict
+        ``{"all": counts, system: counts}``, counts of :func:`wrong_fixes`.
+    """
+    wl, nl = true_single_differences(table, residuals, truth_days,
+                                     {x: tuple(p) for x, p in phases.items()})
+    return {"all": wrong_fixes(table, wl, nl)} | wrong_fixes_per_system(table, wl, nl)

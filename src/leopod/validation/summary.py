@@ -30,6 +30,28 @@ are formed within a system; the system of satellite i) after the all-system shar
 day and solution in the CSV, HTML and netCDF alike (the netCDF carries each column with units
 and long name), and a single-system campaign simply has one such group.
 
+Per-system ambiguity resolution of a combined arc (:func:`leopod.ambiguity.resolve.
+resolve_systems`, whose table has ``<system>_*`` attributes): the graph-rank fixing rates
+``wl_fixing_rate_<S>_pct``, ``nl_fixing_rate_<S>_pct`` beside the SD shares, and the product
+guard's verdict and mean cosines ``ar_product_accepted_<S>``, ``wl_guard_mean_cos_<S>``,
+``nl_guard_mean_cos_<S>`` (the guard runs per system; a single-system table fills its one
+system's columns with its own figures). With the simulator's truth (a simulated campaign),
+the wrongly fixed single differences counted against the true integers of each system's own
+phase pair (:func:`leopod.simulate.ambiguity_truth.wrong_fix_counts`, ``wrong_fixes``):
+``wl_wrong``, ``nl_wrong`` (WL or NL integer wrong), ``constrained_wrong`` and per system.
+
+Combined POD (``pod.system`` a list; :mod:`leopod.estimation.float_pod`): the inter-system
+bias of every system but the first (the datum), ``isb_<S>_m`` with its formal sigma
+``isb_<S>_sigma_m`` - with piecewise ISBs (``pod.isb_interval_s``) the mean of the
+``n_isb_<S>`` pieces, the sigma of that mean from their covariance and the STD of the pieces
+``isb_<S>_std_m`` (:func:`isb_series` gives the pieces over time) - and per system and
+observation type the variance factor of the variance component estimation (``pod.vce``;
+1 without) with its sigma, ``vf_<S>_code``, ``vf_<S>_code_sigma``, ``vf_<S>_phase``,
+``vf_<S>_phase_sigma``, and the resulting observation sigmas ``sigma_<S>_code_m``,
+``sigma_<S>_phase_mm`` (square root of the factor times the a-priori sigma above the
+weighting elevation; Zhang et al. 2024, Table 1), after the a-posteriori sigma of unit weight
+``sigma0``.
+
 Besides the daily rows, :func:`campaign_table` adds per solution a ``mean`` row (means of the
 daily figures; counts summed) and a ``std`` row (sample STD of the daily figures over the days;
 counts NaN) - the "average and STD" of Jiang et al. (2023), Fig. 8.
@@ -38,13 +60,14 @@ counts NaN) - the "average and STD" of Jiang et al. (2023), Fig. 8.
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
-__all__ = ["COLUMNS", "COUNTS", "SYSTEM_COLUMNS", "campaign_table", "column_meta",
-           "day_row", "system_of"]
+__all__ = ["COLUMNS", "COUNTS", "SECTIONS", "SYSTEM_COLUMNS", "campaign_table",
+           "column_meta", "day_row", "isb_series", "sections", "system_of"]
 
 #: Column name -> (unit, description).
 COLUMNS = {
@@ -61,6 +84,12 @@ COLUMNS = {
                                  "combined arcs: by the guard of every system)"),
     "wl_guard_mean_cos": ("1", "mean cosine of the WL fractional parts (guard)"),
     "nl_guard_mean_cos": ("1", "mean cosine of the NL fractional parts (guard)"),
+    "wl_wrong": ("1", "fixed WL single differences whose integer differs from the simulated "
+                      "truth"),
+    "nl_wrong": ("1", "fixed NL single differences whose WL or NL integer differs from the "
+                      "simulated truth"),
+    "constrained_wrong": ("1", "constrained single differences with a wrong integer "
+                               "(simulated truth)"),
     "overlap_3d_rms_cm": ("cm", "3D RMS of the overlap with the next arc"),
     "reference_r_rms_cm": ("cm", "radial RMS of orbit minus reference"),
     "reference_t_rms_cm": ("cm", "along-track RMS of orbit minus reference"),
@@ -71,6 +100,7 @@ COLUMNS = {
     "slr_std_cm": ("cm", "STD of the SLR residuals"),
     "pco_z_cm": ("cm", "estimated antenna PCO-Z correction to the a-priori PCO"),
     "pco_z_sigma_cm": ("cm", "formal standard deviation of the PCO-Z estimate"),
+    "sigma0": ("1", "a-posteriori standard deviation of unit weight of the POD"),
 }
 
 #: Per-system column templates (``{system}``: one letter, e.g. ``G``) -> (unit, description).
@@ -79,18 +109,62 @@ SYSTEM_COLUMNS = {
     "code_rms_{system}_m": ("m", "post-fit ionosphere-free code residual RMS, system {system}"),
     "n_phase_{system}": ("1", "phase observations used, system {system}"),
     "n_sd_{system}": ("1", "single-difference ambiguities, system {system}"),
+    "wl_fixing_rate_{system}_pct": ("%", "wide-lane fixing rate (fixed/all independent), "
+                                         "system {system}"),
+    "nl_fixing_rate_{system}_pct": ("%", "narrow-lane fixing rate (fixed/all independent), "
+                                         "system {system}"),
     "wl_sd_fixed_{system}_pct": ("%", "share of single differences with the wide lane fixed, "
                                       "system {system}"),
     "nl_sd_fixed_{system}_pct": ("%", "share of single differences with the narrow lane fixed, "
                                       "system {system}"),
+    "ar_product_accepted_{system}": ("1", "AR product of system {system} accepted by its "
+                                          "consistency guard (0: refused)"),
+    "wl_guard_mean_cos_{system}": ("1", "mean cosine of the WL fractional parts (guard), "
+                                        "system {system}"),
+    "nl_guard_mean_cos_{system}": ("1", "mean cosine of the NL fractional parts (guard), "
+                                        "system {system}"),
+    "wl_wrong_{system}": ("1", "wrongly fixed WL single differences, system {system}"),
+    "nl_wrong_{system}": ("1", "wrongly fixed NL single differences, system {system}"),
+    "constrained_wrong_{system}": ("1", "constrained single differences with a wrong "
+                                        "integer, system {system}"),
+    "isb_{system}_m": ("m", "inter-system code bias of system {system} relative to the first "
+                            "system of the POD (mean of its pieces)"),
+    "isb_{system}_sigma_m": ("m", "formal standard deviation of isb_{system}_m"),
+    "n_isb_{system}": ("1", "pieces of the inter-system bias of system {system}"),
+    "isb_{system}_std_m": ("m", "STD of the inter-system-bias pieces of system {system} "
+                                "(NaN with one piece)"),
+    "vf_{system}_code": ("1", "variance factor of the codes of system {system} (VCE; 1: not "
+                              "estimated)"),
+    "vf_{system}_code_sigma": ("1", "standard deviation of vf_{system}_code"),
+    "sigma_{system}_code_m": ("m", "code sigma of system {system}: sqrt(variance factor) "
+                                   "times the a-priori sigma"),
+    "vf_{system}_phase": ("1", "variance factor of the phases of system {system} (VCE; 1: "
+                               "not estimated)"),
+    "vf_{system}_phase_sigma": ("1", "standard deviation of vf_{system}_phase"),
+    "sigma_{system}_phase_mm": ("mm", "phase sigma of system {system}: sqrt(variance factor) "
+                                      "times the a-priori sigma"),
 }
 
 #: Count columns: summed in the ``mean`` row, no ``std`` row value.
-COUNTS = ("n_phase", "n_sd", "n_constraints", "slr_n")
+COUNTS = ("n_phase", "n_sd", "n_constraints", "slr_n", "wl_wrong", "nl_wrong",
+          "constrained_wrong")
+_COUNT_PREFIXES = ("n_phase_", "n_sd_", "n_isb_", "wl_wrong_", "nl_wrong_",
+                   "constrained_wrong_")
 
-#: All-system column -> the per-system templates that follow it in the table.
+#: All-system column -> the per-system templates that follow it in the table (each group
+#: per system in :data:`SYSTEM_COLUMNS` order).
 _SYSTEMS_AFTER = {"n_phase": tuple(SYSTEM_COLUMNS)[:3],
-                  "nl_sd_fixed_pct": tuple(SYSTEM_COLUMNS)[3:]}
+                  "nl_sd_fixed_pct": tuple(SYSTEM_COLUMNS)[3:8],
+                  "nl_guard_mean_cos": tuple(SYSTEM_COLUMNS)[8:11],
+                  "constrained_wrong": tuple(SYSTEM_COLUMNS)[11:14],
+                  "sigma0": tuple(SYSTEM_COLUMNS)[14:]}
+#: Section title -> its first all-system column (the table's columns in order, split there).
+SECTIONS = {"residuals": "phase_rms_mm",
+            "ambiguity resolution": "wl_fixing_rate_pct",
+            "product guard and wrong fixes (simulated truth)": "ar_product_accepted",
+            "validation": "overlap_3d_rms_cm",
+            "antenna, inter-system biases and variance components": "pco_z_cm"}
+_ISB = re.compile(r"isb_(?P<system>[A-Z])(?:_(?P<piece>\d+))?_m")
 _SYSTEM_PATTERNS = {template: re.compile(re.escape(template).replace(r"\{system\}",
                                                                      "(?P<system>[A-Z])"))
                     for template in SYSTEM_COLUMNS}
@@ -120,7 +194,7 @@ def column_meta(name: str) -> tuple[str, str]:
 
 
 def _is_count(name: str) -> bool:
-    return name in COUNTS or name.startswith(("n_phase_", "n_sd_"))
+    return name in COUNTS or name.startswith(_COUNT_PREFIXES)
 
 
 def _ordered(names) -> list[str]:
@@ -137,6 +211,17 @@ def _ordered(names) -> list[str]:
     return out
 
 
+def sections(columns) -> dict[str, list[str]]:
+    """The columns of a :func:`campaign_table` (in its order) split into :data:`SECTIONS`
+    (for a readable report: one table per section; empty sections left out)."""
+    columns = list(columns)
+    starts = sorted((columns.index(first), title) for title, first in SECTIONS.items()
+                    if first in columns)
+    bounds = [k for k, _ in starts[1:]] + [len(columns)]
+    return {title: columns[k:end] for (k, title), end in zip(starts, bounds, strict=True)
+            if columns[k:end]}
+
+
 def _rms(values: np.ndarray) -> float:
     values = values[np.isfinite(values)]
     return float(np.sqrt(np.mean(values**2))) if values.size else float("nan")
@@ -147,10 +232,133 @@ def _sd_share(flags: np.ndarray) -> float:
     return 100 * float(np.mean(flags == 1)) if flags.size else float("nan")
 
 
+def _verdict(value) -> float:
+    """1 accepted, 0 refused, NaN not tested."""
+    return {"accepted": 1.0, "refused": 0.0}.get(str(value), np.nan)
+
+
+def _per_system_attrs(ambiguity: xr.Dataset) -> dict[str, dict]:
+    """The attributes of each system's ambiguity resolution: ``<S>_*`` of a combined table
+    (``systems`` attribute), all of a single-system table (its system from ``sv_i``)."""
+    attrs = ambiguity.attrs
+    if "systems" in attrs:
+        return {x: {k[len(x) + 1:]: v for k, v in attrs.items() if k.startswith(f"{x}_")}
+                for x in str(attrs["systems"]).split()}
+    systems = np.unique(system_of(ambiguity.sv_i.values)) if "sv_i" in ambiguity else []
+    return {str(systems[0]): dict(attrs)} if len(systems) == 1 else {}
+
+
+def _ar_system_columns(ambiguity: xr.Dataset) -> dict:
+    """Graph-rank fixing rates and guard statistics per system (module docstring)."""
+    row = {}
+    for x, attrs in _per_system_attrs(ambiguity).items():
+        for lane in ("wl", "nl"):
+            row[f"{lane}_fixing_rate_{x}_pct"] = 100 * float(attrs.get(f"{lane}_fixing_rate",
+                                                                       np.nan))
+            row[f"{lane}_guard_mean_cos_{x}"] = float(attrs.get(f"{lane}_guard_mean_cos",
+                                                                np.nan))
+        row[f"ar_product_accepted_{x}"] = _verdict(attrs.get("product_guard"))
+    return row
+
+
+def _wrong_fix_columns(counts: Mapping) -> dict:
+    """Wrongly fixed single differences, all (``counts["all"]``) and per system."""
+    keys = ("wl_wrong", "nl_wrong", "constrained_wrong")
+    row = {}
+    for x, per in counts.items():
+        row |= {(k if x == "all" else f"{k}_{x}"): per[k] for k in keys}
+    return row
+
+
+def _isb_pieces(parameters: xr.Dataset) -> dict[str, list[str]]:
+    """ISB parameter names per system, in piece order."""
+    out: dict[str, list[tuple[int, str]]] = {}
+    for name in parameters.parameter.values.astype(str):
+        match = _ISB.fullmatch(name)
+        if match:
+            out.setdefault(match["system"], []).append((int(match["piece"] or 0), name))
+    return {x: [n for _, n in sorted(v)] for x, v in out.items()}
+
+
+def _isb_columns(parameters: xr.Dataset) -> dict:
+    """Mean ISB of the pieces with the sigma of that mean (covariance) and their STD."""
+    row = {}
+    for x, names in _isb_pieces(parameters).items():
+        est = parameters.estimate.sel(parameter=names).values.astype(float)
+        cov = parameters.covariance.sel(parameter=names, parameter_b=names).values
+        n = len(names)
+        row[f"isb_{x}_m"] = float(np.mean(est))
+        row[f"isb_{x}_sigma_m"] = float(np.sqrt(max(np.sum(cov), 0.0))) / n
+        row[f"n_isb_{x}"] = n
+        row[f"isb_{x}_std_m"] = float(np.std(est, ddof=1)) if n > 1 else np.nan
+    return row
+
+
+def _vce_columns(parameters: xr.Dataset) -> dict:
+    """Variance factors per system and observation type, their sigmas, the resulting
+    observation sigmas, and sigma0."""
+    row = {"sigma0": float(parameters.attrs.get("sigma0", np.nan))}
+    if "variance_factor" not in parameters:
+        return row
+    scale = {"code": ("m", 1.0), "phase": ("mm", 1e3)}
+    for group in parameters.group.values.astype(str):
+        x, kind = group.split("_", 1)
+        g = parameters.sel(group=group)
+        factor = float(g.variance_factor)
+        row[f"vf_{x}_{kind}"] = factor
+        row[f"vf_{x}_{kind}_sigma"] = float(g.variance_factor_sigma)
+        prior = float(g.apriori_sigma_m) if "apriori_sigma_m" in g else np.nan
+        unit, to_unit = scale[kind]
+        row[f"sigma_{x}_{kind}_{unit}"] = to_unit * np.sqrt(factor) * prior
+    return row
+
+
+def isb_series(parameters: xr.Dataset, residuals: xr.Dataset) -> pd.DataFrame:
+    """The inter-system-bias pieces of a POD solution over time.
+
+    Parameters
+    ----------
+    parameters : xarray.Dataset
+        POD parameters (``isb_<S>_m`` or ``isb_<S>_<piece>_m``, ``estimate``, ``sigma``).
+    residuals : xarray.Dataset
+        POD residuals of the same solution (``time``; ``isb_piece`` on time, the piece of
+        each epoch; without it the arc must have one piece per system).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per system and piece: ``system``, ``piece``, ``start``, ``end`` (first and
+        last epoch of the piece, datetime64), ``estimate_m``, ``sigma_m``; empty without ISB.
+
+    Raises
+    ------
+    ValueError
+        If an arc has several ISB pieces but the residuals no ``isb_piece``.
+    """
+    times = residuals.time.values
+    piece_of = (residuals.isb_piece.values if "isb_piece" in residuals
+                else np.zeros(times.size, int))
+    rows = []
+    for x, names in _isb_pieces(parameters).items():
+        if len(names) > 1 and "isb_piece" not in residuals:
+            raise ValueError(f"{len(names)} ISB pieces of system {x} but the residuals have "
+                             "no isb_piece variable (written by leopod >= this version)")
+        for piece, name in enumerate(names):
+            at = times[piece_of == piece]
+            p = parameters.sel(parameter=name)
+            rows.append({"system": x, "piece": piece,
+                         "start": at.min() if at.size else np.datetime64("NaT"),
+                         "end": at.max() if at.size else np.datetime64("NaT"),
+                         "estimate_m": float(p.estimate), "sigma_m": float(p.sigma)})
+    return pd.DataFrame(rows, columns=["system", "piece", "start", "end", "estimate_m",
+                                       "sigma_m"])
+
+
 def day_row(date: str, solution: str, *, residuals: xr.Dataset,
             ambiguity: xr.Dataset | None = None, overlap: xr.Dataset | None = None,
             reference: xr.Dataset | None = None, slr: xr.Dataset | None = None,
-            parameters: xr.Dataset | None = None) -> dict:
+            parameters: xr.Dataset | None = None,
+            wrong_fixes: Mapping | None = None) -> dict:
     """Figures of one day and solution from its product files (module docstring).
 
     Parameters
@@ -172,7 +380,13 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         :func:`leopod.validation.slr.slr_residuals` output (``flag`` 0 = used).
     parameters : xarray.Dataset, optional
         POD parameters (``estimate``, ``sigma`` on ``parameter``); ``pco_z_m`` [m] if the
-        PCO-Z was estimated.
+        PCO-Z was estimated, ``isb_<S>[_<piece>]_m`` [m] of a combined POD, and the
+        variance groups (``variance_factor``, ``variance_factor_sigma``, ``apriori_sigma_m``
+        on ``group``) and ``sigma0`` of :func:`leopod.estimation.outputs.parameter_dataset`.
+    wrong_fixes : mapping, optional
+        Wrong fixes of the day's ambiguity resolution against the simulated truth,
+        :func:`leopod.simulate.ambiguity_truth.wrong_fix_counts` (``{"all": counts,
+        system: counts}``).
 
     Returns
     -------
@@ -221,6 +435,9 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
                                                                        np.nan))
         if solution == "fixed_pod" and "constrained" in ambiguity:
             row["n_constraints"] = int((ambiguity.constrained.values == 1).sum())
+        row |= _ar_system_columns(ambiguity)
+    if wrong_fixes is not None:
+        row |= _wrong_fix_columns(wrong_fixes)
     if overlap is not None:
         row["overlap_3d_rms_cm"] = 100 * float(overlap.rms_m.sel(component="3D"))
     if reference is not None:
@@ -237,6 +454,8 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         pco = parameters.sel(parameter="pco_z_m")
         row["pco_z_cm"] = 100 * float(pco.estimate)
         row["pco_z_sigma_cm"] = 100 * float(pco.sigma)
+    if parameters is not None:
+        row |= _isb_columns(parameters) | _vce_columns(parameters)
     return row
 
 
