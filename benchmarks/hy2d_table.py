@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
+from leopod.simulate.ambiguity_truth import wrong_fix_counts
 from leopod.validation.summary import system_of
 from leopod.workflow.config import load_campaign
 from leopod.workflow.variants import pod_lines
@@ -40,27 +40,25 @@ def summary_rows(run: Path, line: str) -> dict:
         return {(r["date"], r["solution"]): r for r in csv.DictReader(f)}
 
 
-def wrong_fixes_per_system(run: Path, line: str, sat: str, signals: dict) -> dict:
-    """``{system: {n_sd, wl_fixed, nl_fixed, constrained, wrong}}`` over the line's ambiguity
-    tables, each system's single differences checked with its own phase pair."""
+def fixes_per_system(run: Path, line: str, sat: str, signals: dict) -> dict:
+    """``{system: {n_sd, wl_fixed, nl_fixed, constrained, wrong}}`` summed over the line's
+    ambiguity tables (:func:`leopod.simulate.ambiguity_truth.wrong_fix_counts`: each system
+    with its own phase pair)."""
     truths = [xr.load_dataset(p)
               for p in sorted((run / "resources" / "simulate" / sat).glob("*_truth.nc"))]
+    phases = {system: block["phase"] for system, block in signals.items()}
     totals: dict = {}
     for path in sorted((run / "results" / "ambiguity" / line).glob("*.nc")):
         table = xr.load_dataset(path)
         residuals = xr.load_dataset(run / "results" / "float_pod" / line
                                     / f"{path.stem}_residuals.nc")
-        pair_dim = table.wl_fixed.dims[0]
         systems = system_of(table.sv_i.values)
+        counts = wrong_fix_counts(table, residuals, truths, phases)
         for system in np.unique(systems):
-            part = table.isel({pair_dim: np.flatnonzero(systems == system)})
-            truth_days = [t.sel(sv=[s for s in t.sv.values if str(s).startswith(system)])
-                          for t in truths]
-            w = wrong_fixes(part, *true_single_differences(
-                part, residuals, truth_days, tuple(signals[system]["phase"])))
-            t = totals.setdefault(system, dict.fromkeys(
+            w = counts[str(system)]
+            t = totals.setdefault(str(system), dict.fromkeys(
                 ("n_sd", "wl_fixed", "nl_fixed", "constrained", "wrong"), 0))
-            t["n_sd"] += part.sizes[pair_dim]
+            t["n_sd"] += int((systems == system).sum())
             for key in ("wl_fixed", "nl_fixed", "constrained"):
                 t[key] += w[key]
             t["wrong"] += w["wl_wrong"] + w["nl_wrong"] + w["constrained_wrong"]
@@ -81,7 +79,7 @@ def print_run(run: Path, config: Path) -> None:
           f"SDs: WL / NL fixed [%], wrong")
     for line, (sat, _) in pod_lines(cfg).items():
         rows = summary_rows(run, line)
-        fixing = wrong_fixes_per_system(run, line, sat, cfg["signals"])
+        fixing = fixes_per_system(run, line, sat, cfg["signals"])
         for solution in SOLUTIONS:
             m, s = rows[("mean", solution)], rows.get(("std", solution), {})
             text = (f"{line:14s} {solution[:5]:9s} "

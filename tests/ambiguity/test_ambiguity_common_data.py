@@ -55,3 +55,18 @@ def test_sds_with_two_common_hmw_epochs_are_not_fixed(tmp_path):
     # the other single differences are decided as before
     np.testing.assert_array_equal(table.wl_fixed.values[~involved],
                                   full.wl_fixed.values[~involved])
+
+
+def test_a_satellite_without_any_hmw_data_is_not_fixed_and_no_error(tmp_path):
+    # every code of one satellite dropped (code-bias map cells without values): the arc is
+    # resolved, that satellite's SDs are not (ambiguity step crashed before: "pass ids have
+    # no HMW data")
+    s = scenario(seed=31, hours=10.0, clocks="ordinary")
+    residuals, obs = arc_inputs(s)
+    sv = str(s.amb.sv.values[0])
+    obs["C1W"].loc[{"sv": sv}] = np.nan
+    table = _resolve(s, obs, residuals, tmp_path)
+    involved = (table.sv_i.values == sv) | (table.sv_j.values == sv)
+    assert involved.any() and np.all(table.wl_n_common.values[involved] == 0)
+    assert not (table.wl_fixed.values[involved] == 1).any()
+    assert (table.wl_fixed.values[~involved] == 1).sum() > 0

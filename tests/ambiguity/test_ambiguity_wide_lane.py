@@ -126,14 +126,22 @@ def test_sd_wide_lane_closed_loop_integers_and_sigmas():
 
 def test_sd_wide_lane_errors():
     s = scenario(seed=7, hours=2.0)
-    with pytest.raises(ValueError, match="no HMW data"):
-        sd_wide_lane(s.hmw, s.pass_id, [0], [10_000])
+    with pytest.raises(ValueError, match=">= 0"):
+        sd_wide_lane(s.hmw, s.pass_id, [0], [-1])
     bad = s.pass_id.copy()
     bad.values[bad.values[:, 1] >= 0, 1] = int(s.pass_id.values[:, 0].max())
     with pytest.raises(ValueError, match="more than one satellite"):
         sd_wide_lane(s.hmw, bad, [0], [1])
     with pytest.raises(ValueError, match="equal length"):
         sd_wide_lane(s.hmw, s.pass_id, [0, 1], [1])
+
+
+def test_a_pass_without_hmw_data_has_no_common_epochs():
+    # a pass whose codes were all dropped (code-bias map without values, Peng et al. 2021's
+    # 'drop' option) is no error: its single differences have no common epochs and no value
+    s = scenario(seed=7, hours=2.0)
+    sd = sd_wide_lane(s.hmw, s.pass_id, [0, 0], [1, 10_000])
+    assert sd.n_common[1] == 0 and np.isnan(sd.value_cyc[1]) and np.isnan(sd.sigma_cyc[1])
 
 
 def _biases(seed=2, svs=GPS + BDS):

@@ -119,6 +119,14 @@ def _locate_passes(pass_id: np.ndarray, valid: np.ndarray) -> _Passes:
     return _Passes(column, first, last)
 
 
+def _column_of(loc: _Passes, ids: np.ndarray) -> np.ndarray:
+    """Satellite column of every pass id, −1 for a pass without HMW data."""
+    out = np.full(ids.size, -1, dtype=np.int64)
+    inside = ids < loc.column.size
+    out[inside] = loc.column[ids[inside]]
+    return out
+
+
 def pass_hmw(hmw_cyc: xr.DataArray, pass_id: xr.DataArray) -> xr.Dataset:
     """Mean, empirical STD and formal sigma of the HMW combination of every pass.
 
@@ -246,14 +254,17 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     if id_i.shape != id_j.shape or id_i.ndim != 1:
         raise ValueError(f"id_i and id_j must be 1-d of equal length, got {id_i.shape} and "
                          f"{id_j.shape}")
-    for ids in (id_i, id_j):
-        bad = (ids < 0) | (ids >= loc.column.size)
-        bad[~bad] = loc.column[ids[~bad]] < 0
-        if bad.any():
-            raise ValueError(f"pass ids {np.unique(ids[bad]).tolist()} have no HMW data")
-    col_i, col_j = loc.column[id_i], loc.column[id_j]
-    lo = np.maximum(loc.first[id_i], loc.first[id_j])
-    length = np.maximum(np.minimum(loc.last[id_i], loc.last[id_j]) - lo + 1, 0)
+    if (id_i < 0).any() or (id_j < 0).any():
+        raise ValueError("pass ids must be >= 0")
+    # a pass without any HMW value (e.g. its codes dropped by a code-bias map) has no
+    # common epochs: its single differences get n_common 0 and a NaN value
+    col_i, col_j = _column_of(loc, id_i), _column_of(loc, id_j)
+    has_data = (col_i >= 0) & (col_j >= 0)
+    lo = np.zeros(id_i.size, dtype=np.int64)
+    length = np.zeros(id_i.size, dtype=np.int64)
+    k, ki, kj = np.flatnonzero(has_data), id_i[has_data], id_j[has_data]
+    lo[k] = np.maximum(loc.first[ki], loc.first[kj])
+    length[k] = np.maximum(np.minimum(loc.last[ki], loc.last[kj]) - lo[k] + 1, 0)
     # all candidate epochs of all pairs, flattened: pair label and time index
     label = np.repeat(np.arange(id_i.size), length)
     offset = np.cumsum(length) - length
