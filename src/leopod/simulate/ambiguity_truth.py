@@ -4,10 +4,14 @@ The simulator keeps the integer ambiguity of every observation (``amb_<phase>_cy
 (obs_time, sv) in ``<date>_truth.nc``; satellite and receiver phase biases lie in ±0.5 cycles,
 so they never move the integers). A POD pass has one ambiguity; its true ``N1`` and
 ``N_WL = N1 − N2`` are taken from the truth at the pass's epochs (the median, which is the
-value itself unless a pass wrongly spans a slip).
+value itself unless a pass wrongly spans a slip). A combined arc of several systems takes
+each satellite's integers from its own system's phase pair (GPS L1C/L2W, Galileo L1C/L5Q:
+the truth file's ``amb_L1C_cyc`` holds both systems, each on its own satellites).
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
@@ -22,26 +26,42 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
     Parameters
     ----------
     table : xarray.Dataset
-        Output of :func:`leopod.ambiguity.resolve.resolve_arc` (``pass_i``, ``pass_j``).
+        Output of :func:`leopod.ambiguity.resolve.resolve_arc` or, for a combined arc,
+        :func:`leopod.ambiguity.resolve.resolve_systems` (``pass_i``, ``pass_j``).
     residuals : xarray.Dataset
         Float POD residuals (``pass_index`` on (time, sv)).
     truth_days : list of xarray.Dataset
         Simulator truth files of the arc's days.
-    phases : two str
-        Phase signals of the pair.
+    phases : two str, or mapping of str to two str
+        Phase signals of the pair, or of each system's pair (system letter -> pair, e.g.
+        ``{"G": ("L1C", "L2W"), "E": ("L1C", "L5Q")}``: each satellite's integers are those
+        of its system's pair; satellites of other systems get NaN).
 
     Returns
     -------
     wl, nl : ndarray of float, shape (n_pair,)
         True integers (NaN where the truth has no value).
     """
-    names = [f"amb_{p}_cyc" for p in phases]
+    pairs = phases if isinstance(phases, Mapping) else None
+    names = sorted({f"amb_{p}_cyc" for pair in (pairs.values() if pairs else [phases])
+                    for p in pair})
     truth = xr.concat([t[names].rename(obs_time="time") for t in truth_days], dim="time")
     pid = residuals.pass_index
-    tr = truth.reindex(time=pid.time, sv=pid.sv)
+    tr = truth.reindex(time=pid.time, sv=pid.sv).transpose(*pid.dims)
+    n1_grid = np.full(pid.shape, np.nan)
+    n2_grid = np.full(pid.shape, np.nan)
+    axis = pid.dims.index("sv")
+    for k, sv in enumerate(pid.sv.values.astype(str)):
+        pair = pairs.get(sv[0]) if pairs else phases
+        if pair is None:
+            continue
+        col = [slice(None)] * pid.ndim
+        col[axis] = k
+        n1_grid[tuple(col)] = tr[f"amb_{pair[0]}_cyc"].values[tuple(col)]
+        n2_grid[tuple(col)] = tr[f"amb_{pair[1]}_cyc"].values[tuple(col)]
     p = pid.values.ravel()
-    n1 = tr[names[0]].values.ravel()
-    nwl = n1 - tr[names[1]].values.ravel()
+    n1 = n1_grid.ravel()
+    nwl = n1 - n2_grid.ravel()
     ok = p >= 0
     order = np.argsort(p[ok], kind="stable")
     keys, first = np.unique(p[ok][order], return_index=True)
