@@ -31,8 +31,12 @@ EPOCH = np.datetime64("2023-07-08T00:00", "ns")
 SIGNALS = {"G": ["C1C", "C1W", "C2W", "L1C", "L2W"], "E": ["C1C", "C5Q", "L1C", "L5Q"]}
 #: HMW pair per system: phases and codes (the clock-reference codes of the file's header)
 PAIRS = {"G": (("L1C", "L2W"), ("C1W", "C2W")), "E": (("L1C", "L5Q"), ("C1C", "C5Q"))}
-PCO = {"L1": [0.0, 0.0, -0.35], "L2": [0.0, 0.0, -0.37], "E1": [0.0, 0.0, -0.35],
-       "E5a": [0.0, 0.0, -0.38]}
+#: One LEO antenna offset for every band: the HMW then holds no geometric difference of the
+#: bands (the POD removes that term before the HMW, leopod.gnss.antenna_terms)
+PCO = dict.fromkeys(("L1", "L2", "E1", "E5a"), [0.0, 0.0, -0.35])
+#: Code noise reduced to 1 cm: the closed-loop test resolves bias errors of 0.05 WL cycles
+#: in passes of 10 minutes (at the default noise a pass mean scatters by ~0.1 cycle)
+NOISE_M = dict.fromkeys(("C1C", "C1W", "C2W", "C5Q"), 0.01)
 
 
 @pytest.fixture(scope="module")
@@ -45,6 +49,7 @@ def files(shared_data):
 @pytest.fixture(scope="module")
 def settings(files):
     return simulation({**SECTION, "systems": SIGNALS, "code_bias_maps": [], "gnss_antex": None,
+                       "observations": {"noise_m": NOISE_M},
                        "gnss_products": {"orbit": files.orbit[0], "clock": None,
                                          "osb": files.osb}})
 
@@ -69,7 +74,9 @@ def test_clock_reference_osbs_have_zero_ionosphere_free_part(files):
     checked = {"G": 0, "E": 0}
     for system, (_, (c1, c2)) in PAIRS.items():
         f1, f2 = frequency_hz(system, c1), frequency_hz(system, c2)
-        for sv in sorted({str(p) for p in osb.prn.values if str(p).startswith(system)}):
+        # satellite records (station records carry the system letter alone)
+        for sv in sorted({str(p) for p in osb.prn.values
+                          if str(p).startswith(system) and len(str(p)) == 3}):
             d1, d2 = (_file_osb_ns(files.osb, sv, c) for c in (c1, c2))
             assert abs((f1**2 * d1 - f2**2 * d2) / (f1**2 - f2**2)) < 1e-3, sv
             assert abs(d1 - d2) > 1e-3 or abs(d1) < 1e-3, sv
@@ -126,7 +133,9 @@ def test_galileo_biases_are_the_files_osbs(files, settings):
 def test_galileo_hmw_minus_file_bias_is_integer(files, settings):
     """Closed loop over two hours against the real CODE orbits and OSBs: per pass, the mean
     HMW minus the satellite WL bias read from the real file (AR library) minus the true
-    receiver WL bias is the true integer wide lane, for Galileo E1/E5a and GPS L1/L2."""
+    receiver WL bias is the true integer wide lane, for Galileo E1/E5a and GPS L1/L2 (the
+    Galileo L1C ambiguities are those of Galileo, not overwritten by GPS L1C's: a bug of the
+    simulator's pass bookkeeping, leopod.simulate.tracking.passes, this test found)."""
     truth = simulate_truth(settings, "sim", DAY, DAY)
     world = gnss_world(settings, DAY, DAY)
     biases = _campaign_biases(settings, world.svs, "sim", DAY)
@@ -153,6 +162,6 @@ def test_galileo_hmw_minus_file_bias_is_integer(files, settings):
                 continue
             col = np.nonzero(sel)[1][0]
             mean = np.mean(hmw[sel]) - w_file[col] - w_rx
-            assert abs(mean - n_wl[sel][0]) < 0.1, (system, p, mean, n_wl[sel][0])
+            assert abs(mean - n_wl[sel][0]) < 0.05, (system, p, mean, n_wl[sel][0])
             checked[system] += 1
     assert checked["G"] >= 8 and checked["E"] >= 6, checked
