@@ -12,7 +12,7 @@ wrong WL/NL/constrained fixes against the simulator's true integers (each system
 phase pair, :func:`leopod.simulate.ambiguity_truth.true_single_differences`), the RMS and the
 largest magnitude of the fractional parts of the float WL and NL (what the rounding decision
 sees), the product guard's verdict; then the float and fixed orbit RMS against the simulated
-truth (3D, R, T, N; results/summary/<campaign>.csv).
+truth (3D, R, T, N; results/summary/<sat>.csv).
 """
 
 from __future__ import annotations
@@ -62,9 +62,9 @@ def fixing(run: Path, sat: str, pairs: dict) -> list[dict]:
     return rows
 
 
-def orbits(run: Path, campaign: str) -> list[dict]:
+def orbits(run: Path, sat: str) -> list[dict]:
     """The daily float and fixed rows of the campaign summary."""
-    with open(run / "results" / "summary" / f"{campaign}.csv") as f:
+    with open(run / "results" / "summary" / f"{sat}.csv") as f:
         return [r for r in csv.DictReader(f) if r["date"] not in ("mean", "std")]
 
 
@@ -86,7 +86,7 @@ def main(run: Path) -> None:
               f"{r['nl_frac'][0]:7.3f}/{r['nl_frac'][1]:7.3f} {r['guard']:>9s}")
     print("(wrong: WL / NL / constrained fixes differing from the simulator's integers)")
     print(f"{'day':9s} {'solution':10s} {'3D':>6s} {'R':>6s} {'T':>6s} {'N':>6s}  [cm vs truth]")
-    for r in orbits(run, cfg["campaign"]):
+    for r in orbits(run, sat):
         print(f"{r['date']:9s} {r['solution']:10s} "
               + " ".join(f"{float(r[f'reference_{c}_rms_cm']):6.2f}"
                          for c in ("3d", "r", "t", "n")))

@@ -36,7 +36,7 @@ PAIRS = {"G": (("L1C", "L2W"), ("C1W", "C2W")), "E": (("L1C", "L5Q"), ("C1C", "C
 PCO = dict.fromkeys(("L1", "L2", "E1", "E5a"), [0.0, 0.0, -0.35])
 #: Code noise reduced to 1 cm: the closed-loop test resolves bias errors of 0.05 WL cycles
 #: in passes of 10 minutes (at the default noise a pass mean scatters by ~0.1 cycle)
-NOISE_M = dict.fromkeys(("C1C", "C1W", "C2W", "C5Q"), 0.01)
+NOISE_M = dict.fromkeys(("C1C", "E:C1C", "C1W", "C2W", "C5Q"), 0.01)
 
 
 @pytest.fixture(scope="module")
