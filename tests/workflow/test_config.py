@@ -52,7 +52,7 @@ def test_simulate_defaults_are_complete():
     (m,) = d["code_bias_maps"]
     assert (m["model"], m["signal"], m["valley_m"]) == ("hy2b_p1", "C1W", -0.3)
     assert set(d["observations"]["noise_m"]) == {"C1C", "C1W", "C2W", "L1C", "L2W", "C1P",
-                                                  "C5P", "L1P", "L5P"}
+                                                  "C5P", "L1P", "L5P", "E:C1C", "C5Q", "L5Q"}
 
 
 def test_with_defaults_means_what_a_campaign_file_means():
@@ -83,7 +83,7 @@ def test_with_defaults_means_what_a_campaign_file_means():
     ({"sead": 1}, "'sead' was unexpected"),
     ({"orbit": {"altitude_km": 50.0}}, "50.0 is less than or equal to the minimum of 100"),
     ({"observations": {"noise_m": {"C1W": -1.0}}}, "less than the minimum"),
-    ({"systems": {"E": ["C1C", "L1C"]}}, "'E' is not one of"),
+    ({"systems": {"R": ["C1C", "L1C"]}}, "'R' is not one of"),
     ({"gnss_products": {"orbit": "a", "clock": "b"}}, "'osb' is a required property"),
     ({"gnss_products": "a.sp3"}, "'a.sp3' is not of type 'null'"),
     ({"code_bias_maps": [{"model": "none", "plateau_m": 1.0}]}, "'plateau_m' was unexpected"),

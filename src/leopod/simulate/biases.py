@@ -17,7 +17,7 @@ Bias-SINEX OSB (:func:`leopod.io.bias_sinex_write.write_bias_sinex`)
     "observation corrected = observation − OSB" (Bias-SINEX 1.00): code OSB = ``d^s_i``,
     phase OSB = ``λ_i β^s_i``. The satellite clock ``dt^s`` refers to the ionosphere-free
     combination of the clock-reference codes (``BiasSettings.clock_reference``; by default
-    :data:`CLOCK_REFERENCE_CODES`: GPS C1W/C2W, BDS-3 C1P/C5P), whose satellite code biases
+    :data:`CLOCK_REFERENCE_CODES`: GPS C1W/C2W, BDS-3 C1P/C5P, Galileo C1C/C5Q), whose satellite code biases
     are therefore drawn with a zero ionosphere-free combination
     ``(f1² d1 − f2² d2)/(f1² − f2²) = 0``, as in the real CODE and WHU files (checked in
     tests/simulate/test_biases.py). The clock reference need not be simulated: BDS clocks
@@ -77,12 +77,15 @@ __all__ = [
 ]
 
 #: Code pair of the wide-lane and integer-clock products per system, and the default clock
-#: reference (Bias-SINEX SATELLITE_CLOCK_REFERENCE_OBSERVABLES; GPS as in CODE/WHU products).
-CLOCK_REFERENCE_CODES = {"G": ("C1W", "C2W"), "C": ("C1P", "C5P")}
+#: reference (Bias-SINEX SATELLITE_CLOCK_REFERENCE_OBSERVABLES; GPS as in CODE/WHU products,
+#: Galileo E1/E5a C1C/C5Q as in CODE's COD0OPSFIN_20231890000_01D_01D_OSB.BIA).
+CLOCK_REFERENCE_CODES = {"G": ("C1W", "C2W"), "C": ("C1P", "C5P"), "E": ("C1C", "C5Q")}
 
 #: Simulated signals per system (GPS: C/A, P1, P2 codes and the L1C/L2W phases a RINEX 2
-#: receiver reports; BDS-3: B1C and B2a pilot codes and phases).
-DEFAULT_SIGNALS = {"G": ("C1C", "C1W", "C2W", "L1C", "L2W"), "C": ("C1P", "C5P", "L1P", "L5P")}
+#: receiver reports; BDS-3: B1C and B2a pilot codes and phases; Galileo: E1 and E5a codes and
+#: phases of CODE's OSBs).
+DEFAULT_SIGNALS = {"G": ("C1C", "C1W", "C2W", "L1C", "L2W"), "C": ("C1P", "C5P", "L1P", "L5P"),
+                   "E": ("C1C", "C5Q", "L1C", "L5Q")}
 
 _NS_TO_M = 1e-9 * C_LIGHT_M_S
 
@@ -99,7 +102,8 @@ class BiasSettings(Settings):
         system [ns]. Default GPS C1W−C2W: 4 ns (std over GPS of C1W−C2W: 4.8 ns in CODE's OSB
         file COD0OPSFIN_20231890000_01D_01D_OSB.BIA, 3.0 ns in
         WHU0IGSFIN_20082790000_01D_01D_ABS); BDS-3 C1P−C5P: 4 ns, from Galileo C1C−C5Q on the
-        same frequencies (3.9 ns in the CODE file; no BDS-3 file at hand).
+        same frequencies (3.9 ns in the CODE file; no BDS-3 file at hand); Galileo C1C−C5Q:
+        4 ns (3.9 ns in the CODE file).
     dcb_other_sigma_ns : float
         Standard deviation of the DCB between any other code and the clock-reference code of
         its band [ns]. Default 1 ns (GPS P1−C1: 1.04 ns in CODE's P1C10810_RINEX.DCB, 1.02 ns

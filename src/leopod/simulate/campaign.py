@@ -123,35 +123,47 @@ def gnss_world(settings: SimulationSettings, world_start: str, world_end: str) -
     -------
     GnssWorld
         With ``settings.gnss_products``: the real products
-        (:func:`leopod.simulate.product_world.product_world`). Else the slots of
+        (:func:`leopod.simulate.product_world.product_world`; with simulated clocks when the
+        set has no clock file). Else the slots of
         :func:`gps_constellation` / :func:`beidou3_constellation` as
         :class:`KeplerOrbit` with random eccentricities below ``gnss_eccentricity_max`` and
         random perigees (label ``gnss-orbit/<sv>``); clocks with a
         uniform offset and drift and a random walk with nodes on the clock-product grid.
     """
     if settings.gnss_products is not None:
-        return product_world(settings.gnss_products, _epoch(world_start),
-                             systems=sorted(settings.systems))
+        return product_world(
+            settings.gnss_products, _epoch(world_start), systems=sorted(settings.systems),
+            simulated_clocks=lambda svs: _simulated_clocks(settings, svs, world_start,
+                                                           world_end))
     unknown = sorted(set(settings.systems) - set(_CONSTELLATIONS))
     if unknown:
         raise ValueError(f"no simulated constellation for systems {unknown} (known: "
-                         f"{', '.join(_CONSTELLATIONS)})")
+                         f"{', '.join(_CONSTELLATIONS)}; Galileo flies only against a real "
+                         "product set, simulate.gnss_products)")
     orbits = {}
     for system in sorted(settings.systems):
         for sv, nominal in _CONSTELLATIONS[system]().items():
             orbits[sv] = _eccentric(nominal, settings.gnss_eccentricity_max,
                                     settings.rng(f"gnss-orbit/{sv}"))
+    return GnssWorld(epoch=_epoch(world_start), orbits=orbits,
+                     clocks=_simulated_clocks(settings, orbits, world_start, world_end))
+
+
+def _simulated_clocks(settings: SimulationSettings, svs, world_start: str,
+                      world_end: str) -> dict[str, RandomWalkClock]:
+    """Satellite clocks of ``svs``: uniform offset and drift and a random walk with nodes on
+    the clock-product grid (labels ``gnss-clock/<sv>``, ``gnss-walk/<sv>``)."""
     c = settings.clocks
     span = _span_s(world_start, world_end)
     clocks = {}
-    for sv in sorted(orbits):
+    for sv in sorted(svs):
         rng = settings.rng(f"gnss-clock/{sv}")
         clocks[sv] = RandomWalkClock(
             bias_s=float(rng.uniform(-c.gnss_bias_max_s, c.gnss_bias_max_s)),
             drift_s_s=float(rng.uniform(-c.gnss_drift_max_s_s, c.gnss_drift_max_s_s)),
             walk_s_sqrt_s=c.gnss_walk_s_sqrt_s, seed=settings.int_seed(f"gnss-walk/{sv}"),
             step_s=settings.products.clock_interval_s, span_s=span)
-    return GnssWorld(epoch=_epoch(world_start), orbits=orbits, clocks=clocks)
+    return clocks
 
 
 def _eccentric(nominal: CircularOrbit, e_max: float, rng: np.random.Generator) -> KeplerOrbit:

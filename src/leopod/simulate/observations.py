@@ -57,7 +57,10 @@ The default code noise levels ``σ_30`` (``simulate.observations.noise_m`` in th
 schema) are the typical 2-min STDs of epoch-differenced code minus carrier of Peng et al.
 (2021) (C1 0.46, P1 0.09, P2 0.02 m, sec. II-B) divided by √2 (the epoch difference doubles the
 variance); BDS-3 B1C/B2a (0.20 and 0.15 m before the √2) are assumed values (Jiang et al. 2023
-gives no numbers); phases 1.5 mm.
+gives no numbers); phases 1.5 mm. A key names a code of every system that has it (``C1C``), or
+of one system (``E:C1C``, which wins): Galileo E1 C1C is a pilot signal on the frequency of
+BDS-3 B1C, not the GPS C/A code of the same RINEX name, and takes B1C's assumed level; Galileo
+E5a C5Q that of BDS-3 B2a (same frequency, pilot).
 """
 
 from __future__ import annotations
@@ -108,8 +111,8 @@ class ObservationSettings(Settings):
     Attributes
     ----------
     noise_m : dict
-        White-noise STD at 30° antenna elevation per RINEX 3 code [m] (defaults: module
-        docstring).
+        White-noise STD at 30° antenna elevation per RINEX 3 code (``C1C``) or per system and
+        code (``E:C1C``, preferred where both exist) [m] (defaults: module docstring).
     low_elevation_factor : float
         ``k`` of the elevation dependence (module docstring) [1].
     channels : int
@@ -157,15 +160,21 @@ class ObservationSettings(Settings):
     bds2_scb: bool
     gnss_attitude: str
 
-    def sigma_m(self, code: str, el_deg: np.ndarray) -> np.ndarray:
-        """Noise STD [m] of ``code`` at antenna elevations ``el_deg`` [deg]."""
-        if code not in self.noise_m:
+    def sigma_m(self, code: str, el_deg: np.ndarray,
+                systems: Sequence[str] | None = None) -> np.ndarray:
+        """Noise STD [m] of ``code`` at antenna elevations ``el_deg`` [deg], shape (..., s)
+        with ``systems`` (s,) the system of each satellite column (its ``<system>:<code>``
+        level where given); without ``systems`` the level of the bare code."""
+        level = np.array([self.noise_m.get(f"{x}:{code}", self.noise_m.get(code, np.nan))
+                          for x in systems] if systems is not None
+                         else self.noise_m.get(code, np.nan))
+        if np.isnan(level).any():
             raise ValueError(f"no noise level for signal {code} (known: "
                              f"{', '.join(sorted(self.noise_m))})")
         k = self.low_elevation_factor
         scale = ((1.0 + k * np.exp(-np.clip(el_deg, 0.0, 90.0) / _NOISE_SCALE_EL_DEG))
                  / (1.0 + k * np.exp(-_NOISE_REF_EL_DEG / _NOISE_SCALE_EL_DEG)))
-        return self.noise_m[code] * scale
+        return level * scale
 
 
 @dataclass(frozen=True)
@@ -454,7 +463,8 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
         band = np.stack([geo.range_m[(sys, code[1])][:, j]
                          for sys, j in zip(sys_of, np.flatnonzero(cols))], axis=1)
         iono = _IONO_M_HZ2_PER_TECU * stec[:, cols] / f**2
-        noise = rng.normal(0.0, 1.0, (n, s))[:, cols] * settings.sigma_m(code, geo.el_deg[:, cols])
+        noise = (rng.normal(0.0, 1.0, (n, s))[:, cols]
+                 * settings.sigma_m(code, geo.el_deg[:, cols], sys_of))
         rx_bias = np.array([_rx_bias(biases, sys, code) for sys in sys_of])
         value = np.full((n, s), np.nan)
         if code[0] == "C":

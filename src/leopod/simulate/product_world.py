@@ -10,11 +10,19 @@ fixing), while the truth orbit, the receiver and its biases remain simulated.
 Orbits. The SP3 positions (ITRF, centre of mass) are Lagrange-interpolated in the ITRF
 (:class:`leopod.gnss.products.GnssProducts`, as the POD does) and rotated to the GCRF at
 the same epoch (:func:`leopod.frames.earth_rotation.itrf_to_gcrf`), the inertial frame of
-:class:`leopod.simulate.observations.GnssWorld`.
+:class:`leopod.simulate.observations.GnssWorld`; extrapolated by up to 1 s beyond the file's
+ends (light time).
 
 Clocks. Linear interpolation between the product samples (the POD's rule), held constant
 over the < 0.1 s before the first and after the last sample (transmission times of the
-day's first and last epochs); satellites without a clock sample are left out.
+day's first and last epochs); satellites without a clock sample are left out. A product set
+without a clock file (``clock: null``, e.g. CODE's 2023-189 OSBs and orbits, whose clocks are
+not at hand) flies with simulated clocks (``simulated_clocks`` of :func:`product_world`),
+which the simulator writes as the day's RINEX clock file: they refer, as any clock of an OSB
+product, to the ionosphere-free combination of the clock-reference codes, whose real OSBs
+have a zero ionosphere-free part (checked for CODE 2023-189 GPS C1W/C2W and Galileo C1C/C5Q
+in tests/simulate/test_product_world_galileo.py), so the OSBs of the file stay consistent
+with the clocks.
 
 Biases (:func:`osb_biases`). Bias-SINEX "observation corrected = observation − OSB"
 (:mod:`leopod.simulate.biases`): satellite code bias ``d^s_i`` = code OSB, phase bias
@@ -25,7 +33,7 @@ Biases (:func:`osb_biases`). Bias-SINEX "observation corrected = observation −
 from __future__ import annotations
 
 import logging
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +57,12 @@ __all__ = ["ProductSet", "osb_biases", "product_world"]
 
 log = logging.getLogger(__name__)
 
+#: Extrapolation of the SP3 orbits beyond their first and last node [s]: the transmission
+#: times of a day's first and last epochs (light time < 0.1 s) when the orbit file covers
+#: exactly the day (e.g. CODE's 2023-189 SP3, 00:00-24:00); the POD does not extrapolate and
+#: leaves those epochs out.
+_LIGHT_TIME_MARGIN_S = 1.0
+
 
 @dataclass(frozen=True)
 class ProductSet(Settings):
@@ -60,7 +74,8 @@ class ProductSet(Settings):
         SP3 files covering the campaign (and the arcs' margins), in time order (one path may
         be given as a string).
     clock : tuple of str
-        RINEX clock files of the campaign days (one path may be given as a string).
+        RINEX clock files of the campaign days (one path may be given as a string); empty
+        (``None`` in the configuration): the clocks are simulated.
     osb : str
         Bias-SINEX file with the satellite code and phase OSBs.
     dcb_p1c1 : str or None
@@ -75,7 +90,8 @@ class ProductSet(Settings):
     def __post_init__(self):
         for name in ("orbit", "clock"):
             value = getattr(self, name)
-            object.__setattr__(self, name, (value,) if isinstance(value, str) else tuple(value))
+            object.__setattr__(self, name, (value,) if isinstance(value, str)
+                               else tuple(value or ()))
 
     @property
     def files(self) -> list[str]:
@@ -108,7 +124,8 @@ class _ProductClock:
         return np.interp(np.asarray(t_s, dtype=float), self._t, self._c)
 
 
-def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",)) -> GnssWorld:
+def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",),
+                  simulated_clocks: Callable[[list[str]], Mapping] | None = None) -> GnssWorld:
     """The GNSS world of a real product set.
 
     Parameters
@@ -118,30 +135,49 @@ def product_world(files: ProductSet, epoch, systems: Sequence[str] = ("G",)) -> 
         World epoch (GPS time): ``t = 0`` of the orbits and clocks.
     systems : sequence of str
         Systems to keep.
+    simulated_clocks : callable, optional
+        ``svs -> {sv: clock}`` (a clock maps world times [s] to offsets [s]); required, and
+        used, when the set has no clock file.
 
     Returns
     -------
     GnssWorld
-        Satellites present in the orbit, clock and OSB files.
+        Satellites present in the orbit and OSB files (and in the clock file, if any).
+
+    Raises
+    ------
+    ValueError
+        If the set has no clock file and no ``simulated_clocks`` is given.
     """
     epoch = np.datetime64(epoch, "ns")
     orbit = merge_days([read_sp3(p) for p in files.orbit])
-    clock = merge_days([read_rinex_clock(p) for p in files.clock])
     biases = read_bias_sinex(files.osb)
-    svs = sorted(set(map(str, orbit.sv.values)) & set(map(str, clock.sv.values))
-                 & set(map(str, biases.prn.values)))
-    svs = [s for s in svs if s[0] in systems
-           and np.isfinite(clock.clk_s.sel(sv=s).values).any()]
-    products = GnssProducts.from_datasets(orbit.sel(sv=svs), clock, epoch)
-    t_clk = seconds_since(clock.time.values, epoch)
+    svs = sorted(set(map(str, orbit.sv.values)) & set(map(str, biases.prn.values)))
+    svs = [s for s in svs if s[0] in systems]
+    if files.clock:
+        clock = merge_days([read_rinex_clock(p) for p in files.clock])
+        svs = [s for s in svs if s in set(map(str, clock.sv.values))
+               and np.isfinite(clock.clk_s.sel(sv=s).values).any()]
+        t_clk = seconds_since(clock.time.values, epoch)
+        clocks = {sv: _ProductClock(t_clk, clock.clk_s.sel(sv=sv).values) for sv in svs}
+        clock_span = f"clocks {clock.time.values[0]} to {clock.time.values[-1]}"
+    elif simulated_clocks is None:
+        raise ValueError(f"product set {' '.join(files.orbit)}: no clock file and no "
+                         "simulated clocks")
+    else:
+        clocks = dict(simulated_clocks(svs))
+        clock_span = "simulated clocks"
+    # only the positions of the table are used (the SP3 clock records stand in for clocks)
+    products = GnssProducts.from_datasets(orbit.sel(sv=svs), orbit[["clk_s"]], epoch,
+                                          max_extrapolation_s=_LIGHT_TIME_MARGIN_S)
     world = GnssWorld(
         epoch=epoch,
         orbits={sv: _ProductOrbit(products, int(products.sv_index([sv])[0]), epoch)
                 for sv in svs},
-        clocks={sv: _ProductClock(t_clk, clock.clk_s.sel(sv=sv).values) for sv in svs})
-    log.info("GNSS world from real products: %d satellites (%s), orbits %s to %s, clocks %s "
-             "to %s", len(svs), " ".join(files.orbit + files.clock), orbit.time.values[0],
-             orbit.time.values[-1], clock.time.values[0], clock.time.values[-1])
+        clocks=clocks)
+    log.info("GNSS world from real products: %d satellites (%s), orbits %s to %s, %s",
+             len(svs), " ".join(files.orbit + files.clock), orbit.time.values[0],
+             orbit.time.values[-1], clock_span)
     return world
 
 

@@ -110,10 +110,13 @@ def passes(tracked: np.ndarray, systems: np.ndarray, phase_codes: dict,
         # a slip of zero cycles on every frequency would be no slip: +1 on the first phase
         no_jump = np.all([jump[c] == 0 for c in codes], axis=0)
         jump[codes[0]] = np.where(no_jump, 1, jump[codes[0]])
+        mine = (systems == system)[None, :]
         for c in codes:
-            values[c] = _accumulate(np.where(starts, acquired[c], 0).astype(float),
-                                    np.where(slips, jump[c], 0).astype(float), starts,
-                                    tracked & (systems == system)[None, :])
+            own = _accumulate(np.where(starts, acquired[c], 0).astype(float),
+                              np.where(slips, jump[c], 0).astype(float), starts,
+                              tracked & mine)
+            # a code name of several systems (GPS and Galileo L1C) keeps each one's columns
+            values[c] = np.where(mine, own, values[c]) if c in values else own
     lli = np.where(tracked, (starts | flagged).astype(np.int8), -1).astype(np.int8)
     return Passes(pass_id=pass_id, ambiguity_cyc=values, lli=lli, n_slips=int(slips.sum()))
 

@@ -1,0 +1,47 @@
+"""True single-difference integers of a combined GPS + Galileo arc (each system its own phase
+pair; the truth file's ``amb_L1C_cyc`` holds both systems). Authority: the definitions
+``N_WL = N1 − N2`` and ``ΔN = N_i − N_j`` on hand-made integers (analytic truth)."""
+
+import numpy as np
+import xarray as xr
+
+from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
+
+SVS = ["E02", "E03", "G01", "G02"]
+TIMES = np.datetime64("2023-07-08T00:00", "ns") + np.arange(3) * np.timedelta64(30, "s")
+#: integers per satellite: L1C (both systems), L2W (GPS), L5Q (Galileo)
+N = {"L1C": [10, 4, 7, 3], "L2W": [np.nan, np.nan, 2, 5], "L5Q": [1, 9, np.nan, np.nan]}
+
+
+def _inputs():
+    truth = xr.Dataset({f"amb_{p}_cyc": (("obs_time", "sv"), np.tile(v, (3, 1)))
+                        for p, v in N.items()}, coords={"obs_time": TIMES, "sv": SVS})
+    residuals = xr.Dataset({"pass_index": (("time", "sv"), np.tile(np.arange(4), (3, 1)))},
+                           coords={"time": TIMES, "sv": SVS})
+    table = xr.Dataset({"pass_i": ("pair", [0, 2]), "pass_j": ("pair", [1, 3]),
+                        "system": ("pair", ["E", "G"])})
+    return table, residuals, truth
+
+
+def test_each_system_takes_its_own_phase_pair():
+    table, residuals, truth = _inputs()
+    wl, nl = true_single_differences(table, residuals, [truth],
+                                     {"G": ("L1C", "L2W"), "E": ("L1C", "L5Q")})
+    # E02 - E03: N_WL (10 - 1) - (4 - 9) = 14, N1 10 - 4 = 6; G01 - G02: (7 - 2) - (3 - 5) = 7
+    np.testing.assert_array_equal(wl, [14.0, 7.0])
+    np.testing.assert_array_equal(nl, [6.0, 4.0])
+
+
+def test_one_pair_for_all_leaves_the_other_system_unknown_and_counted_wrong():
+    """With the GPS pair alone the Galileo SD has no true WL (NaN): a fix of it cannot agree
+    with the truth, which is why a combined arc needs the per-system pairs."""
+    table, residuals, truth = _inputs()
+    wl, nl = true_single_differences(table, residuals, [truth], ("L1C", "L2W"))
+    assert np.isnan(wl[0]) and wl[1] == 7.0 and nl[0] == 6.0
+    fixed = table.assign(wl_fixed=("pair", [1, 1]), nl_fixed=("pair", [0, 0]),
+                         constrained=("pair", [0, 0]), wl_integer=("pair", [14, 7]),
+                         nl_integer=("pair", [6, 4]))
+    assert wrong_fixes(fixed, wl, nl)["wl_wrong"] == 1
+    right = true_single_differences(table, residuals, [truth],
+                                    {"G": ("L1C", "L2W"), "E": ("L1C", "L5Q")})
+    assert wrong_fixes(fixed, *right)["wl_wrong"] == 0
