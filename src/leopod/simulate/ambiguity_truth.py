@@ -5,12 +5,23 @@ The simulator keeps the integer ambiguity of every observation (``amb_<phase>_cy
 so they never move the integers). A POD pass has one ambiguity; its true ``N1`` and
 ``N_WL = N1 − N2`` are taken from the truth at the pass's epochs (the median, which is the
 value itself unless a pass wrongly spans a slip).
+
+The phase wind-up (equal in cycles on both frequencies) is continuous in the simulator from
+the first epoch of the day, in the estimator from the first epoch of its arc
+(:func:`leopod.gnss.corrections.unwrap_windup` over the arc's observations): the two differ by
+a whole number of cycles ``k`` per satellite once the wind-up has wandered beyond ±0.5 cycles
+since the day began (a yaw-steering LEO sweeps its yaw by up to 180° every orbit). The
+estimated ``N1`` is then the simulated one plus ``k`` (``N_WL`` keeps nothing of it), so the
+true ``N1`` refers to the wind-up unwrapped as the estimator does, from the truth file's
+``windup_cyc`` when it has it.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
+
+from leopod.gnss.corrections import unwrap_windup
 
 __all__ = ["true_single_differences", "wrong_fixes"]
 
@@ -36,13 +47,17 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
         True integers (NaN where the truth has no value).
     """
     names = [f"amb_{p}_cyc" for p in phases]
-    truth = xr.concat([t[names].rename(obs_time="time") for t in truth_days], dim="time")
+    windup = all("windup_cyc" in t for t in truth_days)
+    keep = names + ["windup_cyc"] * windup
+    truth = xr.concat([t[keep].rename(obs_time="time") for t in truth_days], dim="time")
     pid = residuals.pass_index
     tr = truth.reindex(time=pid.time, sv=pid.sv)
     p = pid.values.ravel()
     n1 = tr[names[0]].values.ravel()
     nwl = n1 - tr[names[1]].values.ravel()
     ok = p >= 0
+    if windup:
+        n1 = n1 + _windup_offset_cyc(tr["windup_cyc"].values, ok.reshape(pid.shape)).ravel()
     order = np.argsort(p[ok], kind="stable")
     keys, first = np.unique(p[ok][order], return_index=True)
     per_pass = {}
@@ -57,6 +72,29 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
                          for i, j in zip(table.pass_i.values, table.pass_j.values, strict=True)])
 
     return sd("nwl"), sd("n1")
+
+
+def _windup_offset_cyc(windup_cyc: np.ndarray, used: np.ndarray) -> np.ndarray:
+    """Whole cycles between the simulator's wind-up and the estimator's over the arc.
+
+    Parameters
+    ----------
+    windup_cyc : ndarray, shape (n, s)
+        Simulated wind-up at the arc's epochs [cycles], NaN where not tracked.
+    used : ndarray of bool, shape (n, s)
+        Observations of the arc (those in a pass).
+
+    Returns
+    -------
+    ndarray, shape (n, s)
+        ``k`` = simulated minus re-unwrapped wind-up (integers; 0 where not used).
+    """
+    ep, sv = np.nonzero(used & np.isfinite(windup_cyc))
+    w = windup_cyc[ep, sv]
+    arc = unwrap_windup(w - np.round(w), sv, ep)
+    out = np.zeros(windup_cyc.shape)
+    out[ep, sv] = np.round(w - arc)
+    return out
 
 
 def wrong_fixes(table: xr.Dataset, true_wl: np.ndarray, true_nl: np.ndarray) -> dict:
