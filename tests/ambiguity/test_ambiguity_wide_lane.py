@@ -136,6 +136,22 @@ def test_sd_wide_lane_errors():
         sd_wide_lane(s.hmw, s.pass_id, [0, 1], [1])
 
 
+def test_pass_without_hmw_data_gives_an_unfixable_pair():
+    """A pass whose codes were all dropped (phase only: no HMW) leaves its pairs without a
+    common epoch (NaN, never fixed) and the other pairs as they were (analytic: the SD
+    mean uses only epochs of both passes)."""
+    s = scenario(seed=7, hours=2.0)
+    pid = s.pass_id.values
+    first, second = (int(pid[pid[:, c] >= 0, c][0]) for c in (0, 1))
+    other = int(pid[pid[:, 2] >= 0, 2][0])
+    full = sd_wide_lane(s.hmw, s.pass_id, [first, first], [second, other])
+    hmw = s.hmw.copy()
+    hmw.values[pid == second] = np.nan
+    part = sd_wide_lane(hmw, s.pass_id, [first, first], [second, other])
+    assert part.n_common[0] == 0 and np.isnan(part.value_cyc[0]) and np.isnan(part.sigma_cyc[0])
+    assert part.value_cyc[1] == full.value_cyc[1] and part.n_common[1] == full.n_common[1]
+
+
 def _biases(seed=2, svs=GPS + BDS):
     return simulate_biases(svs, None, np.random.default_rng(seed), epoch=EPOCH, settings=BIASES)
 

@@ -233,7 +233,8 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     ------
     ValueError
         If an id is not in ``pass_id``, a pass id occurs in two satellite columns or the
-        sigma method is unknown.
+        sigma method is unknown. A pass without any valid HMW epoch gives its pairs no common
+        epoch (NaN value and sigma: not fixed).
     """
     if sigma_method not in ("white", "autocorrelation"):
         raise ValueError(f"unknown WL sigma method {sigma_method!r} (white or autocorrelation)")
@@ -246,14 +247,21 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     if id_i.shape != id_j.shape or id_i.ndim != 1:
         raise ValueError(f"id_i and id_j must be 1-d of equal length, got {id_i.shape} and "
                          f"{id_j.shape}")
+    known = np.unique(pid[pid >= 0])
     for ids in (id_i, id_j):
-        bad = (ids < 0) | (ids >= loc.column.size)
-        bad[~bad] = loc.column[ids[~bad]] < 0
+        bad = ~np.isin(ids, known)
         if bad.any():
-            raise ValueError(f"pass ids {np.unique(ids[bad]).tolist()} have no HMW data")
-    col_i, col_j = loc.column[id_i], loc.column[id_j]
-    lo = np.maximum(loc.first[id_i], loc.first[id_j])
-    length = np.maximum(np.minimum(loc.last[id_i], loc.last[id_j]) - lo + 1, 0)
+            raise ValueError(f"pass ids {np.unique(ids[bad]).tolist()} are not in pass_id "
+                             "(no HMW data)")
+    # a pass without any HMW epoch (e.g. all its codes dropped) gives a pair without data:
+    # its id points to a sentinel column -1 after the located passes
+    column, first, last = (np.append(a, fill) for a, fill in
+                           ((loc.column, -1), (loc.first, 0), (loc.last, -1)))
+    id_i, id_j = (np.minimum(ids, column.size - 1) for ids in (id_i, id_j))
+    col_i, col_j = column[id_i], column[id_j]
+    has = (col_i >= 0) & (col_j >= 0)
+    lo = np.maximum(first[id_i], first[id_j])
+    length = np.where(has, np.maximum(np.minimum(last[id_i], last[id_j]) - lo + 1, 0), 0)
     # all candidate epochs of all pairs, flattened: pair label and time index
     label = np.repeat(np.arange(id_i.size), length)
     offset = np.cumsum(length) - length
