@@ -57,7 +57,8 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
     nwl = n1 - tr[names[1]].values.ravel()
     ok = p >= 0
     if windup:
-        n1 = n1 + _windup_offset_cyc(tr["windup_cyc"].values, ok.reshape(pid.shape)).ravel()
+        offset = _windup_offset_cyc(tr["windup_cyc"].values, _arc_observations(residuals))
+        n1 = n1 + offset.ravel()
     order = np.argsort(p[ok], kind="stable")
     keys, first = np.unique(p[ok][order], return_index=True)
     per_pass = {}
@@ -74,6 +75,16 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
     return sd("nwl"), sd("n1")
 
 
+def _arc_observations(residuals: xr.Dataset) -> np.ndarray:
+    """(time, sv) observations of the POD arc: those in a pass or with a code or phase
+    residual (the estimator's wind-up is unwrapped over all of them)."""
+    used = residuals.pass_index.values >= 0
+    for name in ("code_residual_m", "phase_residual_m"):
+        if name in residuals:
+            used = used | np.isfinite(residuals[name].transpose(*residuals.pass_index.dims).values)
+    return used
+
+
 def _windup_offset_cyc(windup_cyc: np.ndarray, used: np.ndarray) -> np.ndarray:
     """Whole cycles between the simulator's wind-up and the estimator's over the arc.
 
@@ -82,7 +93,7 @@ def _windup_offset_cyc(windup_cyc: np.ndarray, used: np.ndarray) -> np.ndarray:
     windup_cyc : ndarray, shape (n, s)
         Simulated wind-up at the arc's epochs [cycles], NaN where not tracked.
     used : ndarray of bool, shape (n, s)
-        Observations of the arc (those in a pass).
+        Observations of the arc (:func:`_arc_observations`).
 
     Returns
     -------
