@@ -118,3 +118,27 @@ def test_flip_epochs_interpolate_the_threshold_crossings():
 def test_unknown_law_is_rejected():
     with pytest.raises(ValueError, match="attitude"):
         LeoAttitude.of({"attitude": "sun_pointing"})
+
+
+def test_earth_fixed_and_inertial_evaluations_agree():
+    """The simulator and the observation model evaluate the law in the GCRF, the quality and
+    ingest steps from Earth-fixed states (velocity + omega x r, low-precision Sun): the same
+    axes (IERS Conventions 2010 ITRF->GCRF rotation, leopod.frames.earth_rotation)."""
+    from leopod.astro.sun import sun_position_ef
+    from leopod.frames.earth_rotation import gcrf_to_itrf, itrf_to_gcrf
+
+    times = (np.datetime64("2021-07-12T00:00", "ns")
+             + np.arange(0, 6000, 60) * np.timedelta64(1, "s"))
+    mu = np.radians(np.arange(times.size) * 3.6)
+    inc = np.radians(66.0)
+    pos = A_M * np.stack([np.cos(mu), np.sin(mu) * np.cos(inc), np.sin(mu) * np.sin(inc)], -1)
+    vel = V_M_S * np.stack([-np.sin(mu), np.cos(mu) * np.cos(inc), np.cos(mu) * np.sin(inc)],
+                           -1)
+    pos_ef, vel_ef = gcrf_to_itrf(times, pos, vel)
+    sun_gcrf, _ = itrf_to_gcrf(times, sun_position_ef(times))
+    gcrf = leo_body_axes(LAW, pos, vel, sun_gcrf)
+    ef = leo_body_axes_ef(LAW, times, pos_ef, vel_ef)
+    ef_in_gcrf = np.stack([itrf_to_gcrf(times, ef[:, k])[0] for k in range(3)], axis=1)
+    np.testing.assert_allclose(ef_in_gcrf, gcrf, atol=1e-6)
+    # and the law is yaw steering there, not the nominal attitude
+    assert np.abs(gcrf - nominal_axes_inertial(pos, vel)).max() > 0.5
