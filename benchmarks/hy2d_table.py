@@ -6,8 +6,10 @@ truth in 3D/R/T/N, the 3D RMS of the 6-h overlaps, the STD of the SLR residuals,
 single differences with the WL and the NL fixed (per system for a combined line), the wrong
 fixes against the simulator's integers (per system, each with its own phase pair), and the
 estimated PCO-Z correction (truth 0: the simulator flies the a-priori offsets of the campaign)
-as mean +- STD over the days. Everything but the wrong fixes comes from the campaign summaries
-(``results/summary/<line>.csv``, mean and std rows).
+as mean +- STD over the days. Everything comes from the campaign summaries
+(``results/summary/<line>.csv``: mean and std rows; counts summed over the days; wrong fixes
+counted by the summary against the simulator's integers, each system with its own phase
+pair).
 
     .venv/bin/python benchmarks/hy2d_table.py RUN:CONFIG [RUN:CONFIG ...]
 
@@ -20,14 +22,10 @@ e.g. the GPS period, the BDS-3 period and the combined receiver:
 from __future__ import annotations
 
 import csv
+import re
 import sys
 from pathlib import Path
 
-import numpy as np
-import xarray as xr
-
-from leopod.simulate.ambiguity_truth import wrong_fix_counts
-from leopod.validation.summary import system_of
 from leopod.workflow.config import load_campaign
 from leopod.workflow.variants import pod_lines
 
@@ -38,31 +36,6 @@ def summary_rows(run: Path, line: str) -> dict:
     """``{(date, solution): row}`` of a line's campaign summary CSV (strings)."""
     with open(run / "results" / "summary" / f"{line}.csv") as f:
         return {(r["date"], r["solution"]): r for r in csv.DictReader(f)}
-
-
-def fixes_per_system(run: Path, line: str, sat: str, signals: dict) -> dict:
-    """``{system: {n_sd, wl_fixed, nl_fixed, constrained, wrong}}`` summed over the line's
-    ambiguity tables (:func:`leopod.simulate.ambiguity_truth.wrong_fix_counts`: each system
-    with its own phase pair)."""
-    truths = [xr.load_dataset(p)
-              for p in sorted((run / "resources" / "simulate" / sat).glob("*_truth.nc"))]
-    phases = {system: block["phase"] for system, block in signals.items()}
-    totals: dict = {}
-    for path in sorted((run / "results" / "ambiguity" / line).glob("*.nc")):
-        table = xr.load_dataset(path)
-        residuals = xr.load_dataset(run / "results" / "float_pod" / line
-                                    / f"{path.stem}_residuals.nc")
-        systems = system_of(table.sv_i.values)
-        counts = wrong_fix_counts(table, residuals, truths, phases)
-        for system in np.unique(systems):
-            w = counts[str(system)]
-            t = totals.setdefault(str(system), dict.fromkeys(
-                ("n_sd", "wl_fixed", "nl_fixed", "constrained", "wrong"), 0))
-            t["n_sd"] += int((systems == system).sum())
-            for key in ("wl_fixed", "nl_fixed", "constrained"):
-                t[key] += w[key]
-            t["wrong"] += w["wl_wrong"] + w["nl_wrong"] + w["constrained_wrong"]
-    return totals
 
 
 def _f(row: dict, key: str) -> float:
@@ -77,9 +50,8 @@ def print_run(run: Path, config: Path) -> None:
     print(f"{'line':14s} {'solution':9s} {'3D':>5s} {'R':>5s} {'T':>5s} {'N':>5s} "
           f"{'ovl3D':>5s} {'SLR':>5s} {'PCO-Z corr.':>14s}  [cm]   "
           f"SDs: WL / NL fixed [%], wrong")
-    for line, (sat, _) in pod_lines(cfg).items():
+    for line in pod_lines(cfg):
         rows = summary_rows(run, line)
-        fixing = fixes_per_system(run, line, sat, cfg["signals"])
         for solution in SOLUTIONS:
             m, s = rows[("mean", solution)], rows.get(("std", solution), {})
             text = (f"{line:14s} {solution[:5]:9s} "
@@ -88,10 +60,12 @@ def print_run(run: Path, config: Path) -> None:
                     + f" {_f(m, 'overlap_3d_rms_cm'):5.2f} {_f(m, 'slr_std_cm'):5.2f} "
                     + f"{_f(m, 'pco_z_cm'):6.3f}+-{_f(s, 'pco_z_cm'):5.3f}")
             if solution == "fixed_pod":
+                systems = [x["s"] for name in m if (x := re.fullmatch(r"n_sd_(?P<s>[A-Z])", name))]
                 text += "   " + "; ".join(
-                    f"{system} {t['n_sd']}: {100 * t['wl_fixed'] / t['n_sd']:.1f} / "
-                    f"{100 * t['nl_fixed'] / t['n_sd']:.1f}, {t['wrong']}"
-                    for system, t in fixing.items())
+                    f"{x} {_f(m, f'n_sd_{x}'):.0f}: {_f(m, f'wl_sd_fixed_{x}_pct'):.1f} / "
+                    f"{_f(m, f'nl_sd_fixed_{x}_pct'):.1f}, "
+                    f"{sum(_f(m, f'{k}_wrong_{x}') for k in ('wl', 'nl', 'constrained')):.0f}"
+                    for x in systems)
             print(text)
 
 

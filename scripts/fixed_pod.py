@@ -11,6 +11,7 @@ from leopod.estimation.arc import ArcData, ArcSettings
 from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
 from leopod.estimation.float_pod import PodSettings
 from leopod.estimation.write import ARC_PRODUCTS, log_arc, write_arc
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
 from leopod.workflow.boundary import plain
@@ -22,7 +23,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
          arc: ArcSettings, pod: PodSettings, forces: ForceModelSettings,
          pco_body_m: Mapping | None,
          code_correction: CodeCorrection | None, yaw_flips, ambiguity: ArSettings,
-         title: str, sp3_id: str, signal_bias: Mapping | None = None) -> None:
+         title: str, sp3_id: str, signal_bias: Mapping | None = None,
+         attitude: LeoAttitude | None = None) -> None:
     """Ambiguity-fixed POD of the arc of ``date`` from ``inputs`` into ``outputs``.
 
     ``inputs``: those of scripts/float_pod.py plus ``table`` (ambiguity step) and
@@ -36,7 +38,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
                                         orbit=inputs["float_orbit"])
     fixed = run_fixed_arc(date, data, signals, arc, pod, forces, pco_body_m,
                           xr.load_dataset(inputs["table"]), float_solution, ambiguity,
-                          code_correction=code_correction, yaw_flips=yaw_flips)
+                          code_correction=code_correction, yaw_flips=yaw_flips,
+                          attitude=attitude)
     log_arc(fixed.arc, f"fixed POD {date}")
     write_arc(fixed.arc, **{k: outputs[k] for k in ARC_PRODUCTS}, step="fixed_pod",
               kind="ambiguity-fixed", title=title, sp3_id=sp3_id,
@@ -53,7 +56,8 @@ def run(sm) -> None:
     main(sm.wildcards.date, plain(sm.input), plain(sm.output),
          **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
          yaw_flips=p.yaw_flips, ambiguity=ArSettings.from_config(p.settings), title=p.title,
-         sp3_id=p.sp3_id, signal_bias=getattr(p, "signal_bias", None))
+         sp3_id=p.sp3_id, signal_bias=getattr(p, "signal_bias", None),
+         attitude=LeoAttitude.of(p.attitude))
 
 
 if __name__ == "__main__":

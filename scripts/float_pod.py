@@ -7,6 +7,7 @@ from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings, run_arc
 from leopod.estimation.float_pod import PodSettings
 from leopod.estimation.write import ARC_PRODUCTS, log_arc, write_arc
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
 from leopod.workflow.boundary import plain
@@ -18,7 +19,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
          arc: ArcSettings, pod: PodSettings, forces: ForceModelSettings,
          pco_body_m: Mapping | None,
          code_correction: CodeCorrection | None, yaw_flips, title: str, sp3_id: str,
-         signal_bias: Mapping | None = None) -> None:
+         signal_bias: Mapping | None = None, attitude: LeoAttitude | None = None) -> None:
     """Float POD of the arc of ``date`` from the files ``inputs`` into the files ``outputs``.
 
     ``inputs``: lists ``obs``, ``quality``, ``leo``, ``orbit``, ``clock`` and optional
@@ -28,7 +29,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     """
     data = ArcData.read(inputs, signal_bias=signal_bias)
     solution = run_arc(date, data, signals, arc, pod, forces, pco_body_m,
-                       code_correction=code_correction, yaw_flips=yaw_flips)
+                       code_correction=code_correction, yaw_flips=yaw_flips, attitude=attitude)
     log_arc(solution, f"float POD {date}")
     write_arc(solution, **{k: outputs[k] for k in ARC_PRODUCTS}, step="float_pod",
               kind="float", title=title, sp3_id=sp3_id, inputs=data.files)
@@ -43,7 +44,7 @@ def run(sm) -> None:
     main(sm.wildcards.date, plain(sm.input), plain(sm.output),
          **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
          yaw_flips=p.yaw_flips, title=p.title, sp3_id=p.sp3_id,
-         signal_bias=getattr(p, "signal_bias", None))
+         signal_bias=getattr(p, "signal_bias", None), attitude=LeoAttitude.of(p.attitude))
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.gnss.products import GnssProducts
 from leopod.ingest import apriori_from_sp3, apriori_from_spp, canonical_observations, gnss_at_epochs
 from leopod.io.netcdf import write_netcdf
@@ -19,7 +20,8 @@ log = logging.getLogger(__name__)
 
 
 def main(obs_path, orbit_path, clock_path, apriori_path, antenna_path, out_obs, out_gnss,
-         out_leo, signals: Mapping[str, SystemSignals], pco_body_m, sp3_id) -> None:
+         out_leo, signals: Mapping[str, SystemSignals], pco_body_m, sp3_id,
+         attitude: LeoAttitude | None = None) -> None:
     """Ingest one RINEX observation file with its GNSS products (paths; optional ones None)
     into ``out_obs``, ``out_gnss`` and ``out_leo`` (netCDF).
 
@@ -48,7 +50,7 @@ def main(obs_path, orbit_path, clock_path, apriori_path, antenna_path, out_obs, 
         leo = apriori_from_sp3(read_sp3(apriori_path, gps_time=True), sp3_id, obs.time.values)
     else:
         antex = read_antenna_product(antenna_path) if antenna_path else None
-        leo = apriori_from_spp(obs, products, signals, pco_body_m, antex)
+        leo = apriori_from_spp(obs, products, signals, pco_body_m, antex, attitude)
         log.info("code-only orbit: %d of %d epochs, median residual RMS %.2f m, median PDOP %.2f",
                  np.isfinite(leo.pos_m.values[:, 0]).sum(), leo.sizes["time"],
                  float(np.nanmedian(leo.rms_m)), float(np.nanmedian(leo.pdop)))
@@ -69,7 +71,7 @@ def run(sm) -> None:
          apriori_path=sm.input.get("apriori"), antenna_path=sm.input.get("antenna"),
          out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
          signals=signal_settings(sm.params.signals), pco_body_m=sm.params.pco_body_m,
-         sp3_id=sm.params.sp3_id)
+         sp3_id=sm.params.sp3_id, attitude=LeoAttitude.of(sm.params.attitude))
 
 
 if __name__ == "__main__":

@@ -8,7 +8,8 @@ import xarray as xr
 
 from leopod.astro.sun import sun_position_ef
 from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
-from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.frames.attitude import antenna_angles
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes_ef
 from leopod.gnss.antenna_terms import antenna_terms
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.gnss.scb import nadir_angle_deg
@@ -32,7 +33,8 @@ log = logging.getLogger(__name__)
 
 def day_antenna_terms(obs: xr.Dataset, gnss: xr.Dataset, leo: xr.Dataset,
                       signals: Mapping[str, SystemSignals], pco_body_m: Mapping | None,
-                      antenna_path=None, gnss_attitude: str = "nominal") -> xr.Dataset:
+                      antenna_path=None, gnss_attitude: str = "nominal",
+                      attitude: LeoAttitude | None = None) -> xr.Dataset:
     """Antenna range terms of the bands of the phases and codes of every system
     (leopod.gnss.antenna_terms):
     the POD's LEO PCOs per band and satellite antennas (same file as the POD)."""
@@ -42,27 +44,29 @@ def day_antenna_terms(obs: xr.Dataset, gnss: xr.Dataset, leo: xr.Dataset,
     times = obs.time.values
     return antenna_terms(times, obs.sv.values, leo.pos_m.values, leo.vel_m_s.values,
                          gnss.pos_m.values, sun_position_ef(times), bands, pco_body_m,
-                         antex=antex, gnss_attitude=gnss_attitude)
+                         antex=antex, gnss_attitude=gnss_attitude, leo_attitude=attitude)
 
 
 def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
          settings: QualitySettings, title: str, outputs: Mapping, *, bds2_scb: bool,
          pco_body_m: Mapping | None = None, antenna_path=None,
-         signal_biases: SignalBiases | None = None, gnss_attitude: str = "nominal") -> None:
+         signal_biases: SignalBiases | None = None, gnss_attitude: str = "nominal",
+         attitude: LeoAttitude | None = None) -> None:
     """Quality of the ingest outputs (paths) into ``outputs``: ``nc``, ``mp_elevation``,
     ``skyplot``, ``noise``, ``visibility`` (PNG) and ``summary`` (HTML); the satellite signal
     biases of ``signal_biases`` (OSB/DCB, leopod.gnss.signal_bias) are removed first and, with
     ``bds2_scb``, the BDS-2 IGSO/MEO codes are corrected for the satellite-induced code bias.
     The multipath is formed without the antenna terms of the LEO PCOs ``pco_body_m`` (per band)
     and the satellite antennas of ``antenna_path`` (oriented by ``gnss_attitude``, the POD's
-    setting), which the output keeps for the ambiguity step."""
+    setting), which the output keeps for the ambiguity step. The antenna-frame angles and the
+    LEO PCO terms follow the satellite's attitude law ``attitude`` (None: nominal)."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
         gnss = f.load().reindex(sv=obs.sv.values)
     with xr.open_dataset(leo_path) as f:
         leo = f.load()
-    rot = nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values)
+    rot = leo_body_axes_ef(attitude, obs.time.values, leo.pos_m.values, leo.vel_m_s.values)
     los = gnss.pos_m.values - leo.pos_m.values[:, None, :]
     el, az = antenna_angles(rot, los)
     log.info("epochs without a-priori orbit (no angles): %d",
@@ -78,7 +82,7 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
         obs, summary = correct_bds2_scb(obs, xr.Dataset({NADIR_VARIABLE: nadir}))
         log.info("BDS-2 SCB correction: %s", summary or "no BDS-2 IGSO/MEO codes")
     terms = day_antenna_terms(obs, gnss, leo, signals, pco_body_m, antenna_path,
-                              gnss_attitude)
+                              gnss_attitude, attitude)
     parts = [assess_quality(obs, el, az, system, sig.phase, sig.code, sig.pod_code, settings,
                             antenna=terms)
              for system, sig in signals.items()]
@@ -107,6 +111,7 @@ def run(sm) -> None:
          bds2_scb=bool(sm.params.bds2_scb), pco_body_m=sm.params.pco_body_m,
          antenna_path=getattr(sm.input, "antenna", None) or None,
          gnss_attitude=getattr(sm.params, "gnss_attitude", "nominal"),
+         attitude=LeoAttitude.of(sm.params.attitude),
          signal_biases=read_signal_biases(plain(sm.input),
                                           getattr(sm.params, "signal_bias", None)))
 

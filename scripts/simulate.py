@@ -5,6 +5,7 @@ from collections.abc import Mapping
 
 import xarray as xr
 
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.boundary import plain
@@ -12,7 +13,8 @@ from leopod.workflow.log import configure_logging
 
 
 def main(date: str, sat: str, settings: SimulationSettings, world_start: str, world_end: str,
-         pco_body_m, truth_path, biases_path, outputs: Mapping) -> None:
+         pco_body_m, truth_path, biases_path, outputs: Mapping,
+         attitude: LeoAttitude | None = None) -> None:
     """Simulate ``sat`` on ``date`` into ``outputs``: ``rinex3``, ``rinex2`` (absent without
     simulated GPS), ``truth_sp3``, ``truth_nc`` and ``crd``."""
     with xr.open_dataset(truth_path) as f:
@@ -22,7 +24,7 @@ def main(date: str, sat: str, settings: SimulationSettings, world_start: str, wo
     simulate_leo_day(date, sat, settings, world_start, world_end, truth, biases,
                      pco_body_m or None, rinex3=outputs["rinex3"], rinex2=outputs.get("rinex2"),
                      truth_sp3=outputs["truth_sp3"], truth_nc=outputs["truth_nc"],
-                     crd=outputs["crd"])
+                     crd=outputs["crd"], leo_attitude=attitude)
 
 
 def run(sm) -> None:
@@ -30,7 +32,7 @@ def run(sm) -> None:
     configure_logging(sm)
     main(sm.wildcards.date, sm.wildcards.sat, SimulationSettings.from_config(sm.params.settings),
          sm.params.world_start, sm.params.world_end, sm.params.pco_body_m, sm.input.truth,
-         sm.input.biases, plain(sm.output))
+         sm.input.biases, plain(sm.output), LeoAttitude.of(sm.params.attitude))
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ from collections.abc import Mapping
 
 import xarray as xr
 
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.blq import read_blq
 from leopod.io.crd import read_crd
 from leopod.io.netcdf import write_netcdf
@@ -14,7 +15,7 @@ from leopod.workflow.log import configure_logging
 
 
 def main(inputs: Mapping, out_path, *, retro_offset_body_m, settings: SlrResidualSettings,
-         solution: str, title: str) -> None:
+         solution: str, title: str, attitude: LeoAttitude | None = None) -> None:
     """SLR residuals of an orbit. ``inputs``: ``orbit`` (netCDF), ``normal_points`` (CRD),
     ``stations`` (SINEX), optional ``eccentricities`` (SINEX) and ``ocean_loading`` (BLQ)."""
     res = slr_residuals(
@@ -23,7 +24,8 @@ def main(inputs: Mapping, out_path, *, retro_offset_body_m, settings: SlrResidua
         read_sinex_eccentricities(inputs["eccentricities"])
         if inputs.get("eccentricities") else None,
         retro_offset_body_m=retro_offset_body_m, settings=settings,
-        ocean_loading=read_blq(inputs["ocean_loading"]) if inputs.get("ocean_loading") else None)
+        ocean_loading=read_blq(inputs["ocean_loading"]) if inputs.get("ocean_loading") else None,
+        attitude=attitude)
     write_netcdf(res, out_path, step="slr", inputs=[v for k, v in inputs.items() if k != "code"],
                  time_system="UTC", reference_frame="ITRF",
                  title=f"SLR residuals of the {solution} orbit {title}")
@@ -35,7 +37,7 @@ def run(sm) -> None:
     p = sm.params
     main(plain(sm.input), sm.output.nc, retro_offset_body_m=p.retro_offset_body_m,
          settings=SlrResidualSettings.from_config(p.settings), solution=p.solution,
-         title=p.title)
+         title=p.title, attitude=LeoAttitude.of(p.attitude))
 
 
 if __name__ == "__main__":

@@ -24,7 +24,8 @@ from scipy.signal import savgol_filter
 from leopod import signals
 from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
-from leopod.frames.attitude import body_to_ef, nominal_body_axes
+from leopod.frames.attitude import body_to_ef
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes_ef
 from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free
 from leopod.gnss.products import GnssProducts
@@ -248,12 +249,13 @@ def smooth_positions(t_s: np.ndarray, pos_m: np.ndarray, *, window_s: float = 20
 
 def apriori_from_spp(obs: xr.Dataset, products: GnssProducts,
                      signal_cfg: Mapping[str, SystemSignals],
-                     pco_body_m: dict | None = None, antex=None) -> xr.Dataset:
+                     pco_body_m: dict | None = None, antex=None,
+                     attitude: LeoAttitude | None = None) -> xr.Dataset:
     """A-priori LEO orbit from code-only single point positioning.
 
     The ionosphere-free combination of the ``pod_code`` pair of each system is positioned
     epoch by epoch; the antenna position is reduced to the centre of mass with the
-    ionosphere-free phase-centre offset rotated by the nominal attitude, smoothed, and
+    ionosphere-free phase-centre offset rotated by the satellite's attitude law, smoothed, and
     moved from the true reception time to the nominal epoch with the receiver clock.
 
     Parameters
@@ -268,6 +270,8 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts,
     antex : leopod.io.antex.AntexFile, optional
         GNSS satellite antenna offsets; without it the transmitters' centres of mass are used
         (metre-level errors for satellites with large offsets).
+    attitude : LeoAttitude, optional
+        Attitude law of the LEO (:mod:`leopod.frames.leo_attitude`); None: nominal.
 
     Returns
     -------
@@ -303,7 +307,7 @@ def apriori_from_spp(obs: xr.Dataset, products: GnssProducts,
             pco_if = ionosphere_free(np.array(pco_body_m[b1]), np.array(pco_body_m[b2]), f1, f2)
         else:
             log.warning("no antenna offset for %s/%s: a-priori orbit is the antenna position", b1, b2)
-    rot = nominal_body_axes(pos_s, vel_s)
+    rot = leo_body_axes_ef(attitude, obs.time.values, pos_s, vel_s)
     com = spp.pos_m - body_to_ef(rot, pco_if)
     # the solution refers to the true reception time t - dt_rx; move it to the nominal epoch
     com = com + vel_s * dt_rx_s[:, None]

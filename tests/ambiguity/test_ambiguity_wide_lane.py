@@ -126,8 +126,8 @@ def test_sd_wide_lane_closed_loop_integers_and_sigmas():
 
 def test_sd_wide_lane_errors():
     s = scenario(seed=7, hours=2.0)
-    with pytest.raises(ValueError, match=">= 0"):
-        sd_wide_lane(s.hmw, s.pass_id, [0], [-1])
+    with pytest.raises(ValueError, match="not in pass_id"):
+        sd_wide_lane(s.hmw, s.pass_id, [0], [10_000])
     bad = s.pass_id.copy()
     bad.values[bad.values[:, 1] >= 0, 1] = int(s.pass_id.values[:, 0].max())
     with pytest.raises(ValueError, match="more than one satellite"):
@@ -136,12 +136,20 @@ def test_sd_wide_lane_errors():
         sd_wide_lane(s.hmw, s.pass_id, [0, 1], [1])
 
 
-def test_a_pass_without_hmw_data_has_no_common_epochs():
-    # a pass whose codes were all dropped (code-bias map without values, Peng et al. 2021's
-    # 'drop' option) is no error: its single differences have no common epochs and no value
+def test_pass_without_hmw_data_gives_an_unfixable_pair():
+    """A pass whose codes were all dropped (phase only: no HMW) leaves its pairs without a
+    common epoch (NaN, never fixed) and the other pairs as they were (analytic: the SD
+    mean uses only epochs of both passes)."""
     s = scenario(seed=7, hours=2.0)
-    sd = sd_wide_lane(s.hmw, s.pass_id, [0, 0], [1, 10_000])
-    assert sd.n_common[1] == 0 and np.isnan(sd.value_cyc[1]) and np.isnan(sd.sigma_cyc[1])
+    pid = s.pass_id.values
+    first, second = (int(pid[pid[:, c] >= 0, c][0]) for c in (0, 1))
+    other = int(pid[pid[:, 2] >= 0, 2][0])
+    full = sd_wide_lane(s.hmw, s.pass_id, [first, first], [second, other])
+    hmw = s.hmw.copy()
+    hmw.values[pid == second] = np.nan
+    part = sd_wide_lane(hmw, s.pass_id, [first, first], [second, other])
+    assert part.n_common[0] == 0 and np.isnan(part.value_cyc[0]) and np.isnan(part.sigma_cyc[0])
+    assert part.value_cyc[1] == full.value_cyc[1] and part.n_common[1] == full.n_common[1]
 
 
 def _biases(seed=2, svs=GPS + BDS):

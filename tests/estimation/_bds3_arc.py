@@ -9,6 +9,8 @@ hours, the single-difference WL/NL fixing with the Bias-SINEX code + phase OSBs
 and fixed_pod rules do. The satellite clocks of the products refer to the ionosphere-free
 combination of ``clock_reference`` (B1C/B2a ``C1P C5P`` or B1I/B3I ``C2I C6I``); ``code_osb``
 False drops the code OSBs from the product (phase OSBs kept) to show what ignoring them does.
+The LEO attitude is the campaign's (yaw steering, leopod.frames.leo_attitude) in the simulator
+and in every step, unless ``solve`` is given another law for the estimation.
 """
 
 from __future__ import annotations
@@ -23,7 +25,8 @@ from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.estimation.arc import ArcData, run_arc
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution, constraints_of
-from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.frames.attitude import antenna_angles
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes_ef
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.gnss.signal_bias import SignalBiases, SignalBiasProduct, correct_signal_biases
@@ -63,6 +66,7 @@ def simulate_day(folder: Path, clock_reference: tuple[str, str]) -> SimpleNamesp
     section["biases"] = {"clock_reference": {"C": list(clock_reference)}}
     sim = SimulationSettings.from_config(with_defaults("simulate", section))
     pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
+    attitude = LeoAttitude.of(cfg["satellites"][SAT])
     truth = simulate_truth(sim, SAT, day, day)
     biases = simulate_world_truth(sim, [SAT], day, day, biases_path=folder / "b.nc",
                                   stations_path=folder / "s.snx")
@@ -70,16 +74,18 @@ def simulate_day(folder: Path, clock_reference: tuple[str, str]) -> SimpleNamesp
                            clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
                            wl_bias=folder / "g.wsb", osb=folder / "g.bia")
     simulate_leo_day(day, SAT, sim, day, day, truth, biases, pco, rinex3=folder / "o.rnx",
-                     truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc")
+                     truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc",
+                     leo_attitude=attitude)
     codeless = read_bias_sinex(folder / "g.bia")
     codeless = codeless.isel(bias=np.char.startswith(codeless.obs1.values.astype(str), "L"))
     write_bias_sinex(codeless, folder / "g_phase_only.bia")
-    return SimpleNamespace(folder=folder, cfg=cfg, pco=pco)
+    return SimpleNamespace(folder=folder, cfg=cfg, pco=pco, attitude=attitude)
 
 
 def solve(world: SimpleNamespace, hours: tuple[float, float] = (1.0, 5.0), *,
-          code_osb: bool = True) -> dict:
-    """Float POD, OSB-based AR and fixed POD of ``hours`` of the simulated day.
+          code_osb: bool = True, attitude: LeoAttitude | None = None) -> dict:
+    """Float POD, OSB-based AR and fixed POD of ``hours`` of the simulated day, with the LEO
+    attitude law ``attitude`` in ingest, quality and POD (None: the simulated one).
 
     Returns
     -------
@@ -98,8 +104,10 @@ def solve(world: SimpleNamespace, hours: tuple[float, float] = (1.0, 5.0), *,
     orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g.clk")
     products = GnssProducts.from_datasets(orbit, clock, t0, max_extrapolation_s=900.0)
     gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
-    leo = apriori_from_spp(obs, products, signals, world.pco)
-    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
+    attitude = world.attitude if attitude is None else attitude
+    leo = apriori_from_spp(obs, products, signals, world.pco, attitude=attitude)
+    el, az = antenna_angles(leo_body_axes_ef(attitude, obs.time.values, leo.pos_m.values,
+                                             leo.vel_m_s.values),
                             gnss.pos_m.values - leo.pos_m.values[:, None, :])
     quality = assess_quality(obs, el, az, "C", sig.phase, sig.code, sig.pod_code,
                              QualitySettings.from_config(cfg["quality"]))
@@ -112,7 +120,7 @@ def solve(world: SimpleNamespace, hours: tuple[float, float] = (1.0, 5.0), *,
     args = (date, data, settings["signals"], settings["arc"], settings["pod"],
             settings["forces"], world.pco)
     limits = tuple(t0 + np.timedelta64(round(3600 * h), "s") for h in hours)
-    solution = run_arc(*args, limits=limits)
+    solution = run_arc(*args, limits=limits, attitude=attitude)
     residuals = solution.residuals
     corrected = correct_signal_biases(obs, biases, sig.observations)[0]
     product = ar_product(residuals.time.values[residuals.sizes["time"] // 2],
@@ -127,7 +135,7 @@ def solve(world: SimpleNamespace, hours: tuple[float, float] = (1.0, 5.0), *,
         truth = f.load()
     start = FloatSolution(parameters=solution.parameters, ambiguities=solution.ambiguities,
                           residuals=residuals, orbit=solution.orbit)
-    fixed = FixedSolutions(*args, start, limits=limits).solve(
+    fixed = FixedSolutions(*args, start, limits=limits, attitude=attitude).solve(
         constraints_of(table, ar.constraint_sigma_m))
     code = residuals.code_residual_m.values
     return {"float_3d_m": orbit_rms_3d_m(solution.orbit, truth),

@@ -506,6 +506,13 @@ def sat_pco(wildcards):
     return sat_config(wildcards).get("antenna_pco_body_m", {})
 
 
+def sat_attitude(wildcards):
+    """Attitude law of the satellite (leopod.frames.leo_attitude.LeoAttitude): its 'attitude'
+    and 'yaw_steering' keys, the same for every step."""
+    block = sat_config(wildcards)
+    return {"attitude": block["attitude"], "yaw_steering": dict(block["yaw_steering"])}
+
+
 def sat_sp3_id(wildcards):
     """Id of the LEO inside its a-priori SP3 file (None: the only one)."""
     return sat_config(wildcards).get("sp3_id")

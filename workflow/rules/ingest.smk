@@ -46,6 +46,7 @@ rule ingest:
     params:
         signals=CONFIG["signals"],
         pco_body_m=sat_pco,
+        attitude=sat_attitude,
         sp3_id=sat_sp3_id,
     script:
         "../../scripts/ingest.py"

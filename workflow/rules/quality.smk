@@ -56,6 +56,7 @@ rule quality:
         settings=CONFIG["quality"],
         bds2_scb=CONFIG["code_bias"]["bds2_scb"],
         pco_body_m=sat_pco,
+        attitude=sat_attitude,
         signal_bias=day_signal_bias,
         gnss_attitude=CONFIG["pod"]["gnss_attitude"],
         title=sat_title,

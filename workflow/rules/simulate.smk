@@ -119,5 +119,6 @@ rule simulate:
         world_start=CONFIG["start_date"],
         world_end=CONFIG["end_date"],
         pco_body_m=sat_pco,
+        attitude=sat_attitude,
     script:
         "../../scripts/simulate.py"

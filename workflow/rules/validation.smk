@@ -154,6 +154,7 @@ rule slr:
     params:
         settings=CONFIG["validation"]["slr"],
         retro_offset_body_m=retro_offset,
+        attitude=sat_attitude,
         solution=solution_name,
         title=sat_title,
     script:

@@ -241,7 +241,8 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     ------
     ValueError
         If an id is not in ``pass_id``, a pass id occurs in two satellite columns or the
-        sigma method is unknown.
+        sigma method is unknown. A pass without any valid HMW epoch gives its pairs no common
+        epoch (NaN value and sigma: not fixed).
     """
     if sigma_method not in ("white", "autocorrelation"):
         raise ValueError(f"unknown WL sigma method {sigma_method!r} (white or autocorrelation)")
@@ -254,8 +255,11 @@ def sd_wide_lane(hmw_cyc: xr.DataArray, pass_id: xr.DataArray, id_i, id_j,
     if id_i.shape != id_j.shape or id_i.ndim != 1:
         raise ValueError(f"id_i and id_j must be 1-d of equal length, got {id_i.shape} and "
                          f"{id_j.shape}")
-    if (id_i < 0).any() or (id_j < 0).any():
-        raise ValueError("pass ids must be >= 0")
+    known = np.unique(pid[pid >= 0])
+    for ids in (id_i, id_j):
+        bad = ~np.isin(ids, known)
+        if bad.any():
+            raise ValueError(f"pass ids {np.unique(ids[bad]).tolist()} are not in pass_id")
     # a pass without any HMW value (e.g. its codes dropped by a code-bias map) has no
     # common epochs: its single differences get n_common 0 and a NaN value
     col_i, col_j = _column_of(loc, id_i), _column_of(loc, id_j)

@@ -46,6 +46,7 @@ from leopod.estimation.outputs import (
     residual_dataset,
 )
 from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.gnss.attitude import satellite_families
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
@@ -197,7 +198,7 @@ class ArcProblem:
     force_model : ForceModel
         The estimator's force model over the arc.
     antennas : dict
-        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m`` keywords of
+        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``, ``leo_attitude`` keywords of
         :func:`leopod.estimation.float_pod.float_pod`.
     apriori_itrf_m : xarray.DataArray (time, xyz)
         A-priori ITRF positions [m]: the start of the initial fit and the reference of
@@ -231,7 +232,8 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
 def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
               forces: ForceModelSettings, pco_body_m: Mapping | None, *,
               code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
-              limits=None, apriori_orbit: xr.DataArray | None = None) -> ArcProblem:
+              limits=None, apriori_orbit: xr.DataArray | None = None,
+              attitude: LeoAttitude | None = None) -> ArcProblem:
     """Observations, GNSS products, antennas and force model of the arc of ``date``.
 
     Parameters
@@ -260,6 +262,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     apriori_orbit : xarray.DataArray (time, xyz), optional
         ITRF positions [m] replacing the ingest a-priori orbit (the fixed POD refers to the
         float orbit this way).
+    attitude : LeoAttitude, optional
+        Attitude law of the LEO (``satellites.<sat>``); None: nominal.
 
     Returns
     -------
@@ -322,7 +326,7 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     return ArcProblem(observations=po, t_ref=t_ref, products=products,
                       force_model=force_model,
                       antennas={"leo_pco_body_m": leo_pco, "sat_pco_body_m": sat_pco,
-                                "sat_pcv_m": sat_pcv},
+                                "sat_pcv_m": sat_pcv, "leo_attitude": attitude},
                       apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s), eop=eop,
                       environment=environment)
 
@@ -343,12 +347,13 @@ def arc_outputs(problem: ArcProblem, result: PodResult,
 def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
             pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None, *,
             code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
-            limits=None) -> ArcOutputs:
+            limits=None, attitude: LeoAttitude | None = None) -> ArcOutputs:
     """Float POD of the arc of ``date`` (module docstring).
 
     Parameters
     ----------
-    date, data, signals, arc, forces, pco_body_m, code_correction, yaw_flips, eop, limits
+    date, data, signals, arc, forces, pco_body_m, code_correction, yaw_flips, eop, limits,
+    attitude
         As for :func:`setup_arc`.
     pod : PodSettings
 
@@ -358,7 +363,7 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
     """
     problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
                         code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
-                        limits=limits)
+                        limits=limits, attitude=attitude)
     po = problem.observations
     degree = arc.apriori_fit_degree
     fit = fit_orbit(po.times, problem.apriori_itrf_m.reindex(time=po.times).values,

@@ -26,6 +26,7 @@ from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, arc_outputs, setup_arc
 from leopod.estimation.float_pod import FixedPod, PodSettings
 from leopod.estimation.outputs import pod_start
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.signals import SystemSignals
 
 __all__ = ["FixedArc", "FixedSolutions", "FloatSolution", "constraints_of", "run_fixed_arc"]
@@ -62,7 +63,8 @@ class FixedSolutions:
 
     Parameters
     ----------
-    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop, limits
+    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop, limits,
+    attitude
         As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
     float_solution : FloatSolution
     """
@@ -71,10 +73,11 @@ class FixedSolutions:
                  pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
                  float_solution: FloatSolution, *,
                  code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
-                 limits=None):
+                 limits=None, attitude: LeoAttitude | None = None):
         self.problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
                                  code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
-                                 limits=limits, apriori_orbit=float_solution.orbit.pos_itrf_m)
+                                 limits=limits, apriori_orbit=float_solution.orbit.pos_itrf_m,
+                                 attitude=attitude)
         start = pod_start(float_solution.parameters, float_solution.ambiguities,
                           float_solution.residuals, self.problem.observations)
         p = self.problem
@@ -118,12 +121,12 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
                   pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
                   table: xr.Dataset, float_solution: FloatSolution, settings: ArSettings, *,
                   code_correction: CodeCorrection | None = None, yaw_flips=None,
-                  eop=None) -> FixedArc:
+                  eop=None, attitude: LeoAttitude | None = None) -> FixedArc:
     """Ambiguity-fixed POD of the arc of ``date`` (module docstring).
 
     Parameters
     ----------
-    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop
+    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop, attitude
         As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
     table : xarray.Dataset
         Single differences of the ambiguity step.
@@ -143,7 +146,8 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
     if constraints[0].size == 0:
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
     fixed = FixedSolutions(date, data, signals, arc, pod, forces, pco_body_m, float_solution,
-                           code_correction=code_correction, yaw_flips=yaw_flips, eop=eop)
+                           code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
+                           attitude=attitude)
     solution = fixed.solve(constraints)
     rounds = 0
     for _ in range(settings.max_rejection_rounds):

@@ -68,6 +68,7 @@ from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
 from leopod.estimation.orbit_correction import CorrectedOrbit
 from leopod.estimation.vce import group_redundancy
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.gnss.products import GnssProducts
 from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
@@ -428,13 +429,15 @@ class _Problem:
     """Book-keeping of one float POD run (observations, parameters, current estimates)."""
 
     def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
-                 t_ref, settings: PodSettings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m):
+                 t_ref, settings: PodSettings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m,
+                 leo_attitude: LeoAttitude | None = None):
         self.obs, self.products, self.fm, self.settings = obs, products, force_model, settings
         self.eop = eop
         self.rotation = _ReceptionRotation(eop)
         self.leo_pco = (np.zeros(3) if leo_pco_body_m is None
                         else np.asarray(leo_pco_body_m, dtype=float).copy())
         self.sat_pco, self.sat_pcv = sat_pco_body_m, sat_pcv_m
+        self.leo_attitude = leo_attitude
         self.t_ref = np.datetime64(t_ref, "ns")
         self.t_nom_s = seconds_since(obs.times, self.t_ref)
         self.t_nom_prod_s = seconds_since(obs.times, products.ref)
@@ -568,7 +571,8 @@ class _Problem:
                               traj.states[:, 3:], rot, self.products, self.sun,
                               leo_pco_body_m=pco, sat_pco_body_m=self.sat_pco,
                               sat_pcv_m=self.sat_pcv,
-                              nl_wavelength_m=self.obs.nl_wavelength_m)
+                              nl_wavelength_m=self.obs.nl_wavelength_m,
+                              leo_attitude=self.leo_attitude)
         g = _position_partials(traj, self.pulses, self.est, self.k)
         return traj, model, g
 
@@ -836,7 +840,8 @@ def _announce(label: str, prob: _Problem) -> None:
 def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceModel, t_ref,
               state0_gcrf: np.ndarray, settings: PodSettings, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
-              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None) -> PodResult:
+              sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
+              leo_attitude: LeoAttitude | None = None) -> PodResult:
     """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -859,6 +864,8 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         Ionosphere-free GNSS antenna PCO per ``obs.sv`` (body frame) [m].
     sat_pcv_m : callable, optional
         ``f(sat_index, nadir_deg) -> m``: ionosphere-free GNSS antenna PCV.
+    leo_attitude : LeoAttitude, optional
+        Attitude law of the LEO (PCO, wind-up, PCO-Z partial); None: nominal.
 
     Returns
     -------
@@ -867,7 +874,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         without convergence, an integration at the final estimates.
     """
     prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
-                    sat_pco_body_m, sat_pcv_m)
+                    sat_pco_body_m, sat_pcv_m, leo_attitude)
     state = np.asarray(state0_gcrf, dtype=float).copy()
     _announce("float POD", prob)
     screening = False
@@ -919,7 +926,8 @@ class FixedPod:
 
     Parameters
     ----------
-    obs, products, force_model, t_ref, settings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m
+    obs, products, force_model, t_ref, settings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m,
+    leo_attitude
         As for :func:`float_pod` (the same as for the float solution).
     start : PodStart
         The float solution of the arc.
@@ -928,9 +936,10 @@ class FixedPod:
     def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
                  t_ref, settings: PodSettings, start: PodStart, *,
                  eop: EarthOrientation | None = None, leo_pco_body_m=None,
-                 sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None):
+                 sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
+                 leo_attitude: LeoAttitude | None = None):
         self._prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
-                              sat_pco_body_m, sat_pcv_m)
+                              sat_pco_body_m, sat_pcv_m, leo_attitude)
         self._start = start
         _announce("fixed POD (linearised at the float solution)", self._prob)
         self._traj, self._model, self._g = self._prob.linearise(self._prob.load(start))

@@ -5,8 +5,8 @@ For each (epoch, GNSS satellite) pair the model computes, in the GCRF:
 * the true reception time ``t = t_nominal − dt_rx`` (receiver clock from the previous
   iteration; the LEO moves 7.5 mm per ns of clock error);
 * the LEO antenna phase centre: centre of mass plus the body-frame ionosphere-free PCO
-  rotated with the nominal attitude (:mod:`leopod.frames.attitude`; +Z to the geocentre,
-  +X along the inertial velocity);
+  rotated with the satellite's attitude law (:mod:`leopod.frames.leo_attitude`: nominal, +Z
+  to the geocentre and +X along the inertial velocity, or yaw steering), as the simulator;
 * the transmission time by light-time iteration; the GNSS position of the product (ITRF,
   centre of mass, :class:`leopod.gnss.products.GnssProducts`) at the transmission time is
   taken into the GCRF of the reception time with ``R(t) R3(ω τ)`` (the Earth rotation during
@@ -31,6 +31,7 @@ import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S
 from leopod.frames.attitude import nominal_axes_inertial
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
 from leopod.gnss.attitude import gnss_attitude_axes
 from leopod.gnss.corrections import (
     relativistic_clock_s,
@@ -103,7 +104,8 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
                   products: GnssProducts, sun_itrf_m: np.ndarray, *,
                   leo_pco_body_m: np.ndarray | None = None,
                   sat_pco_body_m: np.ndarray | None = None,
-                  sat_pcv_m=None, nl_wavelength_m: float | np.ndarray = 0.0) -> ModelResult:
+                  sat_pcv_m=None, nl_wavelength_m: float | np.ndarray = 0.0,
+                  leo_attitude: LeoAttitude | None = None) -> ModelResult:
     """Model ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -128,13 +130,17 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     nl_wavelength_m : float or ndarray, shape (s_obs,)
         Narrow-lane wavelength ``c/(f1+f2)`` scaling the wind-up [m] (0: no wind-up), or one
         per observation-file satellite (the signal pair of its system).
+    leo_attitude : LeoAttitude, optional
+        Attitude law of the LEO (:func:`leopod.frames.leo_attitude.leo_body_axes`, the Sun
+        rotated to the GCRF); None: nominal.
 
     Returns
     -------
     ModelResult
     """
     ep, isv = pairs.epoch, pairs.isv
-    axes = nominal_axes_inertial(pos_leo_gcrf_m, vel_leo_gcrf_m_s)          # (m, 3, 3)
+    sun_gcrf = np.einsum("mij,mj->mi", rot_gcrf_itrf, sun_itrf_m)
+    axes = leo_body_axes(leo_attitude, pos_leo_gcrf_m, vel_leo_gcrf_m_s, sun_gcrf)  # (m, 3, 3)
     rx = pos_leo_gcrf_m[ep]
     if leo_pco_body_m is not None:
         pco = np.asarray(leo_pco_body_m, dtype=float)

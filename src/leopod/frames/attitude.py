@@ -9,7 +9,8 @@ at the equator.
 Antenna-frame angles: the antenna looks along −Z (zenith). Elevation is the angle of the
 line of sight above the body X–Y plane (90° = along −Z); azimuth is measured from +X
 (flight direction) towards +Y, in degrees in [0, 360) — the convention of Peng et al. (2021)
-Figs. 7–9.
+Figs. 7–9. The attitude law of a satellite (nominal or yaw steering) is picked by
+:mod:`leopod.frames.leo_attitude`.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ import numpy as np
 
 from leopod.constants import OMEGA_EARTH_RAD_S
 
-__all__ = ["nominal_body_axes", "antenna_angles", "body_to_ef"]
+__all__ = ["antenna_angles", "body_to_ef", "inertial_velocity_ef", "nominal_axes_inertial",
+           "nominal_body_axes"]
 
 
 def nominal_body_axes(pos_m: np.ndarray, vel_ef_m_s: np.ndarray) -> np.ndarray:
@@ -37,14 +39,13 @@ def nominal_body_axes(pos_m: np.ndarray, vel_ef_m_s: np.ndarray) -> np.ndarray:
         Rows are the unit vectors X, Y, Z of the body frame in Earth-fixed coordinates, i.e.
         the rotation matrix from Earth-fixed to body: ``v_body = R @ v_ef``.
     """
-    pos = np.asarray(pos_m, dtype=float)
-    omega = np.array([0.0, 0.0, OMEGA_EARTH_RAD_S])
-    vel_in = np.asarray(vel_ef_m_s, dtype=float) + np.cross(omega, pos)
-    z = -pos / np.linalg.norm(pos, axis=-1, keepdims=True)
-    y = np.cross(z, vel_in)
-    y /= np.linalg.norm(y, axis=-1, keepdims=True)
-    x = np.cross(y, z)
-    return np.stack([x, y, z], axis=-2)
+    return nominal_axes_inertial(pos_m, inertial_velocity_ef(pos_m, vel_ef_m_s))
+
+
+def inertial_velocity_ef(pos_m: np.ndarray, vel_ef_m_s: np.ndarray) -> np.ndarray:
+    """Inertial velocity in Earth-fixed axes, ``v_ef + ω × r`` [m/s], shape (n, 3)."""
+    return (np.asarray(vel_ef_m_s, dtype=float)
+            + np.cross([0.0, 0.0, OMEGA_EARTH_RAD_S], np.asarray(pos_m, dtype=float)))
 
 
 def body_to_ef(rot_ef_to_body: np.ndarray, vec_body: np.ndarray) -> np.ndarray:
@@ -78,6 +79,7 @@ def antenna_angles(rot_ef_to_body: np.ndarray, los_ef: np.ndarray):
 
 def nominal_axes_inertial(pos_m: np.ndarray, vel_m_s: np.ndarray) -> np.ndarray:
     """Nominal body axes (rows X, Y, Z), shape (n, 3, 3), from inertial position/velocity."""
+    pos_m = np.asarray(pos_m, dtype=float)
     z = -pos_m / np.linalg.norm(pos_m, axis=-1, keepdims=True)
     y = np.cross(z, vel_m_s)
     y /= np.linalg.norm(y, axis=-1, keepdims=True)

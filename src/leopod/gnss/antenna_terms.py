@@ -18,8 +18,9 @@ Range term of band ``b`` for the line of sight ``e`` (unit vector receiver → t
 
 - ``p_LEO,b``: LEO PCO of the band in the body frame (configuration ``antenna_pco_body_m``, the
   offsets the POD combines to its ionosphere-free PCO), rotated into Earth-fixed axes with the
-  nominal attitude ``R_LEO`` of :func:`leopod.frames.attitude.nominal_body_axes` (the
-  attitude of the POD's observation model, :mod:`leopod.estimation.obsmodel`);
+  satellite's attitude law ``R_LEO`` (:func:`leopod.frames.leo_attitude.leo_body_axes`: nominal
+  or yaw steering; the attitude of the POD's observation model,
+  :mod:`leopod.estimation.obsmodel`);
 - ``p_sv,b``, ``PCV_sv,b``: the ANTEX PCO and nadir-dependent PCV of the GNSS satellite on the
   band's frequency (``sNN`` code, :mod:`leopod.io.antex`), PCO rotated with the yaw-steering
   attitude of :func:`leopod.gnss.attitude.gnss_body_axes`, or with ``gnss_attitude:
@@ -50,7 +51,8 @@ import xarray as xr
 
 from leopod import signals
 from leopod.constants import OMEGA_EARTH_RAD_S
-from leopod.frames.attitude import body_to_ef, nominal_body_axes
+from leopod.frames.attitude import body_to_ef, inertial_velocity_ef
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
 from leopod.gnss.attitude import gnss_attitude_axes, gnss_body_axes, satellite_families
 
 __all__ = ["VARIABLE", "antenna_attrs", "antenna_range_m", "antenna_terms",
@@ -68,7 +70,8 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
                     sun_m: np.ndarray, leo_pco_body_m, *, sat_pco_body_m=None,
                     sat_pcv_m: Callable | None = None,
                     leo_pcv_m: Callable | None = None, sat_family=None,
-                    sv_vel_m_s: np.ndarray | None = None) -> np.ndarray:
+                    sv_vel_m_s: np.ndarray | None = None,
+                    leo_attitude: LeoAttitude | None = None) -> np.ndarray:
     """Range term ``a_b`` of one band for (epoch, satellite) pairs (module docstring) [m].
 
     Parameters
@@ -93,13 +96,16 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
         None: nominal yaw steering.
     sv_vel_m_s : ndarray, shape (n, s, 3), optional
         Inertial GNSS velocities in Earth-fixed axes [m/s] (with ``sat_family``).
+    leo_attitude : LeoAttitude, optional
+        Attitude law of the LEO; None: nominal.
 
     Returns
     -------
     ndarray, shape (n, s)
         ``a_b`` [m]; NaN where a position is missing or a GNSS PCO is unknown.
     """
-    rot = nominal_body_axes(leo_pos_m, leo_vel_m_s)                         # (n, 3, 3)
+    rot = leo_body_axes(leo_attitude, leo_pos_m, inertial_velocity_ef(leo_pos_m, leo_vel_m_s),
+                        sun_m)                                              # (n, 3, 3)
     los = _unit(sv_pos_m - leo_pos_m[:, None, :])                           # (n, s, 3)
     pco_ef = body_to_ef(rot, np.asarray(leo_pco_body_m, dtype=float))       # (n, 3)
     term = -np.einsum("nsi,ni->ns", los, pco_ef)
@@ -157,7 +163,8 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
                   leo_vel_m_s: np.ndarray, sv_pos_m: np.ndarray, sun_m: np.ndarray,
                   bands: Mapping[str, Sequence[str]], leo_pco_body_m: Mapping | None, *,
                   antex=None, leo_pcv_m: Mapping[str, Callable] | None = None,
-                  gnss_attitude: str = "nominal") -> xr.Dataset:
+                  gnss_attitude: str = "nominal",
+                  leo_attitude: LeoAttitude | None = None) -> xr.Dataset:
     """Range terms of every band of every system for the (epoch, satellite) grid of a day.
 
     Parameters
@@ -185,6 +192,8 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         ``eclipse_models``: GNSS antennas oriented by the yaw law of each block (ANTEX type,
         :mod:`leopod.gnss.attitude`; velocities from the positions by central differences);
         ``nominal``: yaw steering (setting ``pod.gnss_attitude``, as the POD).
+    leo_attitude : LeoAttitude, optional
+        Attitude law of the LEO (``satellites.<sat>``); None: nominal.
 
     Returns
     -------
@@ -224,7 +233,8 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
                                    sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
                                    leo_pcv_m=(leo_pcv_m or {}).get(name),
                                    sat_family=None if family is None else family[cols],
-                                   sv_vel_m_s=None if sv_vel is None else sv_vel[:, cols])
+                                   sv_vel_m_s=None if sv_vel is None else sv_vel[:, cols],
+                                   leo_attitude=leo_attitude)
             key = VARIABLE.format(band=digit)
             if key not in out:
                 out[key] = np.full((len(times), len(svs)), np.nan)

@@ -8,6 +8,15 @@ value itself unless a pass wrongly spans a slip), with the phase pair of the pas
 a combined arc (e.g. GPS L1C/L2W with BDS-3 L1P/L5P) takes each system's own pair, as its
 ambiguity resolution does (:func:`leopod.ambiguity.resolve.resolve_systems`), and its
 single differences are always within one system.
+
+The phase wind-up (equal in cycles on both frequencies) is continuous in the simulator from
+the first epoch of the day, in the estimator from the first epoch of its arc
+(:func:`leopod.gnss.corrections.unwrap_windup` over the arc's observations): the two differ by
+a whole number of cycles ``k`` per satellite once the wind-up has wandered beyond ±0.5 cycles
+since the day began (a yaw-steering LEO sweeps its yaw by up to 180° every orbit). The
+estimated ``N1`` and ``N2`` are then the simulated ones plus ``k`` (``N_WL`` keeps nothing of
+it), so the true integers refer to the wind-up unwrapped as the estimator does, from the truth
+file's ``windup_cyc`` when it has it.
 """
 
 from __future__ import annotations
@@ -16,6 +25,8 @@ from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
+
+from leopod.gnss.corrections import unwrap_windup
 
 __all__ = ["true_single_differences", "wrong_fix_counts", "wrong_fixes", "wrong_fixes_per_system"]
 
@@ -77,8 +88,14 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
     if missing:
         raise KeyError(f"simulator truth without {', '.join(missing)} (the phases of the "
                        "ambiguity resolution must be simulated)")
-    truth = xr.concat([t[needed].rename(obs_time="time") for t in truth_days], dim="time")
+    windup = all("windup_cyc" in t for t in truth_days)
+    keep = needed + ["windup_cyc"] * windup
+    truth = xr.concat([t[keep].rename(obs_time="time") for t in truth_days], dim="time")
     pid = residuals.pass_index
+    if windup:
+        truth = truth.reindex(time=pid.time, sv=pid.sv).transpose(*pid.dims)
+        k = _windup_offset_cyc(truth["windup_cyc"].values, _arc_observations(residuals))
+        truth = truth[needed] + xr.DataArray(k, coords=pid.coords, dims=pid.dims)
     per_pass = {"n1": {}, "nwl": {}}
     if pairs is None:
         groups = [(pid, [f"amb_{p}_cyc" for p in phases])]
@@ -96,6 +113,39 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
                          for i, j in zip(table.pass_i.values, table.pass_j.values, strict=True)])
 
     return sd("nwl"), sd("n1")
+
+
+def _arc_observations(residuals: xr.Dataset) -> np.ndarray:
+    """(time, sv) observations of the POD arc: those in a pass or with a code or phase
+    residual (the estimator's wind-up is unwrapped over all of them)."""
+    used = residuals.pass_index.values >= 0
+    for name in ("code_residual_m", "phase_residual_m"):
+        if name in residuals:
+            used = used | np.isfinite(residuals[name].transpose(*residuals.pass_index.dims).values)
+    return used
+
+
+def _windup_offset_cyc(windup_cyc: np.ndarray, used: np.ndarray) -> np.ndarray:
+    """Whole cycles between the simulator's wind-up and the estimator's over the arc.
+
+    Parameters
+    ----------
+    windup_cyc : ndarray, shape (n, s)
+        Simulated wind-up at the arc's epochs [cycles], NaN where not tracked.
+    used : ndarray of bool, shape (n, s)
+        Observations of the arc (:func:`_arc_observations`).
+
+    Returns
+    -------
+    ndarray, shape (n, s)
+        ``k`` = simulated minus re-unwrapped wind-up (integers; 0 where not used).
+    """
+    ep, sv = np.nonzero(used & np.isfinite(windup_cyc))
+    w = windup_cyc[ep, sv]
+    arc = unwrap_windup(w - np.round(w), sv, ep)
+    out = np.zeros(windup_cyc.shape)
+    out[ep, sv] = np.round(w - arc)
+    return out
 
 
 def wrong_fixes(table: xr.Dataset, true_wl: np.ndarray, true_nl: np.ndarray) -> dict:

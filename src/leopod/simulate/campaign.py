@@ -43,6 +43,7 @@ import xarray as xr
 from leopod.constants import C_LIGHT_M_S
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.antex import read_antex
 from leopod.io.bias_sinex_write import write_bias_sinex
 from leopod.io.clock_write import write_rinex_clock
@@ -439,14 +440,14 @@ def _rinex_dataset(obs: xr.Dataset, codes: dict, svs: list, interval_s: float) -
 
 
 def _slr_day(truth: xr.Dataset, day0: np.datetime64, settings: SimulationSettings,
-             rng: np.random.Generator) -> xr.Dataset:
+             rng: np.random.Generator, attitude: LeoAttitude | None = None) -> xr.Dataset:
     """Normal points of the UTC day of ``day0`` from the truth around it."""
     margin = np.timedelta64(round(_SLR_TRUTH_MARGIN_S * _NS_PER_S), "ns")
     window = truth[["pos_itrf_m", "vel_itrf_m_s"]].sel(time=slice(day0 - margin,
                                                                    day0 + _DAY + margin))
     nps = simulate_normal_points(window, settings.slr.retro_offset_body_m,
                                  stations=settings.slr.station_list,
-                                 settings=settings.slr.settings, rng=rng)
+                                 settings=settings.slr.settings, rng=rng, attitude=attitude)
     t = nps["time"].values
     return nps.isel(point=np.flatnonzero((t >= day0) & (t < day0 + _DAY)))
 
@@ -468,7 +469,7 @@ def simulate_leo_day(date: str, sat: str, settings: SimulationSettings, world_st
                      world_end: str, truth: xr.Dataset, biases_truth: xr.Dataset,
                      pco_body_m: Mapping[str, Sequence[float]] | None = None, *,
                      rinex3, rinex2=None, truth_sp3, truth_nc, crd=None,
-                     eop=None) -> xr.Dataset:
+                     eop=None, leo_attitude: LeoAttitude | None = None) -> xr.Dataset:
     """Simulate and write one day of a LEO's onboard observations, its truth and SLR data.
 
     Parameters
@@ -492,6 +493,9 @@ def simulate_leo_day(date: str, sat: str, settings: SimulationSettings, world_st
         (10 s, ITRF centre of mass) and netCDF (module docstring), CRD 2 normal points of the
         UTC day (skipped if None).
     eop : EarthOrientation, optional
+    leo_attitude : LeoAttitude, optional
+        Attitude law of the satellite (antenna offsets, wind-up, antenna-frame code-bias maps,
+        SLR retro-reflector); None: nominal.
 
     Returns
     -------
@@ -509,7 +513,8 @@ def simulate_leo_day(date: str, sat: str, settings: SimulationSettings, world_st
         times, truth, world, receiver_clock(settings, sat, world_start, world_end),
         biases_for(biases_truth, sat), settings.signal_codes(),
         DEFAULT_PCO_BODY_M if pco_body_m is None else pco_body_m, _code_bias_maps(settings),
-        settings.observations, settings.rng(f"obs/{sat}/{date}"), antex=antex, eop=eop)
+        settings.observations, settings.rng(f"obs/{sat}/{date}"), antex=antex, eop=eop,
+        leo_attitude=leo_attitude)
     codes = settings.signal_codes()
     header = _rinex_header(settings, sat, date)
     write_rinex_obs(_rinex_dataset(obs, codes, list(obs.sv.values), settings.interval_s),
@@ -521,7 +526,7 @@ def simulate_leo_day(date: str, sat: str, settings: SimulationSettings, world_st
     write_truth_files(_truth_day(truth, obs, day0), truth_sp3, truth_nc, settings.leo_sp3_id)
     n_np = 0
     if crd is not None:
-        nps = _slr_day(truth, day0, settings, settings.rng(f"slr/{sat}/{date}"))
+        nps = _slr_day(truth, day0, settings, settings.rng(f"slr/{sat}/{date}"), leo_attitude)
         write_normal_points(nps, crd, day0)
         n_np = nps.sizes["point"]
     tracked = np.isfinite(obs["el_deg"].values)

@@ -12,7 +12,8 @@ For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS sat
 * LEO centre of mass at ``t`` from the truth orbit (GCRF, 10th-order Lagrange interpolation
   of position and velocity, :func:`leopod.numerics.interpolate.interpolate_table`); antenna
   phase centre of band ``b`` = centre of mass + the body-frame PCO of the band rotated with the
-  nominal attitude (:func:`leopod.estimation.obsmodel.nominal_axes_inertial`);
+  satellite's attitude law (nominal or yaw steering, :func:`leopod.frames.leo_attitude.
+  leo_body_axes` with the Sun in the GCRF), the law the estimator uses;
 * transmission time ``t − τ`` by light-time iteration on the exact analytic GNSS orbit in the
   GCRF (no Sagnac term is needed in an inertial frame); transmitter phase centre = centre of
   mass + ANTEX PCO of the band (yaw-steering attitude, or the published eclipse/turn laws of
@@ -74,8 +75,8 @@ import xarray as xr
 from leopod import signals
 from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
-from leopod.frames.attitude import nominal_axes_inertial
 from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
 from leopod.gnss.attitude import gnss_attitude_axes, satellite_families
 from leopod.gnss.corrections import (
     relativistic_clock_s,
@@ -286,9 +287,11 @@ class _Geometry:
 
 
 def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m,
-              bands_by_sv, antex, eop, gnss_attitude: str = "nominal") -> _Geometry:
+              bands_by_sv, antex, eop, gnss_attitude: str = "nominal",
+              leo_attitude: LeoAttitude | None = None) -> _Geometry:
     """Light time, ranges per band, angles, clocks, Shapiro and wind-up (module docstring)."""
-    axes = nominal_axes_inertial(leo_pos, leo_vel)                         # (n, 3, 3) rows
+    sun_gcrf, _ = itrf_to_gcrf(times_rx, sun_position_ef(times_rx), eop=eop)
+    axes = leo_body_axes(leo_attitude, leo_pos, leo_vel, sun_gcrf)        # (n, 3, 3) rows
     names = _band_names(bands_by_sv)
     missing = sorted({name for name in names.values() if name not in pco_body_m})
     if missing:
@@ -299,7 +302,6 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
     # light time to the centre of mass: for the phase centres (< 0.5 m away) the transmission
     # time would differ by < 2 ns, i.e. < 8 µm of satellite motion
     t_tx, sv_pos, sv_vel = _light_time(world, svs, t_rx_s, leo_pos)
-    sun_gcrf, _ = itrf_to_gcrf(times_rx, sun_position_ef(times_rx), eop=eop)
     families = None
     if gnss_attitude == "eclipse_models" and antex is not None:
         families = np.broadcast_to(satellite_families(antex, svs, times_rx[0]), t_tx.shape)
@@ -379,7 +381,8 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
                           pco_body_m: Mapping[str, Sequence[float]],
                           code_bias_maps: Sequence[CodeBiasMap],
                           settings: ObservationSettings, rng: np.random.Generator, *,
-                          antex=None, eop=None) -> xr.Dataset:
+                          antex=None, eop=None,
+                          leo_attitude: LeoAttitude | None = None) -> xr.Dataset:
     """Simulate the onboard code and phase of a LEO at the receiver epochs ``times``.
 
     Parameters
@@ -409,6 +412,8 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
         GNSS satellite antenna offsets and nadir variations (default none: centre of mass).
     eop : EarthOrientation, optional
         For the Sun direction in the GCRF.
+    leo_attitude : LeoAttitude, optional
+        Attitude law of the LEO (``satellites.<sat>``); None: nominal.
 
     Returns
     -------
@@ -437,7 +442,7 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
     leo_pos, leo_vel = _leo_at(truth, world.epoch, t_rx_s)
     codes, phases, bands = _signals_by_sv(svs, signal_codes)
     geo = _geometry(world, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m, bands, antex,
-                    eop, settings.gnss_attitude)
+                    eop, settings.gnss_attitude, leo_attitude)
     system_of = np.array([sv[0] for sv in svs])
     tracked = track(geo.el_deg, system_of, settings, dt_s, rng)
     phase_codes = {sys: [c for c in signal_codes[sys] if c[0] == "L"] for sys in signal_codes}

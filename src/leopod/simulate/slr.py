@@ -39,6 +39,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S, WGS84_A_M, WGS84_INV_F
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.crd_write import write_crd
 from leopod.io.sinex_write import write_sinex_eccentricities, write_sinex_stations
 from leopod.settings import Settings
@@ -246,7 +247,8 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
                            stations: Sequence[SlrStation] = DEFAULT_STATIONS,
                            settings: SlrSettings,
                            rng: np.random.Generator,
-                           eop: EarthOrientation | None = None) -> xr.Dataset:
+                           eop: EarthOrientation | None = None,
+                           attitude: LeoAttitude | None = None) -> xr.Dataset:
     """Simulate the SLR normal points of a LEO over the span of its truth orbit.
 
     Parameters
@@ -256,7 +258,7 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         (time, xyz) [m, m/s]: ITRF centre-of-mass orbit, sampled densely enough for 10th-order
         Lagrange interpolation (≤ 60 s for a LEO).
     retro_offset_body_m : array_like, shape (3,)
-        Retro-reflector offset from the centre of mass in the nominal body frame [m].
+        Retro-reflector offset from the centre of mass in the body frame [m].
     stations : sequence of SlrStation
         Station network (default :data:`DEFAULT_STATIONS`).
     settings : SlrSettings
@@ -264,6 +266,8 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         Source of all random draws (the result is a deterministic function of its state).
     eop : EarthOrientation, optional
         EOP of the station displacements (default: installed IERS data).
+    attitude : LeoAttitude, optional
+        Attitude law of the satellite (orients the reflector offset); None: nominal.
 
     Returns
     -------
@@ -279,7 +283,7 @@ def simulate_normal_points(truth: xr.Dataset, retro_offset_body_m, *,
         (point, xyz), the ranging reference point (marker + eccentricity + displacement) and
         ``station_displacement_itrf_m`` (point, xyz), its tide displacement.
     """
-    reflector = OrbitReflector(truth, retro_offset_body_m)
+    reflector = OrbitReflector(truth, retro_offset_body_m, attitude=attitude)
     sta_pos = np.array([s.pos_itrf_m for s in stations], dtype=float)
     cand_utc, cand_s, visible = _candidates(reflector, truth, sta_pos, settings, rng)
     passes = _passes(cand_utc, visible, round(settings.pass_gap_s * _NS_PER_S))

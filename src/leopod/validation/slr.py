@@ -57,6 +57,7 @@ import xarray as xr
 
 from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S, WGS84_A_M, WGS84_INV_F
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.sinex import station_eccentricity, station_position
 from leopod.settings import Settings
@@ -350,7 +351,8 @@ def slr_residuals(orbit: xr.Dataset, normal_points: xr.Dataset, stations: xr.Dat
                   eccentricities: xr.Dataset | None = None, *, retro_offset_body_m,
                   settings: SlrResidualSettings,
                   ocean_loading: xr.Dataset | None = None, eop: EarthOrientation | None = None,
-                  ephemeris: Ephemeris | None = None) -> xr.Dataset:
+                  ephemeris: Ephemeris | None = None,
+                  attitude: LeoAttitude | None = None) -> xr.Dataset:
     """SLR residuals of a LEO orbit, one per normal point, screened.
 
     Parameters
@@ -378,6 +380,8 @@ def slr_residuals(orbit: xr.Dataset, normal_points: xr.Dataset, stations: xr.Dat
         EOP for the station displacements (default: installed IERS data).
     ephemeris : Ephemeris, optional
         Sun and Moon for the solid Earth tide (default DE421).
+    attitude : LeoAttitude, optional
+        Attitude law of the satellite that orients the reflector offset; None: nominal.
 
     Returns
     -------
@@ -413,7 +417,8 @@ def slr_residuals(orbit: xr.Dataset, normal_points: xr.Dataset, stations: xr.Dat
     flag[(flag == 0) & ~np.isin(event, (_RECEIVE, _BOUNCE, _TRANSMIT))] = _CODE["epoch_event"]
     flag[(flag == 0) & (nps["range_type"].values != _TWO_WAY)] = _CODE["range_type"]
 
-    reflector = OrbitReflector(orbit, retro_offset_body_m, order=settings.interpolation_order)
+    reflector = OrbitReflector(orbit, retro_offset_body_m, order=settings.interpolation_order,
+                               attitude=attitude)
     t_event_s = reflector.seconds(utc_to_gps(epochs_utc)) if n else np.zeros(0)
     t_last_s = reflector.t_nodes_s[-1] - _END_MARGIN_S
     flag[(flag == 0) & ((t_event_s - tof < 0.0) | (t_event_s + tof > t_last_s))] = \

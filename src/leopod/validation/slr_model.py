@@ -56,7 +56,8 @@ from leopod.constants import (
     WGS84_A_M,
     WGS84_INV_F,
 )
-from leopod.frames.attitude import body_to_ef, nominal_body_axes
+from leopod.frames.attitude import body_to_ef
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes_ef
 from leopod.gnss.corrections import shapiro_delay_distances_m as shapiro_delay_m
 from leopod.numerics.interpolate import interpolate_table
 from leopod.validation.slr_troposphere import mendes_pavlis_delay_m
@@ -326,7 +327,7 @@ class OrbitReflector:
     """Retro-reflector trajectory from a tabulated Earth-fixed centre-of-mass orbit.
 
     ``r_refl(t) = r_com(t) + R(t)ᵀ d`` with ``R`` the Earth-fixed → body rotation of the
-    nominal attitude (:func:`leopod.frames.attitude.nominal_body_axes`) and ``d`` the
+    satellite's attitude law (:func:`leopod.frames.leo_attitude.leo_body_axes_ef`) and ``d`` the
     reflector offset from the centre of mass in the body frame. Position and velocity are
     Lagrange-interpolated (:func:`leopod.numerics.interpolate.interpolate_table`). Calling the
     object with seconds since :attr:`t0` gives positions (m, 3) [m]; NaN outside the table.
@@ -340,9 +341,12 @@ class OrbitReflector:
         Reflector offset from the centre of mass in the body frame [m].
     order : int
         Interpolation order (default 10).
+    attitude : LeoAttitude, optional
+        Attitude law of the satellite; None: nominal.
     """
 
-    def __init__(self, orbit: xr.Dataset, offset_body_m, order: int = 10):
+    def __init__(self, orbit: xr.Dataset, offset_body_m, order: int = 10,
+                 attitude: LeoAttitude | None = None):
         times = orbit["time"].values.astype("datetime64[ns]")
         self.t0 = times[0]
         self.t_nodes_s = (times - self.t0).astype(np.int64) / 1e9
@@ -351,6 +355,7 @@ class OrbitReflector:
         self._table = np.concatenate([pos, vel], axis=1)
         self.offset_body_m = np.asarray(offset_body_m, dtype=float)
         self.order = order
+        self.attitude = attitude
 
     def seconds(self, times) -> np.ndarray:
         """Seconds since :attr:`t0` of GPS-time epochs (datetime64)."""
@@ -366,4 +371,6 @@ class OrbitReflector:
         pos, vel = self.centre_of_mass(t_s)
         if not np.any(self.offset_body_m):
             return pos
-        return pos + body_to_ef(nominal_body_axes(pos, vel), self.offset_body_m)
+        times = self.t0 + np.round(np.asarray(t_s) * 1e9).astype("timedelta64[ns]")
+        rot = leo_body_axes_ef(self.attitude, times, pos, vel)
+        return pos + body_to_ef(rot, self.offset_body_m)
