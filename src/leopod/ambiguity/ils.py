@@ -239,6 +239,11 @@ def ils(value_cyc, covariance_cyc2) -> IlsResult:
     ValueError
         If shapes do not match, values are not finite or ``Q`` is not positive definite.
     """
+    return _search(*_prepare(value_cyc, covariance_cyc2))
+
+
+def _prepare(value_cyc, covariance_cyc2):
+    """Checked inputs, decorrelation and bootstrapped success rate of :func:`ils`."""
     a = np.asarray(value_cyc, dtype=float)
     q = np.asarray(covariance_cyc2, dtype=float)
     if a.ndim != 1 or a.size == 0 or q.shape != (a.size, a.size):
@@ -248,11 +253,15 @@ def ils(value_cyc, covariance_cyc2) -> IlsResult:
         raise ValueError("values and covariance must be finite")
     shift = np.rint(a)                      # search near zero: better conditioned sums
     zmat, lower, d = decorrelate(0.5 * (q + q.T))
-    a_z = zmat.T @ (a - shift)
-    cand, qq = search(a_z, lower, d, n_best=2 if a.size > 0 else 1)
+    success = float(np.prod(2.0 * ndtr(0.5 / np.sqrt(d)) - 1.0))
+    return a - shift, shift, zmat, lower, d, success
+
+
+def _search(a, shift, zmat, lower, d, success) -> IlsResult:
+    """Search step of :func:`ils` on the output of :func:`_prepare`."""
+    cand, qq = search(zmat.T @ a, lower, d, n_best=2)
     integer = np.rint(np.linalg.solve(zmat.T, cand[0])).astype(np.int64) + shift.astype(np.int64)
     ratio = np.inf if qq[0] == 0.0 else float(qq[1] / qq[0])
-    success = float(np.prod(2.0 * ndtr(0.5 / np.sqrt(d)) - 1.0))
     return IlsResult(integer, float(qq[0]), float(qq[1]), ratio, success)
 
 
@@ -262,7 +271,10 @@ def partial_ils(value_cyc, covariance_cyc2, *, min_ratio: float,
     """ILS of the largest well-determined subset that passes ratio and success-rate tests.
 
     The full set is tried first; while the test fails, the ``drop_fraction`` (at least one)
-    of the remaining ambiguities with the largest variance is left float.
+    of the remaining ambiguities with the largest variance is left float (partial ambiguity
+    resolution: the best-determined subset that passes, Teunissen et al. 1999; Parkins 2011).
+    A subset whose bootstrapped success rate is too low is not searched, and a search that
+    exceeds its node limit counts as a failed test.
 
     Parameters
     ----------
@@ -290,8 +302,14 @@ def partial_ils(value_cyc, covariance_cyc2, *, min_ratio: float,
     keep = np.argsort(np.diag(q), kind="stable")       # best determined first
     while keep.size:
         sub = np.sort(keep)
-        res = ils(a[sub], q[np.ix_(sub, sub)])
-        if res.ratio >= min_ratio and res.success_rate >= min_success_rate:
+        prepared = _prepare(a[sub], q[np.ix_(sub, sub)])
+        res = None
+        if prepared[-1] >= min_success_rate:    # no search for a subset that fails anyway
+            try:
+                res = _search(*prepared)
+            except RuntimeError as err:          # a huge search: treated as a failed test
+                log.debug("partial ILS, %d ambiguities: %s", sub.size, err)
+        if res is not None and res.ratio >= min_ratio:
             fixed = np.zeros(a.size, dtype=bool)
             fixed[sub] = True
             log.debug("partial ILS: %d of %d fixed, ratio %.2f, success rate %.6f", sub.size,
