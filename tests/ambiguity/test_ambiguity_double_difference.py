@@ -27,17 +27,19 @@ import numpy as np
 import pytest
 import xarray as xr
 from _ambiguity_scenario import EPOCH
-from _dd_scenario import B_RX_IF_M, W_RX_CYC, dd_scenario, true_dd
+from _dd_scenario import B_RX_IF_M, SIGNALS, W_RX_CYC, combined, dd_scenario, true_dd
 
 from leopod.ambiguity.double_difference import (
     DdConstraints,
     ReceiverArc,
     dd_constraint_matrix,
     resolve_dd,
+    resolve_dd_systems,
 )
 from leopod.ambiguity.independent import graph_rank
 from leopod.ambiguity.resolve import ArSettings
 from leopod.io.netcdf import write_netcdf
+from leopod.signals import SystemSignals
 from leopod.workflow.config import section_defaults
 
 PHASES, CODES = ("L1C", "L2W"), ("C1W", "C2W")
@@ -163,3 +165,24 @@ def test_table_is_netcdf_ready(tmp_path):
     assert back.sizes["dd"] == t.sizes["dd"]
     assert np.array_equal(back.nl_fixed.values, t.nl_fixed.values)
     assert back.attrs["float_covariance"].startswith("the two receivers'")
+
+
+def test_combined_systems_fix_each_system_on_its_own():
+    """GPS L1/L2 and Galileo E1/E5a in one arc per receiver: DDs only within a system, each
+    with its own wavelengths; the joined table keeps the truth and the graph-rank rates."""
+    s = combined(dd_scenario(seed=5, hours=4.0), dd_scenario(seed=6, hours=4.0, system="E"))
+    signals = {x: SystemSignals(phase=p, code=c, pod_code=c, exclude_geo=False)
+               for x, (p, c) in SIGNALS.items()}
+    res = resolve_dd_systems(*s.arcs, signals, SETTINGS)
+    t = res.table
+    assert set(t.system.values) == {"G", "E"}
+    assert np.all(t.sv_i.str[0].values == t.system.values)
+    assert np.all(t.sv_j.str[0].values == t.system.values)
+    wl, nl = t.wl_fixed.values == 1, t.nl_fixed.values == 1
+    assert np.array_equal(t.wl_integer.values[wl], true_dd(s, t, "n_wl")[wl])
+    assert np.array_equal(t.nl_integer.values[nl], true_dd(s, t, "n1")[nl])
+    assert t.attrs["nl_fixing_rate"] >= 0.98 and t.attrs["E_nl_fixing_rate"] >= 0.98
+    c = res.constraints
+    m = dd_constraint_matrix(c, s.a.amb.sizes["ambiguity"], s.b.amb.sizes["ambiguity"])
+    np.testing.assert_allclose(m @ _true_if(s), c.value_m, atol=1e-9)
+    assert np.linalg.matrix_rank(m) == c.value_m.size

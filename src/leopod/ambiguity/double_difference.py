@@ -64,7 +64,7 @@ from leopod.gnss.combinations import narrow_lane_wavelength_m
 from leopod.signals import frequency_hz
 
 __all__ = ["DdConstraints", "DdResolution", "ReceiverArc", "ReceiverSd", "dd_constraint_matrix",
-           "receiver_sd", "receiver_sd_float", "resolve_dd"]
+           "receiver_sd", "receiver_sd_float", "resolve_dd", "resolve_dd_systems"]
 
 log = logging.getLogger(__name__)
 
@@ -410,3 +410,60 @@ def _table(nodes, pairs, wl, wl_dec, nl, nl_dec, nl_fixed, nl_reason, independen
         "fixed_if_m": var(np.where(constrained, value_if, np.nan),
                           "fixed DD ionosphere-free ambiguity", "m"),
     })
+
+
+def resolve_dd_systems(arc_a: ReceiverArc, arc_b: ReceiverArc, signals, settings: ArSettings,
+                       *, names=("A", "B")) -> DdResolution:
+    """:func:`resolve_dd` of each system of two combined float arcs, joined.
+
+    DDs are formed only between satellites of one system (its own signal pair and
+    wavelengths, :func:`~leopod.ambiguity.pairs.sd_pairs`).
+
+    Parameters
+    ----------
+    arc_a, arc_b, settings, names
+        As for :func:`resolve_dd`.
+    signals : mapping of str to leopod.signals.SystemSignals
+        Signals (``phase`` and ``pod_code`` pairs) per system letter.
+
+    Returns
+    -------
+    DdResolution
+        Tables concatenated along ``dd`` with a ``system`` variable and node numbers made
+        unique across systems; attributes ``<system>_<attribute>`` of each system's table and
+        the fixing rates of all systems together.
+
+    Raises
+    ------
+    ValueError
+        If neither receiver tracks any of the systems.
+    """
+    tables, parts, offset = [], [], 0
+    for x, sig in signals.items():
+        if not any(str(s).startswith(x) for s in arc_a.residuals.sv.values):
+            continue
+        res = resolve_dd(arc_a, arc_b, x, sig.phase, sig.pod_code, settings, names=names)
+        t = res.table
+        for v in ("node_i", "node_j"):
+            t[v] = t[v] + np.int32(offset)
+        t["system"] = (("dd",), np.full(t.sizes["dd"], x), {"units": "1",
+                                                          "long_name": "GNSS of the DD"})
+        offset += t.attrs["n_nodes"]
+        tables.append(t)
+        parts.append(res.constraints)
+    if not tables:
+        raise ValueError(f"receiver {names[0]} tracks none of the systems {' '.join(signals)}")
+    joined = xr.concat([t.drop_attrs(deep=False) for t in tables], dim="dd")
+    for t in tables:
+        joined.attrs.update({f"{t.attrs['system']}_{k}": v for k, v in t.attrs.items()})
+    i, j = joined.node_i.values, joined.node_j.values
+    wl, nl = joined.wl_fixed.values == 1, joined.nl_fixed.values == 1
+    joined.attrs.update({
+        "systems": " ".join(t.attrs["system"] for t in tables),
+        "receiver_a": names[0], "receiver_b": names[1],
+        "wl_fixing_rate": fixing_rate(i, j, wl) if i.size else np.nan,
+        "nl_fixing_rate": fixing_rate(i, j, nl) if i.size else np.nan,
+        "wl_dd_fixed_share": float(wl.mean()) if i.size else np.nan,
+        "nl_dd_fixed_share": float(nl.mean()) if i.size else np.nan})
+    constraints = DdConstraints(*(np.concatenate([c[k] for c in parts]) for k in range(6)))
+    return DdResolution(table=joined, constraints=constraints)
