@@ -10,7 +10,8 @@ Problem (Teunissen 1995): given float ambiguities ``a`` [cycles] with covariance
    the integer lattice is mapped onto itself), ``Q_z = Zᵀ Q Z``, ``z = Zᵀ a``: integer Gauss
    transformations make ``|L_ij| <= 1/2`` and a swap of neighbours ``k, k+1`` is done when it
    moves variance to the back, ``D_k + L²_{k+1,k} D_{k+1} < D_{k+1}`` (Teunissen 1995, sec.
-   3; de Jonge & Tiberius 1996, sec. 3.5). ``det Q_z = det Q``.
+   3; de Jonge & Tiberius 1996, sec. 3.5), with the lazy reduction and local restart of
+   MLAMBDA (Chang et al. 2005) and the whole of ``L`` reduced at the end. ``det Q_z = det Q``.
 3. **Search** of the ellipsoid ``Σ_i (ẑ_{i|I} − z_i)²/D_i < χ²`` from the last component to
    the first, enumerating each level's integers in order of distance from the conditional
    float value (de Jonge & Tiberius 1996, sec. 4), with the bound shrunk to the second-best
@@ -120,11 +121,13 @@ def decorrelate(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     z = np.eye(n)
     k = n - 2
     while k >= 0:
-        for i in range(k + 1, n):
-            _gauss(lower, z, i, k)
+        # only the entry of the swap test is reduced here, and after a swap only the pair
+        # above it can have changed: MLAMBDA, Chang et al. 2005 (the original LAMBDA reduces
+        # the whole column and restarts from the last pair: O(n) times slower for large n)
+        _gauss(lower, z, k + 1, k)
         if d[k] + lower[k + 1, k] ** 2 * d[k + 1] < d[k + 1] * (1.0 - 1e-12):
             _swap(lower, d, z, k)
-            k = n - 2
+            k = min(k + 1, n - 2)
         else:
             k -= 1
     for j in range(n - 1):        # all of L reduced (the swaps leave earlier columns intact)
