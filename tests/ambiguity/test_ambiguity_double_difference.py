@@ -15,6 +15,11 @@ Authorities:
 - LAMBDA partial fixing (Teunissen 1995; Teunissen et al. 1999): with the float covariance
   inflated it fixes fewer DDs, none wrong.
 
+Measured (seeds 5 and 6, 8 h, 10 GPS satellites): graph-rank rates WL 99.1 % / 99.0 %, NL
+the same with rounding and Dong-Bock; partial LAMBDA fixes the whole independent NL set at
+the nominal noise (seed 8, 4 h: 58 of 58) and 14 of 58 with the float sigmas inflated 2.5
+times (NL sigma 0.066 -> 0.165 cycles); no wrong fix.
+
 A test on real formation data is not possible: ../shared holds no two-receiver (formation)
 data set.
 """

@@ -32,7 +32,11 @@ Kroes et al. 2005, GRACE; Allende-Alba et al. 2017, Swarm). With the float ionos
    and success-rate tests and partial fixing (``nl_method: ils``,
    :func:`~leopod.ambiguity.alternatives.ils_nl_decision`; LAMBDA of Teunissen 1995 and de
    Jonge & Tiberius 1996 in :mod:`leopod.ambiguity.ils`; partial fixing of the
-   best-determined subset that passes the tests, Teunissen et al. 1999, Parkins 2011).
+   best-determined subset that passes the tests, Teunissen et al. 1999, Parkins 2011). With
+   the fixed critical value of the ratio test, a large set is fixed only in part
+   (Verhagen & Teunissen 2013: the fixed value is strict for many ambiguities): in the
+   synthetic closed loop of a 24-h day (402 independent DDs, NL sigma ~0.065 cycles) ILS
+   fixed 32 % of the independent DDs, rounding 99 %, both without a wrong fix.
 6. **Independent set and constraints**: a maximal independent set of the fixed DDs,
    best-determined first, as pseudo-observations
    ``(B_B,b_i − B_A,a_i) − (B_B,b_j − B_A,a_j) = λ_NL (ΔN_NL + f2/(f1 − f2) ΔN_WL)`` [m]
