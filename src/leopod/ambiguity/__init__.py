@@ -15,6 +15,9 @@ Chain (one GNSS system and one frequency pair at a time):
    ambiguities of a maximal independent set as pseudo-observations for the fixed POD;
    :func:`independent.fixing_rate` — WL and NL fixing rates (Jiang et al. 2023).
 
+Between two LEOs of a formation, :mod:`double_difference` resolves inter-satellite double
+differences (no bias product needed) with the same pieces: :func:`double_difference.resolve_dd`.
+
 Sign conventions of the bias products: docstrings of :mod:`leopod.ambiguity.wide_lane` and
 :mod:`leopod.simulate.biases`.
 """

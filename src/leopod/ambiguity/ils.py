@@ -10,7 +10,8 @@ Problem (Teunissen 1995): given float ambiguities ``a`` [cycles] with covariance
    the integer lattice is mapped onto itself), ``Q_z = Zᵀ Q Z``, ``z = Zᵀ a``: integer Gauss
    transformations make ``|L_ij| <= 1/2`` and a swap of neighbours ``k, k+1`` is done when it
    moves variance to the back, ``D_k + L²_{k+1,k} D_{k+1} < D_{k+1}`` (Teunissen 1995, sec.
-   3; de Jonge & Tiberius 1996, sec. 3.5). ``det Q_z = det Q``.
+   3; de Jonge & Tiberius 1996, sec. 3.5), with the lazy reduction and local restart of
+   MLAMBDA (Chang et al. 2005) and the whole of ``L`` reduced at the end. ``det Q_z = det Q``.
 3. **Search** of the ellipsoid ``Σ_i (ẑ_{i|I} − z_i)²/D_i < χ²`` from the last component to
    the first, enumerating each level's integers in order of distance from the conditional
    float value (de Jonge & Tiberius 1996, sec. 4), with the bound shrunk to the second-best
@@ -120,11 +121,13 @@ def decorrelate(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     z = np.eye(n)
     k = n - 2
     while k >= 0:
-        for i in range(k + 1, n):
-            _gauss(lower, z, i, k)
+        # only the entry of the swap test is reduced here, and after a swap only the pair
+        # above it can have changed: MLAMBDA, Chang et al. 2005 (the original LAMBDA reduces
+        # the whole column and restarts from the last pair: O(n) times slower for large n)
+        _gauss(lower, z, k + 1, k)
         if d[k] + lower[k + 1, k] ** 2 * d[k + 1] < d[k + 1] * (1.0 - 1e-12):
             _swap(lower, d, z, k)
-            k = n - 2
+            k = min(k + 1, n - 2)
         else:
             k -= 1
     for j in range(n - 1):        # all of L reduced (the swaps leave earlier columns intact)
@@ -239,6 +242,11 @@ def ils(value_cyc, covariance_cyc2) -> IlsResult:
     ValueError
         If shapes do not match, values are not finite or ``Q`` is not positive definite.
     """
+    return _search(*_prepare(value_cyc, covariance_cyc2))
+
+
+def _prepare(value_cyc, covariance_cyc2):
+    """Checked inputs, decorrelation and bootstrapped success rate of :func:`ils`."""
     a = np.asarray(value_cyc, dtype=float)
     q = np.asarray(covariance_cyc2, dtype=float)
     if a.ndim != 1 or a.size == 0 or q.shape != (a.size, a.size):
@@ -248,11 +256,15 @@ def ils(value_cyc, covariance_cyc2) -> IlsResult:
         raise ValueError("values and covariance must be finite")
     shift = np.rint(a)                      # search near zero: better conditioned sums
     zmat, lower, d = decorrelate(0.5 * (q + q.T))
-    a_z = zmat.T @ (a - shift)
-    cand, qq = search(a_z, lower, d, n_best=2 if a.size > 0 else 1)
+    success = float(np.prod(2.0 * ndtr(0.5 / np.sqrt(d)) - 1.0))
+    return a - shift, shift, zmat, lower, d, success
+
+
+def _search(a, shift, zmat, lower, d, success) -> IlsResult:
+    """Search step of :func:`ils` on the output of :func:`_prepare`."""
+    cand, qq = search(zmat.T @ a, lower, d, n_best=2)
     integer = np.rint(np.linalg.solve(zmat.T, cand[0])).astype(np.int64) + shift.astype(np.int64)
     ratio = np.inf if qq[0] == 0.0 else float(qq[1] / qq[0])
-    success = float(np.prod(2.0 * ndtr(0.5 / np.sqrt(d)) - 1.0))
     return IlsResult(integer, float(qq[0]), float(qq[1]), ratio, success)
 
 
@@ -262,7 +274,10 @@ def partial_ils(value_cyc, covariance_cyc2, *, min_ratio: float,
     """ILS of the largest well-determined subset that passes ratio and success-rate tests.
 
     The full set is tried first; while the test fails, the ``drop_fraction`` (at least one)
-    of the remaining ambiguities with the largest variance is left float.
+    of the remaining ambiguities with the largest variance is left float (partial ambiguity
+    resolution: the best-determined subset that passes, Teunissen et al. 1999; Parkins 2011).
+    A subset whose bootstrapped success rate is too low is not searched, and a search that
+    exceeds its node limit counts as a failed test.
 
     Parameters
     ----------
@@ -290,8 +305,14 @@ def partial_ils(value_cyc, covariance_cyc2, *, min_ratio: float,
     keep = np.argsort(np.diag(q), kind="stable")       # best determined first
     while keep.size:
         sub = np.sort(keep)
-        res = ils(a[sub], q[np.ix_(sub, sub)])
-        if res.ratio >= min_ratio and res.success_rate >= min_success_rate:
+        prepared = _prepare(a[sub], q[np.ix_(sub, sub)])
+        res = None
+        if prepared[-1] >= min_success_rate:    # no search for a subset that fails anyway
+            try:
+                res = _search(*prepared)
+            except RuntimeError as err:          # a huge search: treated as a failed test
+                log.debug("partial ILS, %d ambiguities: %s", sub.size, err)
+        if res is not None and res.ratio >= min_ratio:
             fixed = np.zeros(a.size, dtype=bool)
             fixed[sub] = True
             log.debug("partial ILS: %d of %d fixed, ratio %.2f, success rate %.6f", sub.size,

@@ -63,7 +63,8 @@ from leopod.gnss.combinations import narrow_lane_wavelength_m
 from leopod.settings import Settings
 from leopod.signals import frequency_hz
 
-__all__ = ["ArSettings", "Resolution", "resolve_arc", "resolve_systems"]
+__all__ = ["ArSettings", "Resolution", "arc_hmw", "decide", "require_common_data", "resolve_arc",
+           "resolve_systems", "wl_sigma_method"]
 
 log = logging.getLogger(__name__)
 
@@ -124,7 +125,25 @@ def wl_sigma_method(settings: ArSettings) -> str:
     return "autocorrelation" if settings.decision == "dong_bock" else "white"
 
 
-def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) -> FixDecision:
+def decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) -> FixDecision:
+    """The campaign's fixing decision of float ambiguities (module docstring).
+
+    Parameters
+    ----------
+    value, sigma : array_like, shape (m,)
+        Float ambiguities and their sigmas [cycles].
+    max_dev, max_sigma : float
+        Bounds of the fractional part (rounding only) and of the sigma [cycles].
+    settings : ArSettings
+        ``decision`` (``"rounding"`` or ``"dong_bock"``) and ``alpha``.
+    dof : array_like, shape (m,), optional
+        Degrees of freedom of the sigmas: the Dong–Bock test widens them by the Student-t
+        factor (:func:`~leopod.ambiguity.correlation.student_t_factor`).
+
+    Returns
+    -------
+    FixDecision
+    """
     if settings.decision == "dong_bock":
         widen = 1.0 if dof is None else student_t_factor(dof, settings.alpha)
         d = dong_bock_decision(value, np.asarray(sigma) * widen, alpha=settings.alpha)
@@ -137,7 +156,7 @@ def _decide(value, sigma, max_dev, max_sigma, settings: ArSettings, dof=None) ->
                      "(rounding or dong_bock)")
 
 
-def _require_common_data(decision: FixDecision, n_common, times, min_common_s: float
+def require_common_data(decision: FixDecision, n_common, times, min_common_s: float
                          ) -> FixDecision:
     """No WL fix from less than ``min_common_s`` of common HMW data.
 
@@ -166,6 +185,37 @@ def _require_common_data(decision: FixDecision, n_common, times, min_common_s: f
     reason = np.where(short, f"common HMW data < {min_common_s:g} s",
                       np.asarray(decision.reason, dtype=object))
     return decision._replace(fixed=decision.fixed & ~short, reason=reason)
+
+
+def arc_hmw(obs: xr.Dataset, pass_index: xr.DataArray, system: str, phases, codes,
+            antenna: xr.Dataset | None = None) -> xr.DataArray:
+    """HMW combination [WL cycles] of the observations at the POD epochs (module docstring).
+
+    Parameters
+    ----------
+    obs : xarray.Dataset
+        Observations (codes corrected as the campaign wishes).
+    pass_index : xarray.DataArray of int, (time, sv)
+        Pass of every POD observation (float residuals); its grid is the output's.
+    system : str
+        GNSS letter.
+    phases, codes : sequence of two str
+        Phase and code signals of the pair.
+    antenna : xarray.Dataset, optional
+        Antenna range terms per band (:func:`resolve_arc`), subtracted from every signal.
+
+    Returns
+    -------
+    xarray.DataArray, (time, sv)
+        ``HMW/λ_WL`` on the grid of ``pass_index``, NaN where a signal is missing.
+    """
+    f1, f2 = frequency_hz(system, phases[0]), frequency_hz(system, phases[1])
+    o = obs.reindex(time=pass_index.time, sv=pass_index.sv)
+    if antenna is not None:
+        o = remove_antenna_terms(o, antenna, [*phases, *codes])
+    return xr.DataArray(hmw_cycles(o[phases[0]].values, o[phases[1]].values,
+                                   o[codes[0]].values, o[codes[1]].values, f1, f2),
+                        coords=pass_index.coords, dims=pass_index.dims)
 
 
 def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system: str,
@@ -211,12 +261,7 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
     i, j = pairs.i, pairs.j
     n_pair = i.size
     pid = residuals.pass_index
-    o = obs.reindex(time=pid.time, sv=pid.sv)
-    if antenna is not None:
-        o = remove_antenna_terms(o, antenna, [*phases, *codes])
-    hmw = xr.DataArray(hmw_cycles(o[phases[0]].values, o[phases[1]].values, o[codes[0]].values,
-                                  o[codes[1]].values, f1, f2), coords=pid.coords,
-                       dims=pid.dims)
+    hmw = arc_hmw(obs, pid, system, phases, codes, antenna)
     pass_of = amb.pass_index.values
     empty = np.zeros(0)
     if wl_sat_cyc is None or n_pair == 0:
@@ -228,14 +273,14 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
     else:
         wl = sd_wide_lane(hmw, pid, pass_of[i], pass_of[j], wl_sat_cyc,
                           sigma_method=wl_sigma_method(settings))
-        wl_dec = _require_common_data(
-            _decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
+        wl_dec = require_common_data(
+            decide(wl.value_cyc, wl.sigma_cyc, settings.wl_max_dev_cyc,
                     settings.wl_max_sigma_cyc, settings, dof=wl.dof),
             wl.n_common, pid.time.values, settings.min_common_s)
     n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
     nl = sd_narrow_lane(amb.value_m.values, amb.covariance_m2.values, i, j, n_wl, f1, f2,
                         sat_bias_m=sat_if_bias_m)
-    nl_dec = _decide(nl.value_cyc, nl.sigma_cyc, settings.nl_max_dev_cyc,
+    nl_dec = decide(nl.value_cyc, nl.sigma_cyc, settings.nl_max_dev_cyc,
                      settings.nl_max_sigma_cyc, settings)
     guard = None
     if settings.product_guard and wl_sat_cyc is not None and n_pair:
@@ -252,7 +297,7 @@ def resolve_arc(amb: xr.Dataset, residuals: xr.Dataset, obs: xr.Dataset, system:
     if settings.wl_candidate_check and wl_sat_cyc is not None and not refused:
         wl_dec, nl_value, nl_dec = wl_candidate_check(
             wl.value_cyc, wl_dec, nl.value_cyc, nl_dec, nl.sigma_cyc, f2 / (f1 - f2),
-            lambda v, s: _decide(v, s, settings.nl_max_dev_cyc, settings.nl_max_sigma_cyc,
+            lambda v, s: decide(v, s, settings.nl_max_dev_cyc, settings.nl_max_sigma_cyc,
                                  settings))
         nl = nl._replace(value_cyc=nl_value)
         n_wl = np.where(wl_dec.fixed, wl_dec.integer, 0).astype(np.int64)
