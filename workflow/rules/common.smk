@@ -430,6 +430,8 @@ def all_targets():
     targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
     targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
+    if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
+        targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
     if solutions():
