@@ -27,8 +27,10 @@ reported); epochs whose formal 3D sigma exceeds ``max_sigma_m`` (in practice tho
 passes all begin there, positioned by the code alone) are solved but reported as not solved.
 The variance factors of code and phase are estimated (Förstner 1979, with the exact
 redundancy numbers of the rows) and scale the weights, so that the covariances describe the
-data rather than the a-priori sigmas. Outliers are screened as in the float POD: normalised residuals beyond
-``outlier_k`` robust standard deviations of their type (code, phase) are rejected, repeatedly.
+data rather than the a-priori sigmas. Outliers are screened as in the float POD, from the first linearisation on (at the
+reference orbit the observations are already cm from their model), but on residuals
+standardised with their redundancy numbers: beyond ``outlier_k`` robust standard deviations of their type (code,
+phase) they are rejected, repeatedly.
 Only one GNSS per arc: a combined arc would need inter-system biases.
 """
 
@@ -69,6 +71,8 @@ _MAX_SCREEN_ROUNDS = 20
 #: The variance factors of code and phase are re-estimated until every new estimate is
 #: within 1 ± this.
 _FACTOR_TOLERANCE = 0.05
+#: Rows with a smaller redundancy number are not tested for outliers.
+_MIN_REDUNDANCY = 0.05
 
 
 @dataclass(frozen=True)
@@ -470,13 +474,23 @@ def _variance_factors(sol: dict) -> np.ndarray:
 
 
 def _screen(sol: dict, outlier_k: float, code_rej: np.ndarray, phase_rej: np.ndarray) -> int:
-    """Reject code and phase outliers beyond ``outlier_k`` robust sigmas (in place)."""
-    z = sol["residual"] * np.sqrt(sol["weight"])
+    """Reject code and phase outliers beyond ``outlier_k`` robust sigmas (in place).
+
+    The residuals are standardised with their redundancy numbers ``r`` (Baarda's
+    ``v / (σ √r)``): an epoch with few satellites leaves its rows little redundancy and small
+    residuals, which would shrink the robust scale of the others; rows with
+    ``r < _MIN_REDUNDANCY`` cannot be tested and are kept.
+    """
+    r = sol["redundancy"]
+    testable = r >= _MIN_REDUNDANCY
+    z = np.where(testable, sol["residual"] * np.sqrt(sol["weight"] / np.where(testable, r, 1.0)),
+                 0.0)
     n_new = 0
     for is_phase, pairs, rejected in ((False, sol["code_pairs"], code_rej),
                                       (True, sol["phase_pairs"], phase_rej)):
-        zz = z[sol["is_phase"] == is_phase]
-        bad = np.abs(zz) > outlier_k * _robust_scale(zz)
+        sel = sol["is_phase"] == is_phase
+        zz = z[sel]
+        bad = np.abs(zz) > outlier_k * _robust_scale(z[sel & testable])
         rejected[pairs[bad]] = True
         n_new += int(bad.sum())
     return n_new
