@@ -298,6 +298,17 @@ def float_pod_inputs(wildcards):
     return files
 
 
+def kinematic_inputs(wildcards):
+    """kinematic_pod: float_pod's inputs, its orbit and, for fixed ambiguities, the ambiguity table."""
+    files = float_pod_inputs(wildcards)
+    files["float_orbit"] = fill(rules.float_pod.output.orbit, sat=wildcards.sat,
+                                date=wildcards.date)
+    if CONFIG["kinematic"]["ambiguities"] == "fixed":
+        files["table"] = fill(rules.ambiguity.output.table, sat=wildcards.sat,
+                              date=wildcards.date)
+    return files
+
+
 def ambiguity_inputs(wildcards):
     """Observations and quality of the arc's days, the code-bias map and the AR product."""
     days = arc_days(CONFIG, wildcards.date)

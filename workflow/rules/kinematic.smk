@@ -4,17 +4,6 @@
 # of the arc (leopod.estimation.kinematic). Runs when kinematic.enabled.
 
 
-def kinematic_inputs(wildcards):
-    """float_pod's inputs, its orbit and, for fixed ambiguities, the ambiguity table."""
-    files = float_pod_inputs(wildcards)
-    files["float_orbit"] = fill(rules.float_pod.output.orbit, sat=wildcards.sat,
-                                date=wildcards.date)
-    if CONFIG["kinematic"]["ambiguities"] == "fixed":
-        files["table"] = fill(rules.ambiguity.output.table, sat=wildcards.sat,
-                              date=wildcards.date)
-    return files
-
-
 rule kinematic_pod:
     input:
         unpack(kinematic_inputs),
