@@ -30,7 +30,7 @@ redundancy numbers of the rows) and scale the weights, so that the covariances d
 data rather than the a-priori sigmas. Outliers are screened as in the float POD, from the first linearisation on (at the
 reference orbit the observations are already cm from their model), but on residuals
 standardised with their redundancy numbers: beyond ``outlier_k`` robust standard deviations of their type (code,
-phase) they are rejected, repeatedly.
+phase) they are rejected, the largest of each epoch per round, repeatedly.
 Only one GNSS per arc: a combined arc would need inter-system biases.
 """
 
@@ -67,7 +67,7 @@ __all__ = ["KinematicResult", "KinematicSettings", "kinematic_dataset", "kinemat
 log = logging.getLogger(__name__)
 
 _N_EPOCH = 4                     # dx, dy, dz, clock
-_MAX_SCREEN_ROUNDS = 20
+_MAX_SCREEN_ROUNDS = 50
 #: The variance factors of code and phase are re-estimated until every new estimate is
 #: within 1 ± this.
 _FACTOR_TOLERANCE = 0.05
@@ -457,7 +457,7 @@ def _solve_linearised(obs: PodObservations, model, pod: PodSettings, solved: np.
     return {"dpos": y[:, :3], "clock": y[:, 3], "cov": cov * sigma0**2, "ambiguity": amb,
             "active": active, "residual": residual, "weight": w, "is_phase": is_phase,
             "code_pairs": ic, "phase_pairs": ip, "sigma0": sigma0,
-            "n_constraints": n_constraints, "redundancy": redundancy[rows.slot]}
+            "n_constraints": n_constraints, "redundancy": redundancy[rows.slot], "epoch": ep}
 
 
 def _variance_factors(sol: dict) -> np.ndarray:
@@ -491,6 +491,12 @@ def _screen(sol: dict, outlier_k: float, code_rej: np.ndarray, phase_rej: np.nda
         sel = sol["is_phase"] == is_phase
         zz = z[sel]
         bad = np.abs(zz) > outlier_k * _robust_scale(z[sel & testable])
+        # one per epoch and round, the largest (data snooping): a blunder spreads into the
+        # residuals of its epoch's other rows through the epoch's position and clock
+        ep = sol["epoch"][sel]
+        worst = np.full(int(ep.max(initial=-1)) + 1, -1.0)
+        np.maximum.at(worst, ep[bad], np.abs(zz[bad]))
+        bad &= np.abs(zz) == worst[ep]
         rejected[pairs[bad]] = True
         n_new += int(bad.sum())
     return n_new
