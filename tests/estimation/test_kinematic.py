@@ -150,7 +150,7 @@ def test_simulated_observations_float_and_fixed(arc):
         e, _ = _errors(arc, result)
         rms[label] = float(np.sqrt(np.mean(np.sum(e**2, axis=1))))
         assert result.solved.mean() > 0.99
-    # measured: float 1.67 cm, fixed 1.08 cm (3D RMS against the truth); the formal sigmas
+    # measured: float 1.67 cm, fixed 1.06 cm (3D RMS against the truth); the formal sigmas
     # are optimistic here (chi-square mean / 3: float 2.3, fixed 1.3): the code errors of the
     # simulator are not white
     assert rms["float"] < 0.025
