@@ -24,6 +24,7 @@ include: "workflow/rules/ingest.smk"
 include: "workflow/rules/quality.smk"
 include: "workflow/rules/code_bias.smk"
 include: "workflow/rules/pod.smk"
+include: "workflow/rules/kinematic.smk"
 include: "workflow/rules/validation.smk"
 
 

@@ -409,3 +409,24 @@ def test_year_outside_datetime64_range_is_an_error(tmp_path):
     with pytest.raises(FormatError, match="outside 1678-2261") as exc:
         read_sp3(path)
     assert_format_error(exc, path, k + 1, "epoch")
+
+
+def test_record_accuracy_exponents_round_trip(tmp_path):
+    # SP3-d (Hilla 2016), P record columns 62-73: sigma = base**n mm (positions, base 1.25) and
+    # ps (clock, base 1.025), the bases on the first %f line; the nearest n is written
+    ds = _small(n_time=4, sats=("L01",))
+    pos_sigma = np.array([0.0021, 0.013, 0.4, np.nan])[:, None, None] * np.ones((4, 1, 3))
+    ds["pos_sigma_m"] = (("time", "sv", "xyz"), pos_sigma)
+    ds["clk_sigma_s"] = (("time", "sv"), np.array([[3e-11], [1e-10], [np.nan], [2e-9]]))
+    write_sp3(ds, tmp_path / "s.sp3")
+    lines = (tmp_path / "s.sp3").read_text().splitlines()
+    assert any(line.startswith("%f  1.2500000  1.025000000") for line in lines)
+    back = read_sp3(tmp_path / "s.sp3")
+    for name, base in (("pos_sigma_m", 1.25), ("clk_sigma_s", 1.025)):
+        given, decoded = ds[name].values, back[name].values
+        ok = np.isfinite(given)
+        assert np.abs(np.log(decoded[ok] / given[ok]) / np.log(base)).max() <= 0.5 + 1e-9
+        np.testing.assert_array_equal(np.isnan(decoded), ~ok)      # NaN: blank field
+    # without sigmas nothing changes: no exponents, zero bases
+    write_sp3(_small(), tmp_path / "plain.sp3")
+    assert "pos_sigma_m" not in read_sp3(tmp_path / "plain.sp3")

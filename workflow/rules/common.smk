@@ -298,6 +298,17 @@ def float_pod_inputs(wildcards):
     return files
 
 
+def kinematic_inputs(wildcards):
+    """kinematic_pod: float_pod's inputs, its orbit and, for fixed ambiguities, the ambiguity table."""
+    files = float_pod_inputs(wildcards)
+    files["float_orbit"] = fill(rules.float_pod.output.orbit, sat=wildcards.sat,
+                                date=wildcards.date)
+    if CONFIG["kinematic"]["ambiguities"] == "fixed":
+        files["table"] = fill(rules.ambiguity.output.table, sat=wildcards.sat,
+                              date=wildcards.date)
+    return files
+
+
 def ambiguity_inputs(wildcards):
     """Observations and quality of the arc's days, the code-bias map and the AR product."""
     days = arc_days(CONFIG, wildcards.date)
@@ -430,6 +441,8 @@ def all_targets():
     targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
     targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
+    if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
+        targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
     if solutions():

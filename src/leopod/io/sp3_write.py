@@ -26,6 +26,11 @@ _UNIX0 = datetime(1970, 1, 1)
 _GPS0_NS = 315_964_800 * _NS  # 1980-01-06T00:00:00 as ns since 1970-01-01
 _MJD0_NS = -40_587 * 86_400 * _NS  # 1858-11-17T00:00:00 as ns since 1970-01-01
 _IDS_PER_LINE = 17
+#: Bases of the record accuracy exponents written with ``pos_sigma_m``/``clk_sigma_s``: σ =
+#: base**n mm (positions) and ps (clocks), the values of the SP3-d example files (Hilla 2016).
+_BASE_POS = 1.25
+_BASE_CLK = 1.025
+_MAX_EXP_POS, _MAX_EXP_CLK = 99, 999
 
 
 def _calendar(t_ns: int) -> tuple[int, int, int, int, int, str]:
@@ -54,6 +59,18 @@ def _fmt_clock(value: float, what: str) -> str:
     if abs(value) >= _BAD_CLOCK:
         raise ValueError(f"{what} = {value} reaches the reserved SP3 bad-clock value 999999")
     return _fmt(value, 14, 6, what)
+
+
+def _exponents(sigma: np.ndarray, base: float, largest: int) -> np.ndarray:
+    """SP3-d accuracy exponents ``n = round(log_base σ)`` of ``σ`` [mm or ps], in
+    ``[0, largest]``; −1 where ``σ`` is not finite (a blank field)."""
+    ok = np.isfinite(sigma) & (sigma > 0)
+    n = np.round(np.log(np.where(ok, sigma, 1.0)) / np.log(base))
+    return np.where(ok, np.clip(n, 0, largest), -1).astype(int)
+
+
+def _exponent_text(n: int, width: int) -> str:
+    return " " * width if n < 0 else f"{n:{width}d}"
 
 
 def _header_lines(ds: xr.Dataset, times: np.ndarray, sats: list[str], pv: str, *, agency: str,
@@ -92,7 +109,9 @@ def _header_lines(ds: xr.Dataset, times: np.ndarray, sats: list[str], pv: str, *
         raise ValueError(f"time_system '{time_system}' must have 3 characters (e.g. 'GPS')")
     out += [f"%c {file_type:<2s} cc {time_system} ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc",
             "%c cc cc ccc ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc",
-            "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000",
+            (f"%f {_BASE_POS:10.7f} {_BASE_CLK:12.9f}  0.00000000000  0.000000000000000"
+             if "pos_sigma_m" in ds else
+             "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000"),
             "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000",
             "%i    0    0    0    0      0      0      0      0         0",
             "%i    0    0    0    0      0      0      0      0         0"]
@@ -113,15 +132,20 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
     Positions are written in km with 6 decimals (1 mm), velocities in dm/s with 6 decimals
     (1e-7 m/s), clocks in microseconds with 6 decimals (1 ps) and clock rates in 1e-4 µs/s
     with 6 decimals. NaN positions/velocities are written as the "bad or absent" value
-    0.000000 and NaN clocks/rates as 999999.999999. Standard deviations are not written (the
-    ``%f`` bases are 0); the ``++`` accuracy exponents come from ``orbit_accuracy_m`` when
+    0.000000 and NaN clocks/rates as 999999.999999. With ``pos_sigma_m`` the P records carry
+    the SP3-d accuracy exponents of each epoch, ``σ = 1.25**n`` mm for the positions and
+    ``1.025**n`` ps for the clock (``clk_sigma_s``; blank without it), the nearest ``n`` in
+    0–99 (0–999), and the first ``%f`` line gives these bases; without it the bases are 0 and
+    no exponent is written. The ``++`` accuracy exponents come from ``orbit_accuracy_m`` when
     present, else 0 (unknown). A name ending in ``.gz`` is gzip-compressed.
 
     Parameters
     ----------
     ds : xarray.Dataset
         Needs ``pos_m`` (time, sv, xyz) [m]; optional ``clk_s`` (time, sv) [s], ``vel_m_s``
-        (time, sv, xyz) [m s-1] (then V records are written), ``clk_rate_s_s`` (time, sv).
+        (time, sv, xyz) [m s-1] (then V records are written), ``clk_rate_s_s`` (time, sv),
+        ``pos_sigma_m`` (time, sv, xyz) [m] and ``clk_sigma_s`` (time, sv) [s] (record
+        standard deviations, NaN: blank).
         ``attrs["time_system"]`` (3 characters, default "GPS") names the time system of ``time``.
     path : str or Path
         Output file.
@@ -165,6 +189,14 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
         rate = (ds["clk_rate_s_s"].transpose("time", "sv").values * 1e10
                 if "clk_rate_s_s" in ds else np.full((n_time, n_sat), np.nan))
 
+    exps = np.full((n_time, n_sat, 4), -1)
+    if "pos_sigma_m" in ds:
+        sig = ds["pos_sigma_m"].transpose("time", "sv", "xyz").sel(xyz=list(_XYZ)).values
+        exps[:, :, :3] = _exponents(sig * 1e3, _BASE_POS, _MAX_EXP_POS)
+        if "clk_sigma_s" in ds:
+            exps[:, :, 3] = _exponents(ds["clk_sigma_s"].transpose("time", "sv").values * 1e12,
+                                       _BASE_CLK, _MAX_EXP_CLK)
+
     out = _header_lines(ds, times, sats, "V" if has_vel else "P", agency=agency,
                         orbit_type=orbit_type, coordinate_system=coordinate_system,
                         data_used=data_used, comments=comments)
@@ -175,8 +207,13 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
             where = f"{sv} at epoch {i}"
             xyz = pos[i, k] if np.isfinite(pos[i, k]).all() else np.zeros(3)
             c = _fmt_clock(clk[i, k], f"clock of {where}")
-            out.append(f"P{sv}" + "".join(_fmt(v, 14, 6, f"position of {where}") for v in xyz)
-                       + c)
+            record = (f"P{sv}" + "".join(_fmt(v, 14, 6, f"position of {where}") for v in xyz)
+                      + c)
+            if (exps[i, k] >= 0).any():
+                n = exps[i, k]
+                record += "".join(f" {_exponent_text(e, 2)}" for e in n[:3]) + \
+                    f" {_exponent_text(n[3], 3)}"
+            out.append(record.rstrip())
             if has_vel:
                 v3 = vel[i, k] if np.isfinite(vel[i, k]).all() else np.zeros(3)
                 r = _fmt_clock(rate[i, k], f"clock rate of {where}")
