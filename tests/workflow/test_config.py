@@ -111,3 +111,23 @@ def test_satellite_orbit_overlay_is_checked_but_not_defaulted():
     raw["satellites"]["hy2b-sim"]["simulate_orbit"] = {"step_s": 5.0}
     with pytest.raises(WorkflowError, match="'step_s' was unexpected"):
         validated(raw)
+
+
+def test_formation_block_of_the_lt1_campaign():
+    # the schema (authority for the keys) accepts the Lutan-1-like campaign, leaves the
+    # leader without a formation and gives the follower its settings; a wrong key is named
+    from leopod.simulate.formation import FormationSettings
+
+    cfg = load_campaign(REPO / "config" / "lt1-sim.yaml")
+    assert cfg["satellites"]["lt1-a"]["formation"] is None
+    follower = FormationSettings.from_config(cfg["satellites"]["lt1-b"]["formation"])
+    assert follower.leader == "lt1-a" and follower.a_dlambda_m == -5000.0
+    assert len(follower.manoeuvres) == 2 and follower.manoeuvres[0]["duration_s"] == 60.0
+    raw = yaml.safe_load((REPO / "config" / "lt1-sim.yaml").read_text())
+    raw["satellites"]["lt1-b"]["formation"]["a_dl_m"] = 1.0
+    with pytest.raises(WorkflowError, match="a_dl_m"):
+        validated(raw)
+    raw = yaml.safe_load((REPO / "config" / "lt1-sim.yaml").read_text())
+    raw["satellites"]["lt1-b"]["formation"]["manoeuvres"][0]["time_of_day"] = "12h"
+    with pytest.raises(WorkflowError, match="12h"):
+        validated(raw)

@@ -466,10 +466,24 @@ def all_targets():
 
 
 def sat_simulation(wildcards):
-    """The simulate section with the satellite's orbit keys (satellites.<sat>.simulate_orbit)."""
+    """The simulate section with the satellite's orbit keys (satellites.<sat>.simulate_orbit);
+    for a formation follower those of its leader, whose orbit the ROE displace."""
+    block = sat_config(wildcards)
+    formation = block.get("formation")
+    if formation is not None:
+        if formation["leader"] not in SIMULATED_SATS:
+            raise ValueError(f"satellites.{satellite(wildcards)}.formation.leader: "
+                             f"{formation['leader']!r} is not a simulated satellite of the "
+                             f"campaign ({', '.join(SIMULATED_SATS)})")
+        block = CONFIG["satellites"][formation["leader"]]
     section = dict(CONFIG["simulate"])
-    section["orbit"] = {**section["orbit"], **sat_config(wildcards)["simulate_orbit"]}
+    section["orbit"] = {**section["orbit"], **block["simulate_orbit"]}
     return section
+
+
+def sat_formation(wildcards):
+    """The satellite's formation block (satellites.<sat>.formation), or None."""
+    return sat_config(wildcards).get("formation")
 
 
 def sat_name(wildcards):

@@ -3,13 +3,16 @@
 # integer-recovery clock + wide-lane biases, Bias-SINEX, CRD, SINEX) with the truth beside them.
 
 
-# The truth orbit of one satellite over the whole campaign, and its code-bias map(s).
+# The truth orbit of one satellite over the whole campaign (a formation follower: from its
+# leader's initial state and the ROE, with its burns), its code-bias map(s), its manoeuvre file.
 rule simulate_truth:
     input:
         code=library_code("simulate_truth"),
     output:
         truth="resources/simulate/{sat}/truth_orbit.nc",
         code_bias_map="resources/simulate/{sat}/code_bias_map.nc",
+        # the burns of the satellite (leopod.io.manoeuvre; header only without formation burns)
+        manoeuvres="resources/simulate/{sat}/manoeuvres.txt",
     log:
         "logs/simulate_truth/{sat}.log",
     benchmark:
@@ -22,6 +25,7 @@ rule simulate_truth:
         runtime=20,
     params:
         settings=sat_simulation,
+        formation=sat_formation,
         world_start=CONFIG["start_date"],
         world_end=CONFIG["end_date"],
     script:

@@ -40,7 +40,7 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
-from leopod.constants import C_LIGHT_M_S
+from leopod.constants import C_LIGHT_M_S, GM_EARTH_M3_S2
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.frames.leo_attitude import LeoAttitude
@@ -48,6 +48,8 @@ from leopod.io.antex import read_antex
 from leopod.io.bias_sinex_write import write_bias_sinex
 from leopod.io.clock_write import write_rinex_clock
 from leopod.io.dcb_write import write_code_dcb
+from leopod.io.manoeuvre import Manoeuvre
+from leopod.io.manoeuvre_write import write_manoeuvres
 from leopod.io.netcdf import write_netcdf
 from leopod.io.rinex_obs_write import write_rinex_obs
 from leopod.io.sp3_write import write_sp3
@@ -59,6 +61,8 @@ from leopod.simulate.biases import (
     truth_dataset,
 )
 from leopod.simulate.code_bias_map import CodeBiasMap
+from leopod.simulate.formation import FormationSettings, follower_initial_state
+from leopod.simulate.manoeuvres import daily_manoeuvres
 from leopod.simulate.observations import GnssWorld, simulate_observations
 from leopod.simulate.product_faults import faulty_products
 from leopod.simulate.product_world import osb_biases, product_world
@@ -69,7 +73,12 @@ from leopod.simulate.slr import (
     write_station_eccentricities,
     write_station_sinex,
 )
-from leopod.simulate.truth_orbit import simulate_truth_orbit, write_truth_files
+from leopod.simulate.truth_orbit import (
+    initial_state_sun_synchronous,
+    intermediate_to_gcrf_matrix,
+    simulate_truth_orbit,
+    write_truth_files,
+)
 from leopod.simulate.world import (
     CircularOrbit,
     KeplerOrbit,
@@ -81,7 +90,7 @@ from leopod.time.calendar import parse_date_id, seconds_since
 
 __all__ = ["biases_for", "code_bias_map_truth", "gnss_world", "receiver_clock",
            "p1c1_dcb", "simulate_gnss_products", "simulate_leo_day", "simulate_truth", "simulate_world_truth",
-           "write_code_bias_maps", "write_truth_orbit"]
+           "write_code_bias_maps", "write_manoeuvre_file", "write_truth_orbit"]
 
 log = logging.getLogger(__name__)
 
@@ -208,26 +217,55 @@ def code_bias_map_truth(settings: SimulationSettings, step_deg: float = 5.0) -> 
 
 
 def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, world_end: str,
-                   *, eop=None) -> xr.Dataset:
+                   *, eop=None, formation: FormationSettings | None = None) -> xr.Dataset:
     """The truth orbit of one LEO over the campaign (00:00 of the first day to 24:00 of the
     last, plus ``orbit.margin_s`` on both sides), :func:`simulate_truth_orbit` with the
-    settings' dynamics and models and the seed of label ``truth/<sat>``."""
+    settings' dynamics and models and the seed of label ``truth/<sat>``.
+
+    A formation follower (``formation`` given) starts from the leader's initial state, which
+    ``settings.orbit`` then defines, displaced by the ROE
+    (:func:`leopod.simulate.formation.follower_initial_state`), and flies its daily burns
+    (:func:`leopod.simulate.manoeuvres.daily_manoeuvres`); the dataset attributes
+    ``formation_leader`` and ``formation_roe_m`` record them."""
     o = settings.orbit
     margin = np.timedelta64(round(o.margin_s * _NS_PER_S), "ns")
     t_start = _epoch(world_start) - margin
     t_end = _epoch(world_end) + _DAY + margin
     models = resolve_model_paths({"m": dict(settings.models)})["m"]
     clock = _time.perf_counter()
+    state0, burns = None, ()
+    if formation is not None:
+        leader = initial_state_sun_synchronous(t_start, o.altitude_km * 1e3, o.ltan_h,
+                                               inclination_deg=o.inclination_deg,
+                                               u0_deg=o.u0_deg)
+        a_m = 1.0 / (2.0 / np.linalg.norm(leader[:3])
+                     - leader[3:] @ leader[3:] / GM_EARTH_M3_S2)
+        state0 = follower_initial_state(leader, formation.roe(a_m),
+                                        intermediate_to_gcrf_matrix(t_start))
+        n_days = int((_epoch(world_end) - _epoch(world_start)) // _DAY) + 1
+        burns = daily_manoeuvres(formation.manoeuvres, _epoch(world_start), n_days)
     truth = simulate_truth_orbit(
         t_start, t_end, seed=settings.int_seed(f"truth/{sat}"), step_s=o.step_s,
         altitude_m=o.altitude_km * 1e3, ltan_h=o.ltan_h, inclination_deg=o.inclination_deg,
         u0_deg=o.u0_deg, dynamics=settings.dynamics, eop=eop,
         models={"gravity_field": models["field"], "space_weather": models["space_weather"],
-                "ocean_tides": models["ocean"]})
+                "ocean_tides": models["ocean"]}, state0=state0, manoeuvres=burns)
     truth.attrs["satellite"] = sat
-    log.info("truth orbit of %s: %s to %s, %d epochs, %.1f s", sat, t_start, t_end,
-             truth.sizes["time"], _time.perf_counter() - clock)
+    if formation is not None:
+        truth.attrs["formation_leader"] = formation.leader
+        truth.attrs["formation_roe_m"] = formation.roe(1.0)
+    log.info("truth orbit of %s: %s to %s, %d epochs, %d burns, %.1f s", sat, t_start, t_end,
+             truth.sizes["time"], len(burns), _time.perf_counter() - clock)
     return truth
+
+
+def write_manoeuvre_file(truth: xr.Dataset, path) -> None:
+    """Write the burns of a truth orbit (:func:`simulate_truth`) as the satellite's manoeuvre
+    file (:mod:`leopod.io.manoeuvre`; the header only when it has none)."""
+    burns = [Manoeuvre(s, e, tuple(float(x) for x in a)) for s, e, a in
+             zip(truth["manoeuvre_start"].values, truth["manoeuvre_end"].values,
+                 truth["manoeuvre_acc_rtn_m_s2"].values)]
+    write_manoeuvres(path, burns, satellite=str(truth.attrs.get("satellite", "")))
 
 
 def _campaign_biases(settings: SimulationSettings, svs: Sequence[str], sat: str | None,

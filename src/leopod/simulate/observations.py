@@ -32,7 +32,9 @@ For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS sat
 * first-order ionosphere ``I_b = 40.3·10¹⁶ STEC / f_b²`` [m] (STEC in TECU) from a thin shell
   ``shell_height_m`` above the LEO: ``STEC = VTEC / cos z'`` with ``sin z' = r/(r + h)
   cos e`` (e the local elevation at the LEO) and a day/night VTEC
-  ``V_night + (V_day − V_night) max(0, r̂·ŝ)`` (ŝ the Sun direction);
+  ``V_night + (V_day − V_night) max(0, r̂·ŝ)`` (ŝ the Sun direction), a smooth function of
+  the receiver position and the line of sight, nearly common to two receivers a few km apart
+  (:mod:`leopod.simulate.ionosphere`);
 * code and phase biases of :mod:`leopod.simulate.biases` and integer ambiguities per pass;
 * optionally (``bds2_scb``) the BDS-2 satellite-induced code bias ``s_i = −Δ(type, band, e*)``
   on the B1I/B2I/B3I codes of BDS-2 IGSO/MEO satellites: the Wanninger & Beer (2015) table
@@ -89,6 +91,7 @@ from leopod.numerics.interpolate import interpolate_table
 from leopod.settings import Settings
 from leopod.simulate.biases import SimulatedBiases
 from leopod.simulate.code_bias_map import CodeBiasMap
+from leopod.simulate.ionosphere import thin_shell_stec_tecu
 from leopod.simulate.tracking import passes, track
 from leopod.simulate.world import CircularOrbit, KeplerOrbit, RandomWalkClock
 from leopod.time.calendar import seconds_since
@@ -363,12 +366,10 @@ def _signals_by_sv(svs, signal_codes: Mapping[str, Sequence[str]]):
 
 
 def _stec_tecu(geo: _Geometry, leo_pos: np.ndarray, settings: ObservationSettings):
-    """Slant TEC of the thin shell above the LEO [TECU], (n, s)."""
-    r = np.linalg.norm(leo_pos, axis=-1)[:, None]
-    sin_z = r / (r + settings.shell_height_m) * np.cos(np.radians(geo.local_el_deg))
-    night, day = settings.vtec_tecu
-    vtec = night + (day - night) * np.clip(geo.sun_cos, 0.0, None)[:, None]
-    return vtec / np.sqrt(1.0 - np.clip(sin_z, 0.0, 0.999) ** 2)
+    """Slant TEC of the thin shell above the LEO [TECU], (n, s)
+    (:mod:`leopod.simulate.ionosphere`)."""
+    return thin_shell_stec_tecu(np.linalg.norm(leo_pos, axis=-1)[:, None], geo.local_el_deg,
+                                geo.sun_cos, settings.vtec_tecu, settings.shell_height_m)
 
 
 def _var(values, units: str, long_name: str, dims=("time", "sv")):

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import logging
 import time as _time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import erfa
@@ -40,8 +40,10 @@ from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import circular_orbit
 from leopod.dynamics.integrator import DEFAULT_ORDER, DEFAULT_STEP_S, integrate
 from leopod.frames.earth_rotation import cip_xys, gcrf_to_itrf
+from leopod.io.manoeuvre import Manoeuvre
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3_write import write_sp3
+from leopod.simulate.manoeuvres import with_manoeuvres
 from leopod.simulate.truth_forces import _RTN, TruthDynamics, TruthForces, truth_force_config
 from leopod.simulate.world import _J2, CircularOrbit
 from leopod.time.calendar import J2000_TT, from_seconds, seconds_since
@@ -217,7 +219,9 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
                          dynamics: TruthDynamics | None = None,
                          models: Mapping[str, object] | None = None,
                          integrator_step_s: float = DEFAULT_STEP_S,
-                         eop: EarthOrientation | None = None) -> xr.Dataset:
+                         eop: EarthOrientation | None = None,
+                         state0: np.ndarray | None = None,
+                         manoeuvres: Sequence[Manoeuvre] = ()) -> xr.Dataset:
     """Integrate the truth orbit over [t_start, t_end] (module docstring).
 
     Parameters
@@ -239,6 +243,13 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
         Gauss–Jackson step [s] (5 s resolves a degree-150 field even at 400 km).
     eop : EarthOrientation, optional
         EOP (default: installed IERS data).
+    state0 : ndarray, shape (6,), optional
+        GCRF initial state at ``t_start`` [m, m/s] instead of the one of the orbit keys (a
+        formation follower, :func:`leopod.simulate.formation.follower_initial_state`).
+    manoeuvres : sequence of Manoeuvre
+        Burns (constant RTN accelerations) added to the stochastic accelerations
+        (:func:`leopod.simulate.manoeuvres.with_manoeuvres`), listed in the variables
+        ``manoeuvre_start``, ``manoeuvre_end`` and ``manoeuvre_acc_rtn_m_s2``.
 
     Returns
     -------
@@ -257,9 +268,10 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
     dyn = TruthDynamics.from_config({}) if dynamics is None else dynamics
     forces = truth_force_config(span_s, seed=seed, dynamics=dyn, models=models)
     model = build_force_model(ForceModelSettings.from_config(forces.config), t0, 0.0, span_s, eop=eop)
-    params = forces.parameter_vector(model)
-    state0 = initial_state_sun_synchronous(t0, altitude_m, ltan_h,
-                                           inclination_deg=inclination_deg, u0_deg=u0_deg)
+    model, params = with_manoeuvres(model, forces.parameter_vector(model), manoeuvres, t0)
+    if state0 is None:
+        state0 = initial_state_sun_synchronous(t0, altitude_m, ltan_h,
+                                               inclination_deg=inclination_deg, u0_deg=u0_deg)
     t_out = step_s * np.arange(int(np.floor(span_s / step_s + 1e-9)) + 1)
     clock = _time.perf_counter()
     drag = np.array([name.startswith("drag_scale") for name in model.parameters])
@@ -297,6 +309,17 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
                                     forces.stochastic_acc_rtn_m_s2,
                                     {"units": "m s-2", "long_name": "true unmodelled "
                                      "acceleration in R, T, N per interval"}),
+        "manoeuvre_start": ("manoeuvre", np.array([m.start for m in manoeuvres],
+                                                  dtype="datetime64[ns]"),
+                            {"long_name": "start of the burn (GPS)"}),
+        "manoeuvre_end": ("manoeuvre", np.array([m.end for m in manoeuvres],
+                                                dtype="datetime64[ns]"),
+                          {"long_name": "end of the burn (GPS)"}),
+        "manoeuvre_acc_rtn_m_s2": (("manoeuvre", "rtn"),
+                                   np.array([m.acc_rtn_m_s2 for m in manoeuvres],
+                                            dtype=float).reshape(-1, 3),
+                                   {"units": "m s-2", "long_name": "constant thrust "
+                                    "acceleration of the burn in R, T, N"}),
     }
     coords = {"time": times, "xyz": _XYZ, "rtn": _RTN,
               "drag_interval_start": from_seconds(forces.drag_edges_s[:-1], t0),
