@@ -168,7 +168,7 @@ def manoeuvre_file(sat):
     """The satellite's manoeuvre file (simulated: its simulated burns), or None."""
     path = CONFIG["satellites"][sat]["manoeuvres"]
     if path is None and is_simulated(sat):
-        path = expand(rules.simulate.output.manoeuvres, sat=sat)[0]
+        path = expand(rules.simulate_truth.output.manoeuvres, sat=sat)[0]
     return path
 
 
