@@ -164,6 +164,14 @@ def reference_template(sat):
     return None
 
 
+def manoeuvre_file(sat):
+    """The satellite's manoeuvre file (simulated: its simulated burns), or None."""
+    path = CONFIG["satellites"][sat]["manoeuvres"]
+    if path is None and is_simulated(sat):
+        path = expand(rules.simulate_truth.output.manoeuvres, sat=sat)[0]
+    return path
+
+
 def slr_template(sat):
     """Path template of the satellite's CRD normal points (simulated: written beside the
     observations), or None."""
@@ -295,6 +303,8 @@ def float_pod_inputs(wildcards):
         files["antenna"] = files["antenna"][0]
     files.update(applied_code_bias_map(wildcards))
     files.update(signal_bias_files(wildcards, days)[0])
+    if manoeuvre_file(sat):
+        files["manoeuvres"] = manoeuvre_file(sat)
     return files
 
 

@@ -3,7 +3,8 @@
 :class:`leopod.dynamics.forces.ForceModel` sums Python force objects, each calling its own
 jitted kernel: ~100 µs of Python glue per evaluation on top of the kernels. Here the forces
 of :func:`leopod.dynamics.force_config.build_force_model` (Earth gravity with tides, Sun and
-Moon, relativity, drag, solar radiation pressure, empirical accelerations) are evaluated by one
+Moon, relativity, drag, solar radiation pressure, empirical accelerations,
+manoeuvres) are evaluated by one
 numba function, :func:`force_sum`, from the data of the force objects (their
 ``kernel_data()``): the same kernels, the same interpolated Earth rotation, Sun and Moon, the
 same sums in the same order, so accelerations and partials equal those of
@@ -28,6 +29,7 @@ from leopod.dynamics.drag import Drag, _density_at, _drag_kernel
 from leopod.dynamics.empirical import Empirical, _local_partials
 from leopod.dynamics.forces import ForceModel
 from leopod.dynamics.gravity_field import EarthGravity, _gravity_kernel
+from leopod.dynamics.manoeuvre import Manoeuvres
 from leopod.dynamics.relativity import Relativity, _relativity_kernel
 from leopod.dynamics.srp import SolarRadiation, _cannonball
 from leopod.dynamics.third_body import ThirdBodies, _third_body_kernel
@@ -35,7 +37,7 @@ from leopod.numerics.interpolate import lagrange_equidistant
 
 __all__ = ["CompiledForceModel", "fill_acceleration", "force_sum"]
 
-_OPTIONAL = (ThirdBodies, Relativity, Drag, SolarRadiation, Empirical)
+_OPTIONAL = (ThirdBodies, Relativity, Drag, SolarRadiation, Empirical, Manoeuvres)
 
 
 @numba.njit(cache=True)
@@ -61,7 +63,7 @@ def force_sum(t, pos, vel, params, data, acc, da_dr, da_dv, da_dp):  # pragma: n
     Arguments and results (filled in place) as :meth:`leopod.dynamics.forces.ForceModel.evaluate`:
     ``acc`` (3,), ``da_dr`` and ``da_dv`` (3, 3), ``da_dp`` (3, P).
     """
-    gravity, third, relativity, drag, srp, empirical = data
+    gravity, third, relativity, drag, srp, empirical, manoeuvre = data
     zero3 = np.zeros((3, 3))
     acc[:] = 0.0
     da_dr[:, :] = 0.0
@@ -115,6 +117,16 @@ def force_sum(t, pos, vel, params, data, acc, da_dr, da_dv, da_dp):  # pragma: n
                 s += local[i, j] * params[first + j]
                 da_dp[i, first + j] = local[i, j]
             acc[i] += s
+    if manoeuvre[0]:
+        offset, starts, ends = manoeuvre[1], manoeuvre[2], manoeuvre[3]
+        k = np.searchsorted(starts, t, side="right") - 1
+        if k >= 0 and t < ends[k]:
+            first = offset + 3 * k
+            local = _local_partials(pos, vel, np.arange(3), np.zeros(1, np.int64))
+            for i in range(3):
+                for j in range(3):
+                    acc[i] += local[i, j] * params[first + j]
+                    da_dp[i, first + j] = local[i, j]
 
 
 @numba.njit(cache=True)
@@ -151,6 +163,7 @@ def _absent(force_type: type, body_grid: tuple) -> tuple:
             Drag: (False, 0, edges, 0.0, (0.0, 1.0, 2, np.zeros((2, 7)))),
             SolarRadiation: (False, 0, edges, 0.0, 0.0, False),
             Empirical: (False, 0, edges, np.zeros(1, np.int64), np.zeros(1, np.int64)),
+            Manoeuvres: (False, 0, edges, edges),
             }[force_type]
 
 
@@ -161,7 +174,7 @@ class CompiledForceModel:
     ----------
     force_model : ForceModel
     data : tuple
-        ``(gravity, third_body, relativity, drag, srp, empirical)`` kernel data.
+        ``(gravity, third_body, relativity, drag, srp, empirical, manoeuvre)`` kernel data.
     env : ArcEnvironment
         The grids the forces interpolate (their span limits the integration).
     """

@@ -19,7 +19,10 @@ TT − GPST is constant, ``t_s`` is also GPS seconds since ``t_ref``):
 * :class:`leopod.dynamics.srp.SolarRadiation` — cannonball with the conical Earth shadow, scale
   factor(s) (M&G 2000, sec. 3.4);
 * :class:`leopod.dynamics.empirical.Empirical` — constant + once-per-revolution accelerations
-  per interval.
+  per interval;
+* :class:`leopod.dynamics.manoeuvre.Manoeuvres` — a constant R/T/N acceleration over each burn
+  of the satellite's manoeuvre list (``manoeuvres`` of :func:`build_force_model`; the section
+  ``manoeuvre`` holds their a-priori sigma).
 
 Slowly varying inputs (Earth rotation, Sun, Moon, tidal corrections) are interpolated on the
 time grids of :class:`leopod.dynamics.environment.ArcEnvironment`. Per call (Swarm-A, degree 120
@@ -29,7 +32,7 @@ with its gradient): gravity ~40 µs, MSIS drag ~50 µs (Harris–Priester ~30 µ
 Configuration: :class:`ForceModelSettings`, one typed section per force
 (:class:`GravitySettings`, :class:`TideSettings`, :class:`ThirdBodySettings`,
 :class:`RelativitySettings`, :class:`DragSettings`, :class:`SrpSettings`,
-:class:`EmpiricalSettings`) and the grids of :class:`EnvironmentSettings`, built with
+:class:`EmpiricalSettings`, :class:`ManoeuvreSettings`) and the grids of :class:`EnvironmentSettings`, built with
 :meth:`ForceModelSettings.from_config` from the ``pod.forces`` section of a campaign (or any
 mapping of that shape). A force is off when its section is absent, ``None``, ``False`` or has
 ``enabled: False``; the keys of a section present default to the campaign schema's
@@ -47,7 +50,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import logging
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -59,18 +62,20 @@ from leopod.dynamics.empirical import Empirical, EmpiricalModel
 from leopod.dynamics.environment import ArcEnvironment
 from leopod.dynamics.forces import Force, ForceModel, PointMassGravity, interval_edges
 from leopod.dynamics.gravity_field import EarthGravity, GravityField, decimal_year
+from leopod.dynamics.manoeuvre import Manoeuvres
 from leopod.dynamics.ocean_tides import OceanTides
 from leopod.dynamics.relativity import Relativity
 from leopod.dynamics.srp import SolarRadiation
 from leopod.dynamics.third_body import ThirdBodies
 from leopod.dynamics.tides import TideModel
 from leopod.io.icgem import read_icgem
+from leopod.io.manoeuvre import Manoeuvre
 from leopod.io.space_weather import read_space_weather
 from leopod.settings import Settings
 from leopod.time.eop import EarthOrientation
 
 __all__ = ["DragSettings", "EmpiricalSettings", "EnvironmentSettings", "ForceModelSettings",
-           "GravitySettings", "RelativitySettings", "SrpSettings", "ThirdBodySettings",
+           "GravitySettings", "ManoeuvreSettings", "RelativitySettings", "SrpSettings", "ThirdBodySettings",
            "TideSettings", "arc_environment", "build_force_model"]
 
 logger = logging.getLogger(__name__)
@@ -186,9 +191,20 @@ class EmpiricalSettings(Settings):
     sigma: float | None
 
 
+@dataclass(frozen=True)
+class ManoeuvreSettings(Settings):
+    """Accelerations of the listed burns: estimated or not, a-priori sigma [m/s²]."""
+
+    SCHEMA_DEF = "force_manoeuvre"
+
+    estimate: bool
+    sigma: float | None
+
+
 _SECTIONS = {"gravity": GravitySettings, "tides": TideSettings,
              "third_body": ThirdBodySettings, "relativity": RelativitySettings,
-             "drag": DragSettings, "srp": SrpSettings, "empirical": EmpiricalSettings}
+             "drag": DragSettings, "srp": SrpSettings, "empirical": EmpiricalSettings,
+             "manoeuvre": ManoeuvreSettings}
 
 
 @dataclass(frozen=True)
@@ -203,6 +219,7 @@ class ForceModelSettings:
     drag: DragSettings | None
     srp: SrpSettings | None
     empirical: EmpiricalSettings | None
+    manoeuvre: ManoeuvreSettings | None
 
     @classmethod
     def from_config(cls, section: Mapping) -> ForceModelSettings:
@@ -347,7 +364,8 @@ def arc_environment(settings: ForceModelSettings, t_ref, t_start_s: float, t_end
 
 def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_end_s: float, *,
                       eop: EarthOrientation | None = None,
-                      environment: ArcEnvironment | None = None) -> ForceModel:
+                      environment: ArcEnvironment | None = None,
+                      manoeuvres: Sequence[Manoeuvre] = ()) -> ForceModel:
     """Force model of an arc (module docstring).
 
     Parameters
@@ -361,11 +379,15 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
         EOP (default: installed IERS data).
     environment : ArcEnvironment, optional
         Grids to reuse (must cover the arc); built from ``settings.environment`` otherwise.
+    manoeuvres : sequence of Manoeuvre, optional
+        Burns of the satellite (:func:`leopod.io.manoeuvre.read_manoeuvres`; epochs GPS time);
+        those acting inside the arc are modelled when ``settings.manoeuvre`` is on.
 
     Returns
     -------
     ForceModel
-        Forces in the order gravity, third bodies, relativity, drag, SRP, empirical.
+        Forces in the order gravity, third bodies, relativity, drag, SRP, empirical,
+        manoeuvres.
     """
     env = (arc_environment(settings, t_ref, t_start_s, t_end_s, eop=eop) if environment is None
            else environment)
@@ -381,6 +403,16 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
                       (settings.empirical, _empirical)):
         if cfg is not None:
             forces.append(make(cfg, env))
+    burns = None
+    if settings.manoeuvre is not None:
+        burns = Manoeuvres.of(manoeuvres, t_ref, t_start_s, t_end_s,
+                              estimate=settings.manoeuvre.estimate,
+                              sigma=settings.manoeuvre.sigma)
+    elif manoeuvres:
+        logger.warning("%d manoeuvres listed but pod.forces.manoeuvre is off: not modelled",
+                       len(manoeuvres))
+    if burns is not None:
+        forces.append(burns)
     model = ForceModel(forces)
     logger.info("force model: %s; %d parameters", ", ".join(type(f).__name__ for f in forces),
                 model.n_params)

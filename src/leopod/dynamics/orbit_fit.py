@@ -23,6 +23,7 @@ a cheaper force model, :func:`starting_forces`.
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -39,6 +40,7 @@ from leopod.dynamics.forces import (
 from leopod.dynamics.integrator import DEFAULT_STEP_S, Trajectory, integrate
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
+from leopod.io.manoeuvre import Manoeuvre
 from leopod.time.calendar import seconds_since
 from leopod.time.eop import EarthOrientation
 
@@ -192,7 +194,8 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
               vel_m_s=None, state0_gcrf=None, t_ref=None, sigma_obs_m: float = 0.01,
               max_iterations: int = 10, tolerance: float = 0.01,
               eop: EarthOrientation | None = None, step_s: float = DEFAULT_STEP_S,
-              environment: ArcEnvironment | None = None) -> FitResult:
+              environment: ArcEnvironment | None = None,
+              manoeuvres: Sequence[Manoeuvre] = ()) -> FitResult:
     """Fit a dynamic orbit to positions by batch least squares (module docstring).
 
     Parameters
@@ -225,6 +228,9 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
         Integration step [s].
     environment : ArcEnvironment, optional
         Grids of Earth rotation, Sun and Moon to share (covering the fitted arc and t_ref).
+    manoeuvres : sequence of Manoeuvre, optional
+        Burns of the satellite, modelled with ``force_settings.manoeuvre``
+        (:func:`leopod.dynamics.force_config.build_force_model`).
 
     Returns
     -------
@@ -237,7 +243,7 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
     t_s = seconds_since(times, t_ref)
     # from t_ref on: the state is propagated back to it if the first epochs are missing
     force_model = build_force_model(force_settings, t_ref, min(0.0, t_s[0]), t_s[-1], eop=eop,
-                                    environment=environment)
+                                    environment=environment, manoeuvres=manoeuvres)
     if state0_gcrf is not None:
         state = np.asarray(state0_gcrf, dtype=float).copy()
     elif vel is not None and np.isfinite(vel[0]).all():

@@ -50,6 +50,7 @@ from leopod.frames.leo_attitude import LeoAttitude
 from leopod.gnss.attitude import satellite_families
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
+from leopod.io.manoeuvre import Manoeuvre, read_manoeuvres
 from leopod.io.netcdf import merge_days
 from leopod.io.product_netcdf import read_antenna_product, read_clock_product, read_orbit_product
 from leopod.settings import Settings
@@ -129,6 +130,9 @@ class ArcData:
         ``absolute`` mode) before the POD (None: nothing removed).
     files : list of str
         The files read (provenance).
+    manoeuvres : tuple of Manoeuvre
+        Burns of the satellite (:func:`leopod.io.manoeuvre.read_manoeuvres`), modelled by the
+        force model's ``manoeuvre`` section.
     """
 
     obs: list[xr.Dataset]
@@ -140,6 +144,7 @@ class ArcData:
     code_maps: xr.Dataset | None = None
     files: list[str] = field(default_factory=list)
     signal_biases: SignalBiases | None = None
+    manoeuvres: tuple[Manoeuvre, ...] = ()
 
     @classmethod
     def read(cls, files: Mapping, signal_bias: Mapping | None = None) -> ArcData:
@@ -147,7 +152,8 @@ class ArcData:
         and ``clock`` (daily GNSS products) lists of paths, optional ``antenna`` (satellite
         antennas) and ``code_bias`` (maps) paths, optional ``signal_bias_osb`` and
         ``signal_bias_dcb`` lists described by ``signal_bias``
-        (:func:`leopod.gnss.signal_bias.read_signal_biases`); other keys are ignored.
+        (:func:`leopod.gnss.signal_bias.read_signal_biases`), an optional ``manoeuvres`` file
+        (:mod:`leopod.io.manoeuvre`); other keys are ignored.
 
         The products are the netCDF files of the gnss_products rule, parsed once per day
         (``.nc``), or the SP3, RINEX clock and ANTEX files themselves
@@ -156,6 +162,7 @@ class ArcData:
         obs, quality, leo = files["obs"], files["quality"], files["leo"]
         orbit, clock = files["orbit"], files["clock"]
         antenna, code_bias = files.get("antenna"), files.get("code_bias")
+        manoeuvres = files.get("manoeuvres")
         return cls(obs=[xr.load_dataset(p) for p in obs],
                    quality=[xr.load_dataset(p) for p in quality],
                    leo=[xr.load_dataset(p) for p in leo],
@@ -164,8 +171,10 @@ class ArcData:
                    antex=read_antenna_product(antenna) if antenna else None,
                    code_maps=xr.load_dataset(code_bias) if code_bias else None,
                    files=[*map(str, obs), *map(str, quality), *map(str, leo), *map(str, orbit),
-                          *map(str, clock), *([str(antenna)] if antenna else [])],
-                   signal_biases=read_signal_biases(files, signal_bias))
+                          *map(str, clock), *([str(antenna)] if antenna else []),
+                          *([str(manoeuvres)] if manoeuvres else [])],
+                   signal_biases=read_signal_biases(files, signal_bias),
+                   manoeuvres=read_manoeuvres(manoeuvres)[0] if manoeuvres else ())
 
 
 @dataclass(eq=False)
@@ -312,7 +321,7 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     t_s = seconds_since(po.times, t_ref)
     environment = arc_environment(forces, t_ref, t_s[0], t_s[-1], eop=eop)
     force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop,
-                                    environment=environment)
+                                    environment=environment, manoeuvres=data.manoeuvres)
     if apriori_orbit is None:
         apriori = xr.concat([leo.pos_m for leo in data.leo], dim="time")
         _, first = np.unique(apriori.time.values, return_index=True)

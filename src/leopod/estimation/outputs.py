@@ -46,7 +46,7 @@ def _unit(name: str) -> str:
         return "m s-1"
     if name.endswith("_m") or name in ("x0_m", "y0_m", "z0_m"):
         return "m"
-    if name.startswith("emp_"):
+    if name.startswith(("emp_", "man_")):
         return "m s-2"
     return "1"
 
