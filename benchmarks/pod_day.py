@@ -29,11 +29,10 @@ from pathlib import Path
 from _counting import IntegrationCounter
 
 REPO = Path(__file__).resolve().parents[1]
-SAT = "hy2b-sim"
 STEPS = ("float_pod", "ambiguity", "fixed_pod")
 
 
-def _one(step: str, date: str, root: Path, config: Path) -> None:
+def _one(step: str, date: str, root: Path, config: Path, sat: str) -> None:
     """Run one job in this process and print its figures as JSON."""
     import importlib.util
 
@@ -41,7 +40,7 @@ def _one(step: str, date: str, root: Path, config: Path) -> None:
 
     logging.basicConfig(level=logging.WARNING)
     job = mock_snakemake(step, root=root, configfiles=[config], snakefile=REPO / "Snakefile",
-                         sat=SAT, date=date)
+                         sat=sat, date=date)
     spec = importlib.util.spec_from_file_location(step, REPO / "scripts" / f"{step}.py")
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
@@ -61,23 +60,29 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--directory", type=Path, default=REPO)
     parser.add_argument("--configfile", type=Path, default=REPO / "config" / "config.yaml")
+    parser.add_argument("--sat", help="POD line (satellite id or <sat>_<variant>); default: "
+                        "the first satellite of the campaign")
     parser.add_argument("--step", choices=STEPS, help=argparse.SUPPRESS)   # internal
     args = parser.parse_args()
     root = args.directory.resolve()
+    if args.sat is None:
+        from leopod.workflow.config import load_campaign
+
+        args.sat = next(iter(load_campaign(args.configfile)["satellites"]))
     if args.step:
-        _one(args.step, args.date, root, args.configfile.resolve())
+        _one(args.step, args.date, root, args.configfile.resolve(), args.sat)
         return
-    target = f"results/ambiguity/{SAT}/{args.date}.nc"
+    target = f"results/ambiguity/{args.sat}/{args.date}.nc"
     subprocess.run([str(Path(sys.executable).with_name("snakemake")), target, "--cores", "2",
                     "--snakefile", str(REPO / "Snakefile"), "--directory", str(root),
                     "--configfile", str(args.configfile.resolve())],
                    check=True, capture_output=True)
-    print(f"{args.configfile.name}, {SAT} {args.date}: best of {args.repeat} runs per step")
+    print(f"{args.configfile.name}, {args.sat} {args.date}: best of {args.repeat} runs per step")
     for step in STEPS:
         runs = []
         for _ in range(args.repeat):
             out = subprocess.run([sys.executable, __file__, "--step", step, "--date", args.date,
-                                  "--directory", str(root), "--configfile",
+                                  "--directory", str(root), "--sat", args.sat, "--configfile",
                                   str(args.configfile.resolve())], check=True, capture_output=True,
                                  text=True, cwd=REPO / "benchmarks")
             runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
