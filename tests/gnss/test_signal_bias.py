@@ -198,3 +198,27 @@ def test_whu_c1c_from_the_code_p1c1_dcb(shared_data):
                                     mode="clock_reference")
     assert relative.sel(signal="C1C").item() == pytest.approx(0.916e-9 * C_LIGHT_M_S, abs=1e-9)
     assert relative.sel(signal="C1W").item() == 0.0
+
+
+def test_a_code_no_satellite_of_a_system_observes_is_not_warned_about(caplog):
+    """A combined GPS + BDS dataset holds every system's codes, the other systems' empty: the
+    product missing BDS C1C (a GPS code) is no news; a code a BDS satellite does observe
+    without any OSB is (the correction is left out: the user must know)."""
+    svs = ("G01", "C19")
+    osb = _osb("2020-153", {"C1C": [0.3, np.nan], "C1W": [0.1, np.nan],
+                            "C2W": [0.2, np.nan], "L1C": [0.01, np.nan],
+                            "L2W": [0.02, np.nan]}, svs=svs)
+    osb = osb.isel(bias=np.flatnonzero(np.isfinite(osb.value_m.values)))
+    product = SignalBiasProduct("2020-153", osb=osb)
+    obs = _obs("2020-06-01T00:00", 2, svs=svs)
+    for s in SIGNALS:
+        obs[s].loc[{"sv": "C19"}] = np.nan          # BDS observes none of the GPS codes
+    biases = SignalBiases({"2020-153": product}, "absolute", "2020-153")
+    with caplog.at_level(logging.WARNING):
+        correct_signal_biases(obs, biases, SIGNALS)
+    assert "no OSB (nor DCB) of C" not in caplog.text
+    obs["C1C"].loc[{"sv": "C19"}] = 2.0e7            # now a BDS satellite reports C1C
+    caplog.clear()
+    with caplog.at_level(logging.WARNING):
+        correct_signal_biases(obs, biases, SIGNALS)
+    assert "no OSB (nor DCB) of C C1C" in caplog.text

@@ -207,7 +207,8 @@ def _dcb_m(ds: xr.Dataset, sv: str) -> float:
 
 
 def signal_corrections_m(product: SignalBiasProduct, svs: Sequence[str],
-                         signals: Sequence[str], epoch, *, mode: str) -> xr.DataArray:
+                         signals: Sequence[str], epoch, *, mode: str,
+                         observed: Mapping[str, set] | None = None) -> xr.DataArray:
     """Correction of every satellite and signal [m], to be **subtracted** from the observation.
 
     Parameters
@@ -222,6 +223,10 @@ def signal_corrections_m(product: SignalBiasProduct, svs: Sequence[str],
         Epoch at which the products are evaluated (GPS time).
     mode : {"absolute", "clock_reference"}
         Module docstring.
+    observed : mapping of str to set of str, optional
+        Signals each system has observations of: a code left uncorrected is warned about
+        only if observed (a combined receiver's dataset holds every system's signals, most of
+        them empty for the other systems). None: warn for every signal.
 
     Returns
     -------
@@ -246,7 +251,8 @@ def signal_corrections_m(product: SignalBiasProduct, svs: Sequence[str],
         for k, signal in enumerate(signals):
             if mode == "absolute":
                 if not product.knows(signal, None, system):
-                    if signal[0] == "C" and product.osb is not None:
+                    if signal[0] == "C" and product.osb is not None and (
+                            observed is None or signal in observed.get(system, ())):
                         log.warning("%s: no OSB (nor DCB) of %s %s: code left uncorrected",
                                     product.source, system, signal)
                     continue
@@ -257,6 +263,8 @@ def signal_corrections_m(product: SignalBiasProduct, svs: Sequence[str],
                     continue
                 reference = next((r for r in refs if r[1] == signal[1]), None)
                 if reference is None or not product.knows(signal, reference, system):
+                    if observed is not None and signal not in observed.get(system, ()):
+                        continue
                     log.warning("%s: nothing relates %s %s to the clock-reference code of its "
                                 "band (%s): code left uncorrected", product.source or "no "
                                 "bias product", system, signal, " ".join(refs) or "none")
@@ -398,7 +406,12 @@ def correct_signal_biases(obs: xr.Dataset, biases: SignalBiases | None,
         summary["days"][day] = product.day
         epoch = (times[rows][0] + (times[rows][-1] - times[rows][0]) / 2
                  if product.day == day else product.start + _HALF_DAY)
-        corr = signal_corrections_m(product, svs, present, epoch, mode=biases.mode)
+        observed: dict = {}
+        for s in present:
+            for j in np.flatnonzero(np.isfinite(new[s][rows]).any(axis=0)):
+                observed.setdefault(svs[j][0], set()).add(s)
+        corr = signal_corrections_m(product, svs, present, epoch, mode=biases.mode,
+                                    observed=observed)
         for k, s in enumerate(present):
             values = new[s][rows]
             c = corr.values[:, k][None, :]
