@@ -40,6 +40,20 @@ def _split(inputs: Mapping, key: str) -> dict:
     return {k[len(prefix):]: v for k, v in inputs.items() if k.startswith(prefix)}
 
 
+def _float_passes(fs: FloatSolution) -> xr.Dataset:
+    """The float residuals with ``pass_index`` −1 for passes without a float ambiguity (too
+    few phase observations, dropped by the POD): the DD nodes are formed of estimated
+    ambiguities only, as the single differences of the ambiguity step."""
+    res = fs.residuals.copy()
+    pid = res.pass_index
+    known = np.isin(pid.values, fs.ambiguities.pass_index.values)
+    dropped = np.unique(pid.values[(pid.values >= 0) & ~known])
+    if dropped.size:
+        log.info("%d passes without a float ambiguity left out of the DDs", dropped.size)
+    res["pass_index"] = pid.where(known | (pid < 0), -1)
+    return res
+
+
 def _truth_rtn(path_a, path_b, fixed: xr.Dataset) -> np.ndarray:
     """Truth baseline (ITRF) of the simulated pair at the baseline epochs (m, 3)."""
     pos = []
@@ -63,7 +77,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                                 ambiguities=files["float_ambiguities"],
                                 residuals=files["float_residuals"], orbit=files["float_orbit"])
         floats.append(fs)
-        receivers.append(ReceiverArc(fs.ambiguities, fs.residuals, merge_days(data.obs)))
+        receivers.append(ReceiverArc(fs.ambiguities, _float_passes(fs), merge_days(data.obs)))
         fixed.append(FixedSolutions(date, data, signals, arc, pod, forces, p["pco_body_m"], fs,
                                     code_correction=code_correction, yaw_flips=p["yaw_flips"],
                                     attitude=LeoAttitude.of(p["attitude"])))
