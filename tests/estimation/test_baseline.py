@@ -69,3 +69,54 @@ def test_without_constraints_the_arcs_are_independent():
     np.testing.assert_allclose(joint.dx_a, np.linalg.solve(a.normals.matrix, a.normals.rhs),
                                rtol=1e-8)
     assert np.all(joint.covariance[:5, 5:] == 0.0)
+
+
+def _phase_arc(rng, k, n_pass, rows_per_pass, sigma_m):
+    """Synthetic phase-only arc: each pass sees its satellite along a slowly varying
+    direction, so its float ambiguity is strongly correlated with the position parameters
+    (as for short GNSS passes); returns the arc linearised at zero and the true values."""
+    n = k + n_pass
+    rows = []
+    for p in range(n_pass):
+        u = rng.normal(size=k)
+        u /= np.linalg.norm(u)
+        for _ in range(rows_per_pass):
+            r = np.zeros(n)
+            r[:k] = u + 0.1 * rng.normal(size=k)
+            r[k + p] = 1.0
+            rows.append(r)
+    h = np.array(rows)
+    x = rng.normal(size=n)
+    w = np.full(h.shape[0], 1.0 / sigma_m**2)
+    l = h @ x + rng.normal(scale=sigma_m, size=h.shape[0])
+    ne = NormalEquations(matrix=h.T @ (w[:, None] * h), rhs=h.T @ (w * l), ltpl=0.0,
+                         n_rows=h.shape[0])
+    return ArcNormals(normals=ne, k=k, active=np.arange(n_pass), ambiguity_m=np.zeros(n_pass),
+                      _solution=None, _state=None), x
+
+
+def test_wrong_integer_is_a_baseline_jump():
+    """A DD fixed one GPS narrow-lane wavelength (0.107 m) off moves the baseline (here the
+    difference of the two arcs' position parameters) by many of its formal sigmas, while the
+    right integer leaves it within them: closed loop with known truth."""
+    rng = np.random.default_rng(7)
+    k, n_pass = 3, 6
+    (a, xa), (b, xb) = (_phase_arc(rng, k, n_pass, 10, 0.003) for _ in range(2))
+    passes = np.arange(n_pass)
+    i, j = np.array([0, 1, 2, 3, 4]), np.array([5, 5, 5, 5, 5])
+    true_dd = (xb[k + i] - xa[k + i]) - (xb[k + j] - xa[k + j])
+
+    def baseline(values):
+        c = DdConstraints(i, i, j, j, values, np.full(i.size, 1e-3))
+        joint = joint_solve(a, b, *dd_rows(a, b, passes, passes, c))
+        sel = np.zeros((k, joint.covariance.shape[0]))
+        sel[np.arange(k), joint.n_a + np.arange(k)] = 1.0
+        sel[np.arange(k), np.arange(k)] = -1.0
+        sigma = np.sqrt(np.diag(sel @ joint.covariance @ sel.T))
+        return joint.dx_b[:k] - joint.dx_a[:k], sigma
+
+    true_base = xb[:k] - xa[:k]
+    right, sigma = baseline(true_dd)
+    assert np.all(np.abs(right - true_base) < 4 * sigma)
+    wrong, _ = baseline(true_dd + np.array([0.107, 0, 0, 0, 0]))
+    assert np.max(np.abs(wrong - true_base) / sigma) > 10
