@@ -26,6 +26,7 @@ include: "workflow/rules/code_bias.smk"
 include: "workflow/rules/pod.smk"
 include: "workflow/rules/kinematic.smk"
 include: "workflow/rules/validation.smk"
+include: "workflow/rules/baseline.smk"
 
 
 rule all:

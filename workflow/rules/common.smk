@@ -5,6 +5,7 @@
 # by the rules that write them (rules.<name>.output.<key>).
 import re
 from pathlib import Path
+from types import SimpleNamespace
 
 from leopod.simulate.product_world import ProductSet
 from leopod.workflow.campaign import (
@@ -63,6 +64,12 @@ VARIANTS = {
 }
 #: Satellites whose files the simulate rules write.
 SIMULATED_SATS = [s for s in SATS if CONFIG["satellites"][s].get("source") == "simulate"]
+#: Formation pairs {"<leader>-<follower>": (leader, follower)} of satellites.<sat>.formation.
+PAIRS = {
+    f"{block['formation']['leader']}-{sat}": (block["formation"]["leader"], sat)
+    for sat, block in CONFIG["satellites"].items()
+    if sat in SATS and (block.get("formation") or {}).get("leader") in SATS
+}
 PERIODS = code_bias_periods(CONFIG)
 #: Folder of the leopod sources the rules depend on: src/ of the checkout beside the
 #: Snakefile (None: the imported package).
@@ -75,6 +82,7 @@ wildcard_constraints:
     date=r"\d{4}-\d{3}",
     period=r"\d{4}-\d{2}|campaign",
     solution="float_pod|fixed_pod",
+    pair="|".join(re.escape(p) for p in PAIRS) or "no-formation-pair",
 
 
 # --- configuration and file names ----------------------------------------------------------
@@ -308,6 +316,33 @@ def float_pod_inputs(wildcards):
     return files
 
 
+def baseline_inputs(wildcards):
+    """baseline: float_pod's inputs, float solution and (simulated) truth orbit of the leader
+    (keys a_*) and the follower (b_*) of a formation pair."""
+    files = {}
+    for key, sat in zip(("a", "b"), PAIRS[wildcards.pair], strict=True):
+        w = SimpleNamespace(sat=sat, date=wildcards.date)
+        inputs = float_pod_inputs(w)
+        for name in ("orbit", "parameters", "ambiguities", "residuals"):
+            inputs[f"float_{name}"] = fill(pod_output("float_pod", name), sat=sat,
+                                           date=wildcards.date)
+        if is_simulated(sat):
+            inputs["truth"] = fill(rules.simulate.output.truth_sp3, sat=sat, date=wildcards.date)
+        files.update({f"{key}_{k}": v for k, v in inputs.items()})
+    return files
+
+
+def baseline_pair_params(wildcards):
+    """Per satellite of a pair (leader, follower): name, PCO, attitude, yaw flips, bias spec."""
+    out = []
+    for sat in PAIRS[wildcards.pair]:
+        w = SimpleNamespace(sat=sat, date=wildcards.date)
+        out.append({"sat": sat, "title": sat_name(w), "pco_body_m": sat_pco(w),
+                    "attitude": sat_attitude(w), "yaw_flips": sat_yaw_flips(w),
+                    "signal_bias": arc_signal_bias(w)})
+    return out
+
+
 def kinematic_inputs(wildcards):
     """kinematic_pod: float_pod's inputs, its orbit and, for fixed ambiguities, the ambiguity table."""
     files = float_pod_inputs(wildcards)
@@ -451,6 +486,8 @@ def all_targets():
     targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
     targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
+    if PAIRS and "fixed_pod" in solutions():
+        targets += expand(rules.baseline.output.nc, pair=list(PAIRS), date=DAYS)
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:

@@ -84,6 +84,11 @@ class FixedSolutions:
         self._pod = FixedPod(p.observations, p.products, p.force_model, p.t_ref, pod, start,
                              eop=eop, **p.antennas)
 
+    @property
+    def pod(self) -> FixedPod:
+        """The linearised system (its :meth:`~FixedPod.normals` for joint solutions)."""
+        return self._pod
+
     def solve(self, constraints: tuple | None = None) -> ArcOutputs:
         """The solution with ``(pass_i, pass_j, value_m, sigma_m)`` (:func:`constraints_of`;
         None or none: the float solution again), and its datasets."""

@@ -63,7 +63,7 @@ from leopod.dynamics.forces import (
 )
 from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, pulse_partials
 from leopod.dynamics.orbit_fit import STATE_NAMES
-from leopod.estimation.normals import Rows, accumulate, epoch_clocks, solve
+from leopod.estimation.normals import NormalEquations, Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
 from leopod.estimation.orbit_correction import CorrectedOrbit
 from leopod.estimation.vce import group_redundancy
@@ -74,7 +74,7 @@ from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 from leopod.time.eop import EarthOrientation
 
-__all__ = ["FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
+__all__ = ["ArcNormals", "FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
            "pulse_epochs"]
 
 log = logging.getLogger(__name__)
@@ -974,3 +974,69 @@ class FixedPod:
         state = _update(prob, state, sol)
         orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, sol.dx[:prob.k_orbit])
         return _result("fixed POD", prob, state, orbit, self._model, sol, 1, converged)
+
+    def normals(self) -> ArcNormals:
+        """The arc's reduced normal equations at the float solution, without ambiguity
+        constraints, for a joint solution with another arc
+        (:mod:`leopod.estimation.baseline`).
+
+        The rows are screened as in :meth:`solve` (continuing the float outliers); the
+        a-priori constraints of the arc parameters are included.
+        """
+        prob = self._prob
+        state = prob.load(self._start)
+        sol = _solve_linearised(prob, state, self._model, self._g, True)
+        ne = accumulate(sol.rows)
+        n = sol.active.size
+        ne.matrix[np.diag_indices_from(ne.matrix)] += np.concatenate(
+            [prob.constraint_weight, np.zeros(n)])
+        ne.rhs += np.concatenate([prob.constraint_rhs(state), np.zeros(n)])
+        return ArcNormals(normals=ne, k=prob.k, active=sol.active,
+                          ambiguity_m=prob.ambiguity[sol.active].copy(), _solution=sol,
+                          _state=state)
+
+    def solution(self, normals: ArcNormals, dx: np.ndarray, covariance: np.ndarray,
+                 label: str = "baseline solution") -> PodResult:
+        """The arc's solution for a correction ``dx`` (k + a,) of the parameters of
+        :meth:`normals` (obtained elsewhere, e.g. jointly with another arc) and its
+        covariance ``covariance`` (k + a, k + a) in units of the weights (scaled by the
+        arc's own σ0² in the result). Once per :meth:`normals` (the correction is applied to
+        the estimates that it loaded)."""
+        prob = self._prob
+        sol = normals._solution
+        clocks, res = epoch_clocks(sol.rows, dx)
+        shift = float(np.max(np.linalg.norm(np.einsum("mik,k->mi", self._g[:, :, :prob.k],
+                                                      dx[:prob.k]), axis=1)))
+        sol = _Solution(rows=sol.rows, pair=sol.pair, is_phase=sol.is_phase, active=sol.active,
+                        dx=dx, cov=covariance, clocks=clocks, residuals=res, shift_m=shift)
+        state = _update(prob, normals._state.copy(), sol)
+        orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, dx[:prob.k_orbit])
+        radius_m = float(np.min(np.linalg.norm(self._traj.states[:, :3], axis=1)))
+        converged = shift**2 / radius_m < prob.settings.tolerance_m
+        return _result(label, prob, state, orbit, self._model, sol, 1, converged)
+
+
+@dataclass(eq=False)
+class ArcNormals:
+    """Reduced normal equations of an arc linearised at its float solution
+    (:meth:`FixedPod.normals`).
+
+    Attributes
+    ----------
+    normals : NormalEquations
+        Over ``[arc parameters (k), ambiguities of the passes active (a)]``, a-priori
+        constraints of the arc parameters included.
+    k : int
+        Number of arc parameters.
+    active : ndarray of int, shape (a,)
+        Pass ids (``obs.pass_index`` values) of the ambiguity columns.
+    ambiguity_m : ndarray, shape (a,)
+        Ambiguity values [m] at the linearisation (misclosures of constraints refer to them).
+    """
+
+    normals: NormalEquations
+    k: int
+    active: np.ndarray
+    ambiguity_m: np.ndarray
+    _solution: _Solution
+    _state: np.ndarray

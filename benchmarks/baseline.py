@@ -1,0 +1,74 @@
+"""The baseline stage of a simulated formation campaign against its truth (issue 21).
+
+For every formation pair and day of a run directory (``results/baseline/<pair>/<date>.nc``):
+DD WL/NL fixing rates in both definitions (graph rank of the fixed DDs over that of all DDs,
+Jiang et al. 2023; share of the DD candidates), wrong fixes against the simulator's integers
+(:mod:`leopod.simulate.dd_truth`), float and DD-fixed baseline RMS (R/T/N/3D, leader RTN) vs
+the truth baseline, and wall time and peak memory of the baseline job (Snakemake benchmark).
+
+    .venv/bin/python benchmarks/baseline.py /work/scratch-base [--configfile config/lt1-sim.yaml]
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import pandas as pd
+import xarray as xr
+
+from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
+from leopod.workflow.campaign import arc_days
+from leopod.workflow.config import load_campaign
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def day_report(run: Path, config: dict, pair: str, date: str) -> str:
+    """One line of figures of a pair-day."""
+    base = xr.load_dataset(run / "results" / "baseline" / pair / f"{date}.nc")
+    table = xr.load_dataset(run / "results" / "baseline" / pair / f"{date}_dd.nc")
+    a, b = base.attrs["leader"], base.attrs["follower"]
+    days = arc_days(config, date)
+    truth = [[xr.load_dataset(run / "resources" / "simulate" / s / f"{d}_truth.nc")
+              for d in days] for s in (a, b)]
+    res = [xr.load_dataset(run / "results" / "float_pod" / s / f"{date}_residuals.nc")
+           for s in (a, b)]
+    phases = {x: config["signals"][x]["phase"] for x in config["pod"]["system"]}
+    wl, nl = true_double_differences(table, res[0], res[1], truth[0], truth[1], phases)
+    wrong = wrong_dd_fixes(table, wl, nl)
+    bench = pd.read_csv(run / "logs" / "benchmarks" / "baseline" / pair / f"{date}.tsv",
+                        sep="\t")
+    t = base.attrs
+    parts = [f"{pair} {date}: DD WL {100 * t['wl_fixing_rate']:.1f} % / "
+             f"NL {100 * t['nl_fixing_rate']:.1f} % (graph rank), share "
+             f"{100 * t['wl_dd_fixed_share']:.1f} / {100 * t['nl_dd_fixed_share']:.1f} %"]
+    for x in ["all", *[s for s in wrong if s != "all"]]:
+        w = wrong[x]
+        parts.append(f"  {x}: WL fixed {w['wl_fixed']} wrong {w['wl_wrong']}; NL fixed "
+                     f"{w['nl_fixed']} wrong {w['nl_wrong']}; constrained {w['constrained']} "
+                     f"wrong {w['constrained_wrong']}")
+        if x != "all":
+            parts[-1] += (f"; rates WL {100 * t[f'{x}_wl_fixing_rate']:.1f} % NL "
+                          f"{100 * t[f'{x}_nl_fixing_rate']:.1f} %")
+    for label in ("float", "fixed"):
+        parts.append(f"  {label} baseline vs truth RMS R/T/N/3D: " + " / ".join(
+            f"{1e3 * t[f'{label}_rms_{c}_m']:.2f}" for c in ("r", "t", "n", "3d")) + " mm")
+    parts.append(f"  DD constraints used {t['n_dd_constraints_used']} of "
+                 f"{t['n_dd_candidates']} candidates; job {bench.s.iloc[0]:.0f} s, peak RSS "
+                 f"{bench.max_rss.iloc[0]:.0f} MB")
+    return "\n".join(parts)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path, help="Snakemake working directory of the campaign")
+    parser.add_argument("--configfile", default=str(REPO / "config" / "lt1-sim.yaml"))
+    args = parser.parse_args()
+    config = load_campaign(args.configfile)
+    for path in sorted((args.run / "results" / "baseline").glob("*/*_dd.nc")):
+        print(day_report(args.run, config, path.parent.name, path.name.removesuffix("_dd.nc")))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,170 @@
+"""Rule baseline: DD ambiguity resolution and the joint DD-fixed solution of a formation pair
+(leopod.ambiguity.double_difference, leopod.estimation.baseline)."""
+
+import logging
+from collections.abc import Mapping
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from leopod.ambiguity.double_difference import ReceiverArc, resolve_dd_systems  # noqa: E402
+from leopod.ambiguity.resolve import ArSettings  # noqa: E402
+from leopod.estimation.arc import ArcData  # noqa: E402
+from leopod.estimation.baseline import (  # noqa: E402
+    dd_rows,
+    fixed_baseline,
+    float_baseline,
+    joint_solve,
+)
+from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
+from leopod.frames.earth_rotation import itrf_to_gcrf  # noqa: E402
+from leopod.frames.leo_attitude import LeoAttitude  # noqa: E402
+from leopod.frames.rtn import rtn_matrix  # noqa: E402
+from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
+from leopod.io.sp3 import read_sp3  # noqa: E402
+from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
+from leopod.time.calendar import parse_date_id  # noqa: E402
+from leopod.workflow.boundary import plain  # noqa: E402
+from leopod.workflow.log import configure_logging  # noqa: E402
+from leopod.workflow.settings import pod_settings  # noqa: E402
+
+log = logging.getLogger(__name__)
+
+
+def _split(inputs: Mapping, key: str) -> dict:
+    prefix = f"{key}_"
+    return {k[len(prefix):]: v for k, v in inputs.items() if k.startswith(prefix)}
+
+
+def _float_passes(fs: FloatSolution) -> xr.Dataset:
+    """The float residuals with ``pass_index`` −1 for passes without a float ambiguity (too
+    few phase observations, dropped by the POD): the DD nodes are formed of estimated
+    ambiguities only, as the single differences of the ambiguity step."""
+    res = fs.residuals.copy()
+    pid = res.pass_index
+    known = np.isin(pid.values, fs.ambiguities.pass_index.values)
+    dropped = np.unique(pid.values[(pid.values >= 0) & ~known])
+    if dropped.size:
+        log.info("%d passes without a float ambiguity left out of the DDs", dropped.size)
+    res["pass_index"] = pid.where(known | (pid < 0), -1)
+    return res
+
+
+def _truth_rtn(path_a, path_b, fixed: xr.Dataset) -> np.ndarray:
+    """Truth baseline (ITRF) of the simulated pair at the baseline epochs (m, 3)."""
+    pos = []
+    for path in (path_a, path_b):
+        sp3 = read_sp3(path, gps_time=True)
+        pos.append(sp3.pos_m.isel(sv=0).sel(time=fixed.time.values).values)
+    return pos[1] - pos[0]
+
+
+def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, arc, pod,
+         forces, code_correction, ambiguity: ArSettings) -> None:
+    """Baseline of the day ``date`` of a pair; ``inputs``: float_pod's inputs and the float
+    solution of the leader (``a_*``) and follower (``b_*``), optional ``*_truth`` SP3."""
+    by_system = signals if isinstance(signals, Mapping) else {arc.systems[0]: signals}
+    names = tuple(p["sat"] for p in pair)
+    fixed, receivers, floats = [], [], []
+    for key, p in zip(("a", "b"), pair, strict=True):
+        files = _split(inputs, key)
+        data = ArcData.read(files, signal_bias=p["signal_bias"])
+        fs = FloatSolution.read(parameters=files["float_parameters"],
+                                ambiguities=files["float_ambiguities"],
+                                residuals=files["float_residuals"], orbit=files["float_orbit"])
+        floats.append(fs)
+        receivers.append(ReceiverArc(fs.ambiguities, _float_passes(fs), merge_days(data.obs)))
+        fixed.append(FixedSolutions(date, data, signals, arc, pod, forces, p["pco_body_m"], fs,
+                                    code_correction=code_correction, yaw_flips=p["yaw_flips"],
+                                    attitude=LeoAttitude.of(p["attitude"])))
+    dd = resolve_dd_systems(*receivers, by_system, ambiguity, names=names)
+    normals = [f.pod.normals() for f in fixed]
+    design, misclosure, weight = dd_rows(
+        *normals, floats[0].ambiguities.pass_index.values,
+        floats[1].ambiguities.pass_index.values, dd.constraints)
+    joint = joint_solve(*normals, design, misclosure, weight)
+    log.info("joint solution: %d + %d parameters, %d DD constraints", joint.n_a,
+             joint.dx_b.size, joint.n_constraints)
+    na = joint.n_a
+    res = [fixed[0].pod.solution(normals[0], joint.dx_a, joint.covariance[:na, :na]),
+           fixed[1].pod.solution(normals[1], joint.dx_b, joint.covariance[na:, na:])]
+    day = np.datetime64(parse_date_id(date), "ns")
+    times = np.intersect1d(floats[0].orbit.time.values, floats[1].orbit.time.values)
+    times = times[(times >= day) & (times < day + np.timedelta64(1, "D"))]
+    fix = fixed_baseline(times, *res, joint)
+    flo = float_baseline(floats[0].orbit, floats[1].orbit, times)
+    out = xr.merge([fix, flo.rename({v: f"float_{v}" for v in flo.data_vars})])
+    attrs = {k: v for k, v in dd.table.attrs.items() if k.startswith(("wl_", "nl_", "systems"))
+             or k.split("_", 1)[-1] in ("wl_fixing_rate", "nl_fixing_rate", "wl_dd_fixed_share",
+                                         "nl_dd_fixed_share", "n_independent", "n_nodes")}
+    attrs.update({"leader": names[0], "follower": names[1],
+                  "n_dd_constraints_used": joint.n_constraints,
+                  "n_dd_candidates": int(dd.table.sizes["dd"])})
+    if "a_truth" in inputs and "b_truth" in inputs:
+        truth = _truth_rtn(inputs["a_truth"], inputs["b_truth"], out)
+        r = rtn_matrix(floats[0].orbit.pos_gcrf_m.sel(time=times).values,
+                       floats[0].orbit.vel_gcrf_m_s.sel(time=times).values)
+        for label, prefix in (("fixed", ""), ("float", "float_")):
+            err_itrf = out[f"{prefix}baseline_itrf_m"].values - truth
+            err = _itrf_to_rtn(err_itrf, times, r)
+            out[f"{prefix}error_rtn_m"] = (("time", "rtn"), err, {
+                "units": "m", "long_name": f"{label} baseline minus truth, leader RTN"})
+            rms = np.sqrt(np.mean(err**2, axis=0))
+            attrs.update({f"{label}_rms_{c}_m": float(v) for c, v in zip("rtn", rms)})
+            attrs[f"{label}_rms_3d_m"] = float(np.sqrt(np.sum(rms**2)))
+        log.info("baseline vs truth, 3D RMS: float %.2f mm, fixed %.2f mm",
+                 1e3 * attrs["float_rms_3d_m"], 1e3 * attrs["fixed_rms_3d_m"])
+    out.attrs.update(attrs)
+    files = [v for v in inputs.values() if isinstance(v, str)]
+    write_netcdf(out, outputs["nc"], step="baseline", inputs=files, time_system="GPS",
+                 title=f"baseline {names[1]} - {names[0]} {date}")
+    write_netcdf(dd.table, outputs["dd"], step="baseline", inputs=files, time_system="GPS",
+                 title=f"double-difference ambiguities {names[1]} - {names[0]} {date}")
+    title = f"{pair[1]['title']} - {pair[0]['title']} {date}"
+    plot_fractional_parts(dd.table, outputs["histogram"], title=f"DD {title}")
+    _plot_rtn(out, outputs["figure"], title)
+
+
+def _itrf_to_rtn(err_itrf, times, r):
+    """ITRF difference vectors (m, 3) in the leader's RTN (``r``: GCRF to RTN, (m, 3, 3)); the
+    ITRF-to-GCRF transformation of positions is a rotation, so it applies to vectors."""
+    err_gcrf, _ = itrf_to_gcrf(times, err_itrf)
+    return np.einsum("mij,mj->mi", r, err_gcrf)
+
+
+def _plot_rtn(ds: xr.Dataset, path, title: str) -> None:
+    fig, axes = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
+    truth = "error_rtn_m" in ds
+    for i, (ax, comp) in enumerate(zip(axes, "RTN")):
+        t = ds.time.values
+        if truth:
+            ax.plot(t, 1e3 * ds.float_error_rtn_m.values[:, i], lw=0.7, label="float - truth")
+            ax.plot(t, 1e3 * ds.error_rtn_m.values[:, i], lw=0.7, label="DD-fixed - truth")
+        else:
+            ax.plot(t, 1e3 * (ds.baseline_rtn_m.values[:, i] - ds.float_baseline_rtn_m.values[:, i]),
+                    lw=0.7, label="DD-fixed - float")
+        s = 1e3 * ds.sigma_rtn_m.values[:, i]
+        ax.fill_between(t, -s, s, color="0.8", label="fixed formal 1σ")
+        ax.set_ylabel(f"{comp} [mm]")
+        ax.legend(loc="upper right", fontsize=7)
+    axes[0].set_title(f"baseline {title}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    p = sm.params
+    main(sm.wildcards.date, plain(sm.input), plain(sm.output), pair=list(p.pair),
+         **pod_settings(p.signals, p.pod, p.code_bias),
+         ambiguity=ArSettings.from_config(p.settings))
+
+
+if __name__ == "__main__":
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,0 +1,40 @@
+# baseline: a formation pair (satellites.<follower>.formation.leader) estimated jointly with
+# its fixed inter-satellite double-difference ambiguities (leopod.estimation.baseline); only
+# in campaigns with a formation pair.
+rule baseline:
+    input:
+        unpack(baseline_inputs),
+        code=library_code("baseline"),
+    output:
+        nc="results/baseline/{pair}/{date}.nc",
+        dd="results/baseline/{pair}/{date}_dd.nc",
+        figure=report(
+            "results/baseline/{pair}/{date}_rtn.png",
+            caption="../report/baseline_rtn.rst",
+            category="Baseline",
+            labels={"pair": "{pair}", "day": "{date}", "figure": "baseline RTN"},
+        ),
+        histogram=report(
+            "results/baseline/{pair}/{date}_dd_fractions.png",
+            caption="../report/baseline_dd_fractions.rst",
+            category="Baseline",
+            labels={"pair": "{pair}", "day": "{date}", "figure": "DD fractional parts"},
+        ),
+    log:
+        "logs/baseline/{pair}/{date}.log",
+    benchmark:
+        "logs/benchmarks/baseline/{pair}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=6000,
+        runtime=30,
+    params:
+        signals=CONFIG["signals"],
+        pod=CONFIG["pod"],
+        settings=CONFIG["ambiguity"],
+        code_bias=CONFIG["code_bias"],
+        pair=baseline_pair_params,
+    script:
+        "../../scripts/baseline.py"
