@@ -38,7 +38,7 @@ def _fraction_stats(values: np.ndarray) -> tuple[float, float]:
 
 def fixing(run: Path, sat: str, pairs: dict) -> list[dict]:
     """Per day and system: counts, shares, wrong fixes, fractional parts and guard verdict."""
-    from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes  # noqa: PLC0415
+    from leopod.simulate.ambiguity_truth import wrong_fix_counts  # noqa: PLC0415
 
     rows = []
     for path in sorted((run / "results" / "ambiguity" / sat).glob("*.nc")):
@@ -48,14 +48,12 @@ def fixing(run: Path, sat: str, pairs: dict) -> list[dict]:
         table = xr.load_dataset(path)
         residuals = xr.load_dataset(run / "results" / "float_pod" / sat / f"{day}_residuals.nc")
         truth = xr.load_dataset(run / "resources" / "simulate" / sat / f"{day}_truth.nc")
-        wl_true, nl_true = true_single_differences(table, residuals, [truth], pairs)
+        counts = wrong_fix_counts(table, residuals, [truth], pairs)
         systems = table.system.values.astype(str)
         for x in sorted(set(systems)):
-            sel = np.flatnonzero(systems == x)
-            sub = table.isel(pair=sel)
-            w = wrong_fixes(sub, wl_true[sel], nl_true[sel])
+            sub = table.isel(pair=np.flatnonzero(systems == x))
             rows.append({
-                "day": day, "system": x, "n_sd": sel.size, **w,
+                "day": day, "system": x, "n_sd": sub.sizes["pair"], **counts[x],
                 "wl_frac": _fraction_stats(sub.wl_float_cyc.values),
                 "nl_frac": _fraction_stats(sub.nl_float_cyc.values[sub.wl_fixed.values == 1]),
                 "guard": table.attrs.get(f"{x}_product_guard", "-")})

@@ -18,13 +18,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import numpy as np
+
 from leopod.constants import C_LIGHT_M_S
 from leopod.settings import Settings
 
 __all__ = [
     "Band", "BANDS", "SYSTEMS", "band", "frequency_hz", "wavelength_m", "rinex3_code",
     "RINEX2_TO_RINEX3", "obs_type", "code_band", "SystemSignals", "signal_settings",
-    "GEO_SATELLITES", "is_geo",
+    "GEO_SATELLITES", "is_geo", "system_of",
 ]
 
 #: One-letter RINEX system identifiers leopod knows, with their names.
@@ -169,6 +171,12 @@ def code_band(code: str) -> str:
 GEO_SATELLITES: dict[str, frozenset[str]] = {
     "C": frozenset([f"C{prn:02d}" for prn in (*range(1, 6), *range(59, 64))]),
 }
+
+
+def system_of(sv) -> np.ndarray:
+    """GNSS system letters (``G``, ``C``, ``E``, ...) of RINEX-3 satellite ids (``G07``), any
+    shape, flattened: shape (n,)."""
+    return np.array([str(s)[:1] for s in np.ravel(np.asarray(sv, dtype=object))], dtype="<U1")
 
 
 def is_geo(sv: str) -> bool:

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from leopod.estimation.float_pod import _constrain_differences
+from leopod.estimation.float_pod import constrain_differences
 from leopod.estimation.normals import NormalEquations
 
 
@@ -18,7 +18,7 @@ def test_constraints_equal_explicit_pseudo_observations():
     ambiguity[[0, 3, 5]] = [0.3, 1.0, 0.9]
     pass_i, pass_j = np.array([3, 5, 7]), np.array([0, 3, 0])
     value, sigma = np.array([1.5, -0.2, 9.0]), np.array([0.01, 0.02, 0.01])
-    _constrain_differences(ne, 2, active, ambiguity, (pass_i, pass_j, value, sigma))
+    constrain_differences(ne, 2, active, ambiguity, (pass_i, pass_j, value, sigma))
     # explicit rows D dx = v - D x0 with weights 1/sigma^2 (columns 2, 3, 4 = passes 0, 3, 5)
     d = np.zeros((2, 5))
     d[0, 3], d[0, 2] = 1, -1

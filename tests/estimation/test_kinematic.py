@@ -23,7 +23,7 @@ from _simulated_arc import simulated_arc
 
 from leopod.estimation.arc import setup_arc
 from leopod.estimation.fixed_arc import constraints_of
-from leopod.estimation.float_pod import _sigma
+from leopod.estimation.float_pod import elevation_sigma
 from leopod.estimation.kinematic import (
     KinematicSettings,
     _Linearisation,
@@ -70,8 +70,8 @@ def _synthetic(arc, seed: int):
     n_pass = int(po.pass_index.max()) + 1
     ambiguity = rng.uniform(-50.0, 50.0, n_pass)
     el = model.el_deg
-    code_sigma = _sigma(el, pod.code_sigma_m, pod.weight_elevation_deg)
-    phase_sigma = _sigma(el, pod.phase_sigma_m, pod.weight_elevation_deg)
+    code_sigma = elevation_sigma(el, pod.code_sigma_m, pod.weight_elevation_deg)
+    phase_sigma = elevation_sigma(el, pod.phase_sigma_m, pod.weight_elevation_deg)
     synthetic = type(po)(**{**po.__dict__})
     synthetic.code_m = np.where(np.isfinite(po.code_m) & model.valid, model.code_m
                                 + clock[po.epoch] + code_sigma * rng.standard_normal(el.size),

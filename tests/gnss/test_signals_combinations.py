@@ -96,3 +96,12 @@ def test_ionosphere_rate_sign_and_scale(synthetic):
     # time variation equals that of the true L1 delay (ambiguities are constant)
     assert np.allclose(np.diff(ion), np.diff(s["iono1"]), atol=1e-7)
     assert np.allclose(geometry_free(s["phase1"], s["phase2"]) - (s["phase1"] - s["phase2"]), 0)
+
+
+def test_system_of_reads_the_rinex3_letter_of_any_shape():
+    # RINEX 3.05 sec. 3.5: the satellite id is the system letter followed by the PRN
+    from leopod.signals import system_of
+
+    assert system_of(["G07", "C19", "E11"]).tolist() == ["G", "C", "E"]
+    assert system_of(np.array([["G01"], ["C45"]])).tolist() == ["G", "C"]
+    assert system_of("G05").tolist() == ["G"]

@@ -74,8 +74,9 @@ from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 from leopod.time.eop import EarthOrientation
 
-__all__ = ["ArcNormals", "FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart", "float_pod",
-           "pulse_epochs"]
+__all__ = ["ArcNormals", "FixedPod", "PodObservations", "PodResult", "PodSettings", "PodStart",
+           "constrain_differences", "elevation_sigma", "float_pod", "pulse_epochs",
+           "robust_scale"]
 
 log = logging.getLogger(__name__)
 
@@ -416,12 +417,16 @@ class _ReceptionRotation:
         return self.rot
 
 
-def _sigma(el_deg: np.ndarray, sigma0: float, knee_deg: float) -> np.ndarray:
+def elevation_sigma(el_deg: np.ndarray, sigma0: float, knee_deg: float) -> np.ndarray:
+    """A-priori sigma of observations at elevations ``el_deg`` [m]: ``sigma0`` above
+    ``knee_deg``, ``sigma0 / (2 sin el)`` below (the float POD's and kinematic POD's weights)."""
     el = np.radians(np.maximum(el_deg, _MIN_ELEVATION_FOR_WEIGHT_DEG))
     return np.where(np.degrees(el) >= knee_deg, sigma0, sigma0 / (2.0 * np.sin(el)))
 
 
-def _robust_scale(z: np.ndarray) -> float:
+def robust_scale(z: np.ndarray) -> float:
+    """Robust standard deviation of ``z``: the median absolute deviation scaled to a normal
+    sigma (0 for no values)."""
     return float(_MAD_TO_SIGMA * np.median(np.abs(z - np.median(z)))) if z.size else 0.0
 
 
@@ -601,8 +606,8 @@ class _Problem:
         amb = np.where(is_phase, column[self.obs.pass_index[pair]], -1)
         amb_value = np.where(is_phase, self.ambiguity[self.obs.pass_index[pair]], 0.0)
         sigma = np.where(is_phase,
-                         _sigma(model.el_deg[pair], s.phase_sigma_m, s.weight_elevation_deg),
-                         _sigma(model.el_deg[pair], s.code_sigma_m, s.weight_elevation_deg))
+                         elevation_sigma(model.el_deg[pair], s.phase_sigma_m, s.weight_elevation_deg),
+                         elevation_sigma(model.el_deg[pair], s.code_sigma_m, s.weight_elevation_deg))
         group = self.group(pair, is_phase)
         variance = sigma**2 * self.variance_factor[group]
         direction = -model.los_gcrf[pair]
@@ -654,14 +659,14 @@ class _Problem:
         n_new = 0
         for phase_type, rejected in ((False, self.code_rej), (True, self.phase_rej)):
             sel = is_phase == phase_type
-            scale = _robust_scale(z[sel])
+            scale = robust_scale(z[sel])
             bad = sel & (np.abs(z) > self.settings.outlier_k * scale)
             rejected[pair[bad]] = True
             n_new += int(bad.sum())
         return n_new
 
 
-def _constrain_differences(ne, k: int, active: np.ndarray, ambiguity: np.ndarray,
+def constrain_differences(ne, k: int, active: np.ndarray, ambiguity: np.ndarray,
                            constraints) -> None:
     """Add ``B_i − B_j = v ± σ`` pseudo-observations to the normal equations (in place).
 
@@ -705,7 +710,7 @@ def _solve_linearised(prob: _Problem, state: np.ndarray, model: ModelResult, g: 
         rows, pair, is_phase, active = prob.rows(model, g)
         ne = accumulate(rows)
         if ambiguity_constraints is not None:
-            _constrain_differences(ne, prob.k, active, prob.ambiguity, ambiguity_constraints)
+            constrain_differences(ne, prob.k, active, prob.ambiguity, ambiguity_constraints)
         dx, cov = solve(ne, np.concatenate([prob.constraint_weight, np.zeros(active.size)]),
                         np.concatenate([prob.constraint_rhs(state), np.zeros(active.size)]))
         clocks, res = epoch_clocks(rows, dx)

@@ -47,9 +47,9 @@ from leopod.constants import C_LIGHT_M_S
 from leopod.estimation.float_pod import (
     PodObservations,
     PodSettings,
-    _constrain_differences,
-    _robust_scale,
-    _sigma,
+    constrain_differences,
+    elevation_sigma,
+    robust_scale,
 )
 from leopod.estimation.normals import NormalEquations, solve
 from leopod.estimation.obsmodel import Pairs, compute_model
@@ -254,7 +254,7 @@ def _solve_epochs(r: _EpochRows, solved: np.ndarray, active: np.ndarray, constra
     n_constraints = 0
     if constraints is not None and len(constraints[0]) and n_a:
         # full ambiguity values are estimated: the misclosure of a constraint is its value
-        _constrain_differences(ne, 0, active, np.zeros(int(max(active.max(),
+        constrain_differences(ne, 0, active, np.zeros(int(max(active.max(),
                                                             np.max(constraints[0]),
                                                             np.max(constraints[1]))) + 1),
                                constraints)
@@ -437,8 +437,8 @@ def _solve_linearised(obs: PodObservations, model, pod: PodSettings, solved: np.
     pair = np.concatenate([ic, ip])
     is_phase = np.concatenate([np.zeros(ic.size, bool), np.ones(ip.size, bool)])
     el = model.el_deg[pair]
-    sigma = np.where(is_phase, _sigma(el, pod.phase_sigma_m, pod.weight_elevation_deg),
-                     _sigma(el, pod.code_sigma_m, pod.weight_elevation_deg))
+    sigma = np.where(is_phase, elevation_sigma(el, pod.phase_sigma_m, pod.weight_elevation_deg),
+                     elevation_sigma(el, pod.code_sigma_m, pod.weight_elevation_deg))
     sigma = sigma * np.sqrt(factor[is_phase.astype(int)])
     observed = np.where(is_phase, obs.phase_m[pair], obs.code_m[pair])
     computed = np.where(is_phase, model.phase_m[pair], model.code_m[pair])
@@ -490,7 +490,7 @@ def _screen(sol: dict, outlier_k: float, code_rej: np.ndarray, phase_rej: np.nda
                                       (True, sol["phase_pairs"], phase_rej)):
         sel = sol["is_phase"] == is_phase
         zz = z[sel]
-        bad = np.abs(zz) > outlier_k * _robust_scale(z[sel & testable])
+        bad = np.abs(zz) > outlier_k * robust_scale(z[sel & testable])
         # one per epoch and round, the largest (data snooping): a blunder spreads into the
         # residuals of its epoch's other rows through the epoch's position and clock
         ep = sol["epoch"][sel]

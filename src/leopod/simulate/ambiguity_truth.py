@@ -27,12 +27,9 @@ import numpy as np
 import xarray as xr
 
 from leopod.gnss.corrections import unwrap_windup
+from leopod.signals import system_of
 
 __all__ = ["true_single_differences", "wrong_fix_counts", "wrong_fixes", "wrong_fixes_per_system"]
-
-
-def _system_letters(sv) -> np.ndarray:
-    return np.array([str(s)[:1] for s in np.asarray(sv).ravel()], dtype="<U1")
 
 
 def _per_pass_truth(pid: xr.DataArray, truth: xr.Dataset, names) -> dict:
@@ -100,7 +97,7 @@ def true_single_differences(table: xr.Dataset, residuals: xr.Dataset, truth_days
     if pairs is None:
         groups = [(pid, [f"amb_{p}_cyc" for p in phases])]
     else:
-        letters = _system_letters(pid.sv.values)
+        letters = system_of(pid.sv.values)
         groups = [(pid.isel(sv=np.flatnonzero(letters == x)), [f"amb_{p}_cyc" for p in pair])
                   for x, pair in pairs.items() if np.any(letters == x)]
     for part, names in groups:
@@ -172,7 +169,7 @@ def wrong_fixes_per_system(table: xr.Dataset, true_wl: np.ndarray,
                            true_nl: np.ndarray) -> dict[str, dict]:
     """:func:`wrong_fixes` of the single differences of each system (first letter of
     ``sv_i``; single differences are formed within a system): ``{system: counts}``."""
-    letters = _system_letters(table.sv_i.values)
+    letters = system_of(table.sv_i.values)
     true_wl, true_nl = np.asarray(true_wl), np.asarray(true_nl)
     return {str(x): wrong_fixes(table.isel(pair=sel), true_wl[sel], true_nl[sel])
             for x in np.unique(letters) for sel in [np.flatnonzero(letters == x)]}

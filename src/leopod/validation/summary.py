@@ -66,8 +66,10 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from leopod.signals import system_of
+
 __all__ = ["COLUMNS", "COUNTS", "SECTIONS", "SYSTEM_COLUMNS", "campaign_table",
-           "column_meta", "day_row", "isb_series", "sections", "system_of"]
+           "column_meta", "day_row", "isb_series", "sections"]
 
 #: Column name -> (unit, description).
 COLUMNS = {
@@ -168,11 +170,6 @@ _ISB = re.compile(r"isb_(?P<system>[A-Z])(?:_(?P<piece>\d+))?_m")
 _SYSTEM_PATTERNS = {template: re.compile(re.escape(template).replace(r"\{system\}",
                                                                      "(?P<system>[A-Z])"))
                     for template in SYSTEM_COLUMNS}
-
-
-def system_of(sv) -> np.ndarray:
-    """GNSS system letters (``G``, ``C``, ``E``, ...) of RINEX-3 satellite ids (``G07``)."""
-    return np.array([str(s)[:1] for s in np.atleast_1d(sv)], dtype="<U1")
 
 
 def column_meta(name: str) -> tuple[str, str]:
