@@ -194,7 +194,7 @@ def plot_isb(series: pd.DataFrame, path, title: str = "") -> None:
     axes = axes[:, 0]
     fig.suptitle(f"{title}: {heading}" if title else heading)
     if not systems:
-        _note(fig, axes[0], "no inter-system bias in this campaign (single-system POD)")
+        _note(fig, axes[0], "no inter-system bias: a single-system POD")
         save_figure(fig, path)
         return
     for ax, system in zip(axes, systems, strict=True):
