@@ -19,7 +19,6 @@ from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
-from scipy.signal import savgol_filter
 
 from leopod import signals
 from leopod.astro.sun import sun_position_ef
@@ -31,6 +30,7 @@ from leopod.gnss.combinations import ionosphere_free
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.spp import solve_spp
 from leopod.numerics.interpolate import interpolate_table
+from leopod.numerics.smoothing import savitzky_golay
 from leopod.signals import SystemSignals
 from leopod.time.calendar import seconds_since
 from leopod.time.scales import to_gps_time
@@ -242,8 +242,8 @@ def smooth_positions(t_s: np.ndarray, pos_m: np.ndarray, *, window_s: float = 20
         seg = seg[good[seg]]
         if seg.size < max(win, polyorder + 2):
             continue
-        pos[seg] = savgol_filter(filled[seg], win, polyorder, axis=0)
-        vel[seg] = savgol_filter(filled[seg], win, polyorder, deriv=1, delta=dt, axis=0)
+        pos[seg] = savitzky_golay(filled[seg], win, polyorder)
+        vel[seg] = savitzky_golay(filled[seg], win, polyorder, deriv=1, delta=dt)
     return pos, vel
 
 

@@ -46,9 +46,7 @@ import logging
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import least_squares
-from scipy.stats import norm
-from scipy.stats import t as student_t
+from scipy.special import ndtri, stdtrit
 
 __all__ = ["MAX_LAG", "MIN_PAIRS_PER_LAG", "CorrelationModel", "MeanSigma", "fit_correlation",
            "mean_sigma", "semivariogram", "student_t_factor"]
@@ -165,6 +163,8 @@ def fit_correlation(gamma: np.ndarray, count: np.ndarray, step_s: float) -> Corr
     hi = np.log([top, top, float(k[-1]) * step_s])
     start = np.clip(np.log([0.5 * g[0], max(g[-1] - 0.5 * g[0], 1e-3 * g[-1]), 5.0 * step_s]),
                     lo + 1e-9, hi - 1e-9)
+    from scipy.optimize import least_squares  # here: only the ambiguity step fits (0.1 s import)
+
     white, markov, tau = np.exp(least_squares(misfit, start, bounds=(lo, hi)).x)
     return CorrelationModel(float(white), float(markov), float(tau))
 
@@ -231,4 +231,4 @@ def student_t_factor(dof, alpha: float) -> np.ndarray:
     nu = np.asarray(dof, dtype=float)
     good = np.isfinite(nu) & (nu > 0)
     q = 1.0 - alpha / 2.0
-    return np.where(good, student_t.ppf(q, np.where(good, nu, 1.0)) / norm.ppf(q), 1.0)
+    return np.where(good, stdtrit(np.where(good, nu, 1.0), q) / ndtri(q), 1.0)
