@@ -25,8 +25,8 @@ from leopod.estimation.arc import setup_arc
 from leopod.estimation.fixed_arc import constraints_of
 from leopod.estimation.float_pod import elevation_sigma
 from leopod.estimation.kinematic import (
+    KinematicModel,
     KinematicSettings,
-    _Linearisation,
     kinematic_dataset,
     kinematic_pod,
     kinematic_sp3_dataset,
@@ -63,7 +63,7 @@ def _synthetic(arc, seed: int):
     the pass constants (m)."""
     p, pod = arc.problem, arc.pod
     po = p.observations
-    lin = _Linearisation(po, p.products, arc.truth, p.t_ref, pod, None, p.antennas)
+    lin = KinematicModel(po, p.products, arc.truth, p.t_ref, None, p.antennas)
     clock = np.nan_to_num(po.clk_rx_m)
     model, _ = lin.model(np.zeros((po.times.size, 3)), clock)
     rng = np.random.default_rng(seed)

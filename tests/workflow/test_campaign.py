@@ -48,11 +48,13 @@ def test_script_library_files_follow_imports_transitively(tmp_path):
     # the module leopod/io/sp3.py; imports inside functions count; other packages do not.
     script = tmp_path / "step.py"
     script.write_text("import numpy\nfrom leopod.ambiguity.screening import degraded_passes\n"
+                      "from leopod.io import (\n    bias_sinex,  # biases\n    antex as atx,\n)\n"
+                      "import leopod.io.clock as clk\n"
                       "def main():\n    from leopod.io import sp3\n")
     files = {Path(f).relative_to(Path(leopod.__file__).parent).as_posix()
              for f in script_library_files(script)}
     assert {"__init__.py", "ambiguity/__init__.py", "ambiguity/screening.py", "io/__init__.py",
-            "io/sp3.py"} <= files
+            "io/sp3.py", "io/bias_sinex.py", "io/antex.py", "io/clock.py"} <= files
     # transitive: sp3 reads its text through io/_text.py
     assert "io/_text.py" in files
     assert not any(f.startswith("dynamics/") for f in files)

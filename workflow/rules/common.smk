@@ -343,6 +343,15 @@ def baseline_pair_params(wildcards):
     return out
 
 
+def kinematic_baseline_inputs(wildcards):
+    """kinematic_baseline: the baseline rule's inputs, its DD table and its (reduced-dynamic)
+    baseline."""
+    files = baseline_inputs(wildcards)
+    files["dd"] = fill(rules.baseline.output.dd, pair=wildcards.pair, date=wildcards.date)
+    files["dynamic"] = fill(rules.baseline.output.nc, pair=wildcards.pair, date=wildcards.date)
+    return files
+
+
 def kinematic_inputs(wildcards):
     """kinematic_pod: float_pod's inputs, its orbit and, for fixed ambiguities, the ambiguity table."""
     files = float_pod_inputs(wildcards)
@@ -488,6 +497,8 @@ def all_targets():
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
     if PAIRS and "fixed_pod" in solutions():
         targets += expand(rules.baseline.output.nc, pair=list(PAIRS), date=DAYS)
+        if CONFIG["kinematic"]["baseline_systems"]:
+            targets += expand(rules.kinematic_baseline.output.nc, pair=list(PAIRS), date=DAYS)
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:

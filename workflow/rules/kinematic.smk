@@ -42,3 +42,41 @@ rule kinematic_pod:
         signal_bias=arc_signal_bias,
     script:
         "../../scripts/kinematic_pod.py"
+
+
+# kinematic_baseline: epoch-wise baseline of a formation pair from receiver single differences
+# (follower estimated, leader held at its float orbit), float and with the fixed DDs of the
+# baseline step, one solution per GNSS of kinematic.baseline_systems, compared with the
+# reduced-dynamic baseline and (simulated pairs) the truth
+# (leopod.estimation.kinematic_baseline).
+rule kinematic_baseline:
+    input:
+        unpack(kinematic_baseline_inputs),
+        code=library_code("kinematic_baseline"),
+    output:
+        nc="results/kinematic_baseline/{pair}/{date}.nc",
+        figure=report(
+            "results/kinematic_baseline/{pair}/{date}_minus_dynamic.png",
+            caption="../report/kinematic_baseline.rst",
+            category="Baseline",
+            labels={"pair": "{pair}", "day": "{date}", "figure": "kinematic minus dynamic"},
+        ),
+    log:
+        "logs/kinematic_baseline/{pair}/{date}.log",
+    benchmark:
+        "logs/benchmarks/kinematic_baseline/{pair}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=6000,
+        runtime=30,
+    params:
+        signals=CONFIG["signals"],
+        pod=CONFIG["pod"],
+        kinematic=CONFIG["kinematic"],
+        settings=CONFIG["ambiguity"],
+        code_bias=CONFIG["code_bias"],
+        pair=baseline_pair_params,
+    script:
+        "../../scripts/kinematic_baseline.py"

@@ -31,13 +31,16 @@ data rather than the a-priori sigmas. Outliers are screened as in the float POD,
 reference orbit the observations are already cm from their model), but on residuals
 standardised with their redundancy numbers: beyond ``outlier_k`` robust standard deviations of their type (code,
 phase) they are rejected, the largest of each epoch per round, repeatedly.
-Only one GNSS per arc: a combined arc would need inter-system biases.
+Several GNSS (the rows of :func:`solve_kinematic`, e.g. a combined baseline): one code
+inter-system bias per further system, constant over the arc, is estimated like an ambiguity
+(a column common to all epochs); the phase biases go into the ambiguities. The kinematic POD
+step keeps to one GNSS per POD line.
 """
 
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
@@ -61,8 +64,9 @@ from leopod.numerics.interpolate import interpolate_table
 from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 
-__all__ = ["KinematicResult", "KinematicSettings", "kinematic_dataset", "kinematic_pod",
-           "kinematic_sp3_dataset", "pdop_of_epochs"]
+__all__ = ["KinematicModel", "KinematicResult", "KinematicSettings", "kinematic_dataset",
+           "kinematic_pod", "kinematic_sp3_dataset", "orbit_state", "pdop_of_epochs",
+           "solve_kinematic"]
 
 log = logging.getLogger(__name__)
 
@@ -96,6 +100,9 @@ class KinematicSettings(Settings):
         Largest number of linearisations.
     tolerance_m : float
         Convergence: largest position correction of an iteration [m].
+    baseline_systems : tuple of str
+        GNSS of the kinematic baselines of formation pairs
+        (:mod:`leopod.estimation.kinematic_baseline`); empty: none.
     """
 
     SCHEMA_DEF = "kinematic"
@@ -107,6 +114,7 @@ class KinematicSettings(Settings):
     max_sigma_m: float
     max_iterations: int
     tolerance_m: float
+    baseline_systems: tuple[str, ...] = ()
 
 
 @dataclass(eq=False)
@@ -142,6 +150,9 @@ class KinematicResult:
     converged : bool
     n_constraints : int
         Single-difference constraints in the solution.
+    isb_m : ndarray, shape (k − 1,)
+        Inter-system code biases of the systems after the first [m] (NaN: no code of that
+        system); empty for one system.
     """
 
     times: np.ndarray
@@ -162,6 +173,7 @@ class KinematicResult:
     iterations: int
     converged: bool
     n_constraints: int
+    isb_m: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def pdop_of_epochs(epoch: np.ndarray, los: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -274,28 +286,48 @@ def _solve_epochs(r: _EpochRows, solved: np.ndarray, active: np.ndarray, constra
     return y, cov, amb, n_constraints, 1.0 - r.weight * fitted
 
 
-class _Linearisation:
-    """Observation model and rows at the current positions and clocks."""
+def orbit_state(orbit: xr.Dataset, times: np.ndarray, t_ref, dt_s=0.0) -> np.ndarray:
+    """GCRF state (m, 6) [m, m/s] of an orbit dataset (``pos_gcrf_m``, ``vel_gcrf_m_s`` on
+    ``time``) at ``times`` minus ``dt_s`` [s], interpolated (at most 60 s beyond its ends)."""
+    t_ref = np.datetime64(t_ref, "ns")
+    state, _ = interpolate_table(seconds_since(orbit.time.values, t_ref),
+                                 np.concatenate([orbit.pos_gcrf_m.values,
+                                                 orbit.vel_gcrf_m_s.values], axis=1),
+                                 seconds_since(times, t_ref) - dt_s, max_extrapolation_s=60.0)
+    return state
+
+
+class KinematicModel:
+    """Observation model of one receiver's rows at a reference orbit plus epoch offsets.
+
+    Parameters
+    ----------
+    obs : PodObservations
+    products : GnssProducts
+    reference : xarray.Dataset
+        Reference orbit (``pos_gcrf_m``, ``vel_gcrf_m_s`` on ``time``).
+    t_ref : datetime64
+        Time origin.
+    eop : EarthOrientation or None
+    antennas : dict
+        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``, ``leo_attitude`` of
+        :func:`leopod.estimation.obsmodel.compute_model`.
+    """
 
     def __init__(self, obs: PodObservations, products: GnssProducts, reference: xr.Dataset,
-                 t_ref, pod: PodSettings, eop, antennas: dict):
-        self.obs, self.products, self.pod, self.eop = obs, products, pod, eop
+                 t_ref, eop, antennas: dict):
+        self.obs, self.products, self.eop = obs, products, eop
         self.antennas = antennas
         self.t_ref = np.datetime64(t_ref, "ns")
-        self.t_nom_s = seconds_since(obs.times, self.t_ref)
         self.t_nom_prod_s = seconds_since(obs.times, products.ref)
-        self.ref_t_s = seconds_since(reference.time.values, self.t_ref)
-        self.ref_state = np.concatenate([reference.pos_gcrf_m.values,
-                                         reference.vel_gcrf_m_s.values], axis=1)
+        self.reference = reference
         self.sun = sun_position_ef(obs.times)
         self.pairs = Pairs(epoch=obs.epoch, isv=products.sv_index(obs.sv)[obs.sat],
                            sat=obs.sat)
 
     def reference_at(self, dt_s: np.ndarray) -> np.ndarray:
         """Reference state (m, 6) at the nominal epochs minus ``dt_s``."""
-        state, _ = interpolate_table(self.ref_t_s, self.ref_state, self.t_nom_s - dt_s,
-                                     max_extrapolation_s=60.0)
-        return state
+        return orbit_state(self.reference, self.obs.times, self.t_ref, dt_s)
 
     def model(self, offset: np.ndarray, clock_m: np.ndarray):
         """Model at the reference orbit plus ``offset`` (m, 3) at the reception times."""
@@ -345,17 +377,60 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
     if len(obs.system_order) != 1:
         raise ValueError(f"kinematic POD: one GNSS per arc, got {obs.system_order} (a combined "
                          "arc would need inter-system biases); use a single-system POD line")
-    lin = _Linearisation(obs, products, reference, t_ref, pod, eop,
+    lin = KinematicModel(obs, products, reference, t_ref, eop,
                          {"leo_pco_body_m": leo_pco_body_m, "sat_pco_body_m": sat_pco_body_m,
                           "sat_pcv_m": sat_pcv_m, "leo_attitude": leo_attitude})
+    return solve_kinematic(obs, lin.model, lin.reference_at,
+                           np.nan_to_num(np.asarray(obs.clk_rx_m, dtype=float)), pod, settings,
+                           constraints=constraints)
+
+
+def solve_kinematic(obs: PodObservations, model_at, reference_at, clock0_m: np.ndarray,
+                    pod: PodSettings, settings: KinematicSettings, *, constraints=None,
+                    clock_offset_m: np.ndarray | None = None,
+                    variance_factors=(1.0, 1.0), label: str = "kinematic POD"
+                    ) -> KinematicResult:
+    """Iterated epoch-wise solution of rows ``obs`` with the model ``model_at`` (module
+    docstring): linearisation, PDOP and satellite-count checks, outlier screening, variance
+    factors, convergence, positions at the nominal epochs.
+
+    Parameters
+    ----------
+    obs : PodObservations
+        Rows: ``epoch``, ``code_m``, ``phase_m``, ``pass_index`` (the ambiguity of a phase row;
+        e.g. a receiver's passes, or the receiver single differences of a baseline).
+    model_at : callable
+        ``model_at(offset (m, 3), clock (m,)) -> (ModelResult, pos (m, 3))``: the model of every
+        row (without the estimated clock and ambiguity) at the reference orbit plus ``offset``
+        and the GCRF positions at the reception times, for the clocks ``clock`` [m].
+    reference_at : callable
+        ``reference_at(dt_s (m,)) -> state (m, 6)``: the reference orbit at the nominal epochs
+        minus ``dt_s``.
+    clock0_m : ndarray, shape (m,)
+        Clocks of the first linearisation [m].
+    pod, settings, constraints
+        As for :func:`kinematic_pod`.
+    clock_offset_m : ndarray, shape (m,), optional
+        Added to the estimated clock for the reception times of the positions (a baseline's
+        differential clock: the reference receiver's clock); 0 by default.
+    variance_factors : (float, float)
+        A-priori variance factors of code and phase relative to the elevation-dependent
+        sigmas of ``pod`` (re-estimated).
+    label : str
+        Name in the log.
+
+    Returns
+    -------
+    KinematicResult
+    """
     m, n = obs.times.size, obs.epoch.size
-    clock = np.nan_to_num(np.asarray(obs.clk_rx_m, dtype=float))
+    clock = np.asarray(clock0_m, dtype=float).copy()
     offset = np.zeros((m, 3))
     code_rej, phase_rej = np.zeros(n, bool), np.zeros(n, bool)
-    factor = np.ones(2)                                  # variance factors: code, phase
+    factor = np.asarray(variance_factors, dtype=float).copy()   # code, phase
     converged = False
     for iteration in range(1, settings.max_iterations + 1):
-        model, pos = lin.model(offset, clock)
+        model, pos = model_at(offset, clock)
         usable = model.valid & (model.el_deg >= pod.min_elevation_deg)
         code_ok = np.isfinite(obs.code_m) & usable
         for _ in range(_MAX_SCREEN_ROUNDS):
@@ -375,23 +450,23 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
         offset[solved] += sol["dpos"][solved]
         clock = np.where(solved, sol["clock"], clock)
         largest = float(shift[solved].max(initial=0.0))
-        log.info("kinematic iteration %d: %d of %d epochs solved, largest position correction "
-                 "%.4f m, sigma0 %.3f, rejected %d code / %d phase", iteration,
+        log.info("%s iteration %d: %d of %d epochs solved, largest position correction "
+                 "%.4f m, sigma0 %.3f, rejected %d code / %d phase", label, iteration,
                  int(solved.sum()), m, largest, sol["sigma0"], int(code_rej.sum()),
                  int(phase_rej.sum()))
         if largest < settings.tolerance_m:
             converged = True
             break
     if not converged:
-        log.warning("kinematic POD: not converged after %d iterations", settings.max_iterations)
+        log.warning("%s: not converged after %d iterations", label, settings.max_iterations)
     # epochs that the code alone positions (all their passes new): metres off, and their
     # formal sigmas say so
     sigma_3d = np.sqrt(np.abs(np.trace(sol["cov"][:, :3, :3], axis1=1, axis2=2)))
     imprecise = solved & ~(sigma_3d <= settings.max_sigma_m)
     solved = solved & ~imprecise
-    dt_s = clock / C_LIGHT_M_S
-    ref_true = lin.reference_at(dt_s)
-    ref_nominal = lin.reference_at(np.zeros(m))
+    dt_s = (clock if clock_offset_m is None else clock + clock_offset_m) / C_LIGHT_M_S
+    ref_true = reference_at(dt_s)
+    ref_nominal = reference_at(np.zeros(m))
     # the position at the nominal epoch: the one at the reception time moved by v·dt_rx
     pos_nominal = np.where(solved[:, None], pos + sol["dpos"] + ref_true[:, 3:] * dt_s[:, None],
                            np.nan)
@@ -399,9 +474,9 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
     code_res, phase_res = np.full(n, np.nan), np.full(n, np.nan)
     code_res[sol["code_pairs"]] = sol["residual"][:sol["code_pairs"].size]
     phase_res[sol["phase_pairs"]] = sol["residual"][sol["code_pairs"].size:]
-    log.info("kinematic POD: %d of %d epochs solved (%d with fewer than %d satellites, %d with "
+    log.info("%s: %d of %d epochs solved (%d with fewer than %d satellites, %d with "
              "PDOP above %.1f, %d with a formal 3D sigma above %.3f m), sigma0 %.3f, %d passes, "
-             "%d SD constraints", int(solved.sum()), m,
+             "%d constraints", label, int(solved.sum()), m,
              int((n_sat < settings.min_satellites).sum()), settings.min_satellites,
              int(((n_sat >= settings.min_satellites) & ~(pdop <= settings.max_pdop)).sum()),
              settings.max_pdop, int(imprecise.sum()), settings.max_sigma_m, sol["sigma0"],
@@ -414,7 +489,7 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
         solved=solved, n_satellites=n_sat, pdop=pdop, ambiguity_pass=sol["active"],
         ambiguity_m=sol["ambiguity"], code_residual_m=code_res, phase_residual_m=phase_res,
         sigma0=sol["sigma0"], iterations=iteration, converged=converged,
-        n_constraints=sol["n_constraints"])
+        n_constraints=sol["n_constraints"], isb_m=sol["isb"])
 
 
 def _solve_linearised(obs: PodObservations, model, pod: PodSettings, solved: np.ndarray,
@@ -443,18 +518,29 @@ def _solve_linearised(obs: PodObservations, model, pod: PodSettings, solved: np.
     observed = np.where(is_phase, obs.phase_m[pair], obs.code_m[pair])
     computed = np.where(is_phase, model.phase_m[pair], model.code_m[pair])
     design = np.concatenate([-model.los_gcrf[pair], np.ones((pair.size, 1))], axis=1)
-    amb_col = np.where(is_phase, column[obs.pass_index[pair]], -1)
+    # one inter-system code bias per further system with code rows, a column after the
+    # ambiguities (coefficient 1, like an ambiguity; the phase biases go into the ambiguities)
+    row_system = obs.sat_system[obs.sat[pair]]
+    coded = np.unique(row_system[~is_phase])
+    isb_column = np.full(len(obs.system_order), -1)
+    isb_column[coded[coded > 0]] = active.size + np.arange(int((coded > 0).sum()))
+    amb_col = np.where(is_phase, column[obs.pass_index[pair]], isb_column[row_system])
+    n_col = active.size + int((coded > 0).sum())
     m = solved.size
     rows = _pad(obs.epoch[pair], design, 1.0 / sigma**2, observed - computed, amb_col, m,
-                active.size)
+                n_col)
     y, cov, amb, n_constraints, redundancy = _solve_epochs(rows, solved, active, constraints)
     ep = obs.epoch[pair]
     residual = observed - computed - np.sum(design * y[ep], axis=1)
-    residual[is_phase] -= amb[amb_col[is_phase]]
+    with_col = amb_col >= 0
+    residual[with_col] -= amb[amb_col[with_col]]
     w = 1.0 / sigma**2
-    dof = max(pair.size - _N_EPOCH * int(solved.sum()) - active.size + n_constraints, 1)
+    dof = max(pair.size - _N_EPOCH * int(solved.sum()) - n_col + n_constraints, 1)
     sigma0 = float(np.sqrt(np.sum(w * residual**2) / dof))
-    return {"dpos": y[:, :3], "clock": y[:, 3], "cov": cov * sigma0**2, "ambiguity": amb,
+    isb = np.full(len(obs.system_order) - 1, np.nan)
+    isb[isb_column[1:] >= 0] = amb[isb_column[1:][isb_column[1:] >= 0]]
+    return {"dpos": y[:, :3], "clock": y[:, 3], "cov": cov * sigma0**2,
+            "ambiguity": amb[:active.size], "isb": isb,
             "active": active, "residual": residual, "weight": w, "is_phase": is_phase,
             "code_pairs": ic, "phase_pairs": ip, "sigma0": sigma0,
             "n_constraints": n_constraints, "redundancy": redundancy[rows.slot], "epoch": ep}

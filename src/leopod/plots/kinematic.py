@@ -1,4 +1,5 @@
-"""Figure of the kinematic orbit: kinematic minus reduced-dynamic positions in R/T/N."""
+"""Figures of the kinematic orbit and the kinematic baseline: kinematic minus reduced-dynamic
+positions (or baselines) in R/T/N."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import xarray as xr
 
 from leopod.plots import dots, save_figure
 
-__all__ = ["plot_kinematic_rtn"]
+__all__ = ["plot_baseline_differences", "plot_kinematic_rtn"]
 
 _M_TO_CM = 100.0
 
@@ -56,5 +57,39 @@ def plot_kinematic_rtn(ds: xr.Dataset, path, title: str = "",
     ax.legend(fontsize=8, loc="upper right", ncols=3)
     fig.suptitle(f"{title}: kinematic minus {reference}, R/T/N" if title else
                  f"kinematic minus {reference}, R/T/N")
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def plot_baseline_differences(ds: xr.Dataset, path, title: str = "") -> None:
+    """Kinematic minus reduced-dynamic baseline in the leader's R/T/N [mm] per system, DD-fixed
+    (Zhang et al. 2024, Fig. 10 style), with the RMS in the legend.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Output of the kinematic_baseline rule: ``minus_dynamic_rtn_m`` (system, ambiguities,
+        time, rtn).
+    path : str or path-like
+        PNG to write.
+    title : str
+        Pair and day.
+    """
+    t = ds.time.values
+    hours = (t - t[0].astype("datetime64[D]")) / np.timedelta64(1, "h")
+    fig, axes = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
+    for ax, comp in zip(axes, ("R", "T", "N"), strict=True):
+        for system in ds.system.values:
+            d = ds.minus_dynamic_rtn_m.sel(system=system, ambiguities="fixed",
+                                           rtn=comp).values * 1e3
+            ok = np.isfinite(d)
+            rms = float(np.sqrt(np.mean(d[ok] ** 2))) if ok.any() else float("nan")
+            dots(ax, hours[ok], d[ok], size_pt2=2.0, label=f"{system}: RMS {rms:.1f} mm")
+        ax.set_ylabel(f"{comp} [mm]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="upper right", ncols=len(ds.system))
+    axes[-1].set_xlabel(f"hours of {str(t[0].astype('datetime64[D]'))} (GPS time)")
+    fig.suptitle(f"{title}: DD-fixed kinematic minus reduced-dynamic baseline" if title else
+                 "DD-fixed kinematic minus reduced-dynamic baseline")
     fig.tight_layout()
     save_figure(fig, path)
