@@ -27,6 +27,7 @@ include: "workflow/rules/pod.smk"
 include: "workflow/rules/kinematic.smk"
 include: "workflow/rules/validation.smk"
 include: "workflow/rules/baseline.smk"
+include: "workflow/rules/formation.smk"
 
 
 rule all:

@@ -20,7 +20,11 @@ from leopod.gnss.combinations import ionosphere_free
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.spp import solve_spp
 from leopod.io import FormatError
-from leopod.io.grace_orbit_csv import read_grace_orbit_csv, read_kband_range_csv
+from leopod.io.grace_orbit_csv import (
+    read_grace_orbit_csv,
+    read_kband_range_csv,
+    write_kband_range_csv,
+)
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import frequency_hz
@@ -136,6 +140,30 @@ def test_kband_range_matches_orbits_in_gps_time(shared_data, grace_a, grace_b):
     assert res.std() < 0.02
     rc, ec = rate - rate.mean(), res - res.mean()
     assert abs(np.sum(rc * ec) / np.sum(rc * rc)) < 5e-3
+
+
+@pytest.mark.shared
+def test_kband_range_written_as_the_file_is(shared_data, tmp_path):
+    # authority: the LEOGPS file itself; written back with its 4 decimals, every line has the
+    # same date and time text and the same number (the file drops trailing zeros)
+    path = shared_data / DIR / "grc_kb_rng.csv"
+    write_kband_range_csv(read_kband_range_csv(path), tmp_path / "kb.csv", decimals=4)
+    original = [line.strip().split(",") for line in path.read_text().splitlines()
+                if line.strip()]
+    written = [line.split(",") for line in (tmp_path / "kb.csv").read_text().splitlines()]
+    assert [w[:2] for w in written] == [o[:2] for o in original]
+    assert [float(w[2]) for w in written] == [float(o[2]) for o in original]
+
+
+def test_kband_range_round_trip_with_fractional_seconds(tmp_path):
+    t = np.datetime64("2022-07-14T23:59:50", "ns") + np.array([0, 5_250_000_000, 10_000_000_000])
+    ds = xr.Dataset({"range_m": ("time", [5012.123456, 5012.2, 5011.999999])},
+                    coords={"time": t})
+    write_kband_range_csv(ds, tmp_path / "r.csv")
+    assert (tmp_path / "r.csv").read_text().splitlines()[1] == "14/7/2022,23:59:55.25,5012.200000"
+    back = read_kband_range_csv(tmp_path / "r.csv")
+    assert np.array_equal(back.time.values, t)
+    assert np.allclose(back.range_m.values, ds.range_m.values, atol=5e-7)
 
 
 # --------------------------------------------------------------------------- malformed files

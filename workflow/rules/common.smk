@@ -352,6 +352,18 @@ def kinematic_baseline_inputs(wildcards):
     return files
 
 
+def range_check_inputs(wildcards):
+    """range_check: the pair's range series and its baseline solutions of the day."""
+    files = {"range": fill(rules.simulate_range.output.csv, pair=wildcards.pair,
+                           date=wildcards.date),
+             "dynamic": fill(rules.baseline.output.nc, pair=wildcards.pair,
+                             date=wildcards.date)}
+    if CONFIG["kinematic"]["baseline_systems"]:
+        files["kinematic"] = fill(rules.kinematic_baseline.output.nc, pair=wildcards.pair,
+                                  date=wildcards.date)
+    return files
+
+
 def kinematic_inputs(wildcards):
     """kinematic_pod: float_pod's inputs, its orbit and, for fixed ambiguities, the ambiguity table."""
     files = float_pod_inputs(wildcards)
@@ -499,6 +511,9 @@ def all_targets():
         targets += expand(rules.baseline.output.nc, pair=list(PAIRS), date=DAYS)
         if CONFIG["kinematic"]["baseline_systems"]:
             targets += expand(rules.kinematic_baseline.output.nc, pair=list(PAIRS), date=DAYS)
+        simulated_pairs = [p for p, (a, b) in PAIRS.items()
+                           if is_simulated(a) and is_simulated(b)]
+        targets += expand(rules.range_check.output.nc, pair=simulated_pairs, date=DAYS)
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:

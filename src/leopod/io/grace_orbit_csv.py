@@ -40,8 +40,9 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._text import FormatError, calendar_epoch_ns, parse_floats, read_lines
+from leopod.io.netcdf import atomic_path
 
-__all__ = ["read_grace_orbit_csv", "read_kband_range_csv"]
+__all__ = ["read_grace_orbit_csv", "read_kband_range_csv", "write_kband_range_csv"]
 
 logger = logging.getLogger(__name__)
 
@@ -155,3 +156,31 @@ def read_kband_range_csv(path: str | Path) -> xr.Dataset:
         {"range_m": ("time", v[:, 0], {"units": "m", "long_name": "GRACE-A to GRACE-B "
                                        "distance from the integrated K-band range rate"})},
         coords={"time": t}, attrs={"time_system": "GPS", "filename": Path(path).name})
+
+
+def write_kband_range_csv(ds: xr.Dataset, path: str | Path, decimals: int = 6) -> None:
+    """Write an inter-satellite range series in the ``grc_kb_rng.csv`` layout.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        ``range_m`` (time) [m], GPS-time labels on whole or fractional seconds.
+    path : str or Path
+        File to write (atomically).
+    decimals : int
+        Digits after the decimal point of the range (6: 1 µm, the K-band ranging precision;
+        the LEOGPS file has 4).
+    """
+    t = ds.time.values.astype("datetime64[ns]")
+    day = t.astype("datetime64[D]")
+    ymd = [str(d).split("-") for d in day]
+    ns = (t - day).astype(np.int64)
+    lines = []
+    for (y, m, d), n, r in zip(ymd, ns, ds.range_m.values, strict=True):
+        hh, rem = divmod(int(n), 3_600_000_000_000)
+        mm, rem = divmod(rem, 60_000_000_000)
+        sec = f"{rem // 1_000_000_000:02d}" + (f".{rem % 1_000_000_000:09d}".rstrip("0")
+                                                if rem % 1_000_000_000 else "")
+        lines.append(f"{int(d)}/{int(m)}/{y},{hh:02d}:{mm:02d}:{sec},{r:.{decimals}f}\n")
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text("".join(lines))

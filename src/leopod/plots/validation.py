@@ -33,7 +33,8 @@ import xarray as xr
 from leopod.plots import by_solution, save_figure
 from leopod.plots.pod import _heading
 
-__all__ = ["plot_daily_statistics", "plot_overlaps", "plot_reference_differences"]
+__all__ = ["plot_daily_statistics", "plot_overlaps", "plot_range_check",
+           "plot_reference_differences"]
 
 _M_TO_MM = 1e3
 """Metres to millimetres (display unit of all validation figures)."""
@@ -194,5 +195,39 @@ def plot_daily_statistics(stats: xr.Dataset | Mapping[str, xr.Dataset], path,
         ax.set_xlabel("GPS day")
     fig.suptitle(_heading(title, "daily statistics of orbit minus reference orbit "
                           "(3D: of the distance)"), fontsize=10)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def plot_range_check(ds: xr.Dataset, path, title: str = "") -> None:
+    """Baseline length minus inter-satellite range [mm] over the day, one panel per solution
+    (mean and STD in the legend).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Output of the range_check rule: ``residual_m`` (solution, time), ``mean_m``,
+        ``std_m`` (solution).
+    path : str or path-like
+        PNG to write.
+    title : str
+        Pair and day.
+    """
+    t = ds.time.values
+    hours = (t - t[0].astype("datetime64[D]")) / np.timedelta64(1, "h")
+    n = ds.sizes["solution"]
+    fig, axes = plt.subplots(n, 1, figsize=(10, 1.6 * n + 1.2), sharex=True, squeeze=False)
+    for ax, label in zip(axes[:, 0], ds.solution.values, strict=True):
+        r = ds.residual_m.sel(solution=label).values * 1e3
+        ok = np.isfinite(r)
+        ax.plot(hours[ok], r[ok], lw=0.6,
+                label=f"{label}: mean {1e3 * float(ds.mean_m.sel(solution=label)):+.2f}, "
+                      f"STD {1e3 * float(ds.std_m.sel(solution=label)):.2f} mm")
+        ax.set_ylabel("mm")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="upper right")
+    axes[-1, 0].set_xlabel(f"hours of {str(t[0].astype('datetime64[D]'))} (GPS time)")
+    fig.suptitle(f"{title}: baseline length minus inter-satellite range" if title else
+                 "baseline length minus inter-satellite range")
     fig.tight_layout()
     save_figure(fig, path)

@@ -1,9 +1,12 @@
-"""Baselines of a formation pair against each other and against the simulated truth.
+"""Baselines of a formation pair against each other, the simulated truth and a measured range.
 
 A baseline solution (reduced-dynamic, :mod:`leopod.estimation.baseline`, or kinematic,
 :mod:`leopod.estimation.kinematic_baseline`) is an ITRF vector follower − leader per epoch; two
 solutions or a solution and the truth are compared as the difference vector in the leader's
 radial, along-track, cross-track frame (Zhang et al. 2024, Table 6: dynamic − kinematic).
+Against an inter-satellite range (K-band ranging of GRACE; Kroes et al. 2005), the length
+``|Δr|`` of a baseline is compared with the range at the same epochs: a check along the line of
+sight only, independent of GNSS.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.sp3 import read_sp3
 
-__all__ = ["difference_rtn", "rms_rtn", "truth_baseline_itrf"]
+__all__ = ["difference_rtn", "range_residuals", "rms_rtn", "truth_baseline_itrf"]
 
 
 def truth_baseline_itrf(sp3_a, sp3_b, times: np.ndarray) -> np.ndarray:
@@ -50,3 +53,29 @@ def rms_rtn(diff_rtn_m: np.ndarray) -> dict[str, float]:
     rms = np.sqrt(np.mean(diff_rtn_m[ok] ** 2, axis=0))
     return {"R": float(rms[0]), "T": float(rms[1]), "N": float(rms[2]),
             "3D": float(np.sqrt(np.sum(rms**2))), "n": int(ok.sum())}
+
+
+def range_residuals(baseline_itrf_m: np.ndarray, times: np.ndarray,
+                    range_m: np.ndarray, range_times: np.ndarray) -> np.ndarray:
+    """``|Δr| − range`` [m] at the baseline epochs that the range series has (m,), NaN
+    elsewhere or where the baseline is NaN.
+
+    Parameters
+    ----------
+    baseline_itrf_m : ndarray, shape (m, 3)
+        Baseline vectors [m] (any frame: the length is compared).
+    times : ndarray of datetime64, shape (m,)
+    range_m : ndarray, shape (r,)
+        Measured or simulated range [m].
+    range_times : ndarray of datetime64, shape (r,)
+        Its epochs (same time scale as ``times``).
+    """
+    rt = np.asarray(range_times, dtype="datetime64[ns]")
+    t = np.asarray(times, dtype="datetime64[ns]")
+    k = np.clip(np.searchsorted(rt, t), 0, max(rt.size - 1, 0))
+    out = np.full(t.size, np.nan)
+    if rt.size == 0:
+        return out
+    hit = rt[k] == t
+    out[hit] = np.linalg.norm(baseline_itrf_m[hit], axis=1) - range_m[k[hit]]
+    return out

@@ -1,0 +1,30 @@
+"""Rule simulate_range: the simulated inter-satellite range of a formation pair for a day
+(leopod.simulate.ranging), in the grc_kb_rng.csv layout."""
+
+import xarray as xr
+
+from leopod.io.grace_orbit_csv import write_kband_range_csv
+from leopod.simulate.ranging import simulated_range
+from leopod.simulate.settings import SimulationSettings
+from leopod.workflow.log import configure_logging
+
+
+def main(truth_a, truth_b, out_path, *, settings: SimulationSettings, label: str,
+         sigma_m: float) -> None:
+    """Range of the truth orbits ``truth_a``, ``truth_b`` (netCDF) into ``out_path``."""
+    ds = simulated_range(xr.load_dataset(truth_a), xr.load_dataset(truth_b), sigma_m,
+                         settings.int_seed(f"range/{label}"))
+    write_kband_range_csv(ds, out_path)
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(sm.input.a, sm.input.b, sm.output.csv,
+         settings=SimulationSettings.from_config(sm.params.settings),
+         label=f"{sm.wildcards.pair}/{sm.wildcards.date}",
+         sigma_m=sm.params.settings["range_sigma_m"])
+
+
+if __name__ == "__main__":
+    run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -1,0 +1,49 @@
+"""Baseline checks of a formation pair (leopod.validation.formation).
+
+Authorities: real data — the GRACE-A/B Bernese orbits and the K-band-derived range of
+2010-07-27 (../shared/data/grace-b_2010-208; the range agrees with the orbits to 12 mm offset
+and 9.9 mm RMS about it, tests/io/test_grace_orbit_csv.py) — and analytic rotations.
+"""
+
+import numpy as np
+import pytest
+
+from leopod.frames.earth_rotation import itrf_to_gcrf
+from leopod.frames.rtn import rtn_matrix
+from leopod.io.grace_orbit_csv import read_grace_orbit_csv, read_kband_range_csv
+from leopod.validation.compare import interpolate_orbit
+from leopod.validation.formation import difference_rtn, range_residuals, rms_rtn
+
+DIR = "grace-b_2010-208"
+
+
+@pytest.mark.shared
+def test_range_residuals_of_the_grace_pair(shared):
+    data = shared / "data" / DIR
+    kb = read_kband_range_csv(data / "grc_kb_rng.csv")
+    a = read_grace_orbit_csv(data / "grca_truth.csv")
+    b = read_grace_orbit_csv(data / "grcb_truth.csv")
+    t = kb.time.values[::3]                                   # every 30 s, as a POD output
+    base = (interpolate_orbit(b, t).pos_itrf_m.values - interpolate_orbit(a, t).pos_itrf_m.values)
+    res = range_residuals(base, t, kb.range_m.values, kb.time.values)
+    assert np.isfinite(res).all()
+    assert abs(res.mean() - 0.012) < 0.003 and res.std() < 0.011       # 12 mm, 9.9 mm
+    # epochs without a range value are not compared
+    half = range_residuals(base, t, kb.range_m.values[::2], kb.time.values[::2])
+    assert np.isnan(half[1::2]).all() and np.allclose(half[::2], res[::2])
+
+
+def test_difference_rtn_is_the_rotated_vector():
+    # a difference of +1 m along the leader's velocity direction in the GCRF is T = 1 m
+    t = np.datetime64("2022-07-14T06:00", "ns") + np.arange(3) * np.timedelta64(30, "s")
+    pos = np.array([[7e6, 0.0, 0.0], [6.9e6, 1e6, 0.0], [6.8e6, 2e6, 1e5]])
+    vel = np.array([[0.0, 7.5e3, 0.0], [-1e3, 7.4e3, 10.0], [-2e3, 7.2e3, 100.0]])
+    leader = np.concatenate([pos, vel], axis=1)
+    t_dir = rtn_matrix(pos, vel)[:, 1]                                    # GCRF unit T
+    d_itrf, _ = itrf_to_gcrf(t, t_dir)               # ITRF -> GCRF is a rotation R: use Rᵀ
+    rot = np.stack([itrf_to_gcrf(t, np.tile(e, (3, 1)))[0] for e in np.eye(3)], axis=2)
+    t_itrf = np.einsum("mji,mj->mi", rot, t_dir)                        # Rᵀ t_dir
+    assert np.allclose(difference_rtn(t_itrf, np.zeros((3, 3)), t, leader),
+                       [[0.0, 1.0, 0.0]] * 3, atol=1e-12)
+    rms = rms_rtn(np.array([[0.0, 3.0, 4.0], [0.0, -3.0, -4.0], [np.nan, 0.0, 0.0]]))
+    assert rms == {"R": 0.0, "T": 3.0, "N": 4.0, "3D": 5.0, "n": 2}
