@@ -17,7 +17,7 @@ import xarray as xr
 
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
-from leopod.estimation.arc import ArcData, run_arc
+from leopod.estimation.arc import ArcData, run_arc, setup_arc
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
@@ -101,3 +101,14 @@ def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
                            float=arc, table=resolution.table, ar=ar, truth=truth_day,
                            constraints=resolution.constraints, obs=obs, product=product,
                            signals=sig)
+
+
+def at_float_orbit(ref: SimpleNamespace) -> SimpleNamespace:
+    """``ref`` of :func:`simulated_arc` with ``problem`` (the arc set up with its float orbit as
+    a-priori, as scripts/kinematic_pod.py does) and ``pod`` (the POD settings) added."""
+    date, data, signals, arc_settings, pod, forces, pco = ref.args
+    ref.problem = setup_arc(date, data, signals, arc_settings, forces, pco,
+                            code_correction=ref.code_correction, limits=ref.limits,
+                            apriori_orbit=ref.float.orbit.pos_itrf_m)
+    ref.pod = pod
+    return ref

@@ -19,9 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _simulated_arc import simulated_arc
+from _simulated_arc import at_float_orbit, simulated_arc
 
-from leopod.estimation.arc import setup_arc
 from leopod.estimation.fixed_arc import constraints_of
 from leopod.estimation.float_pod import elevation_sigma
 from leopod.estimation.kinematic import (
@@ -41,13 +40,7 @@ SETTINGS = KinematicSettings.from_config(with_defaults("kinematic", {}))
 
 @pytest.fixture(scope="module")
 def arc(tmp_path_factory):
-    ref = simulated_arc(tmp_path_factory.mktemp("arc"))
-    date, data, signals, arc_settings, pod, forces, pco = ref.args
-    ref.problem = setup_arc(date, data, signals, arc_settings, forces, pco,
-                            code_correction=ref.code_correction, limits=ref.limits,
-                            apriori_orbit=ref.float.orbit.pos_itrf_m)
-    ref.pod = pod
-    return ref
+    return at_float_orbit(simulated_arc(tmp_path_factory.mktemp("arc")))
 
 
 def _truth_gcrf(truth, times) -> np.ndarray:

@@ -12,9 +12,8 @@ hand-made rows.
 import numpy as np
 import pytest
 import xarray as xr
-from _simulated_arc import simulated_arc
+from _simulated_arc import at_float_orbit, simulated_arc
 
-from leopod.estimation.arc import setup_arc
 from leopod.estimation.float_pod import PodObservations, elevation_sigma
 from leopod.estimation.kinematic import KinematicModel, KinematicSettings, solve_kinematic
 from leopod.estimation.kinematic_baseline import (
@@ -32,13 +31,7 @@ BASELINE_M = np.array([1200.0, -2500.0, 800.0])
 
 @pytest.fixture(scope="module")
 def arc(tmp_path_factory):
-    ref = simulated_arc(tmp_path_factory.mktemp("arc"))
-    date, data, signals, arc_settings, pod, forces, pco = ref.args
-    ref.problem = setup_arc(date, data, signals, arc_settings, forces, pco,
-                            code_correction=ref.code_correction, limits=ref.limits,
-                            apriori_orbit=ref.float.orbit.pos_itrf_m)
-    ref.pod = pod
-    return ref
+    return at_float_orbit(simulated_arc(tmp_path_factory.mktemp("arc")))
 
 
 def _shifted(orbit: xr.Dataset, offset_m) -> xr.Dataset:

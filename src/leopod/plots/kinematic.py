@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.plots import dots, save_figure
+from leopod.plots.pod import _heading, _hours_of_day
 
 __all__ = ["plot_baseline_differences", "plot_kinematic_rtn"]
 
@@ -75,8 +76,7 @@ def plot_baseline_differences(ds: xr.Dataset, path, title: str = "") -> None:
     title : str
         Pair and day.
     """
-    t = ds.time.values
-    hours = (t - t[0].astype("datetime64[D]")) / np.timedelta64(1, "h")
+    hours, xlabel = _hours_of_day(ds.time.values)
     fig, axes = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
     for ax, comp in zip(axes, ("R", "T", "N"), strict=True):
         for system in ds.system.values:
@@ -88,8 +88,7 @@ def plot_baseline_differences(ds: xr.Dataset, path, title: str = "") -> None:
         ax.set_ylabel(f"{comp} [mm]")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper right", ncols=len(ds.system))
-    axes[-1].set_xlabel(f"hours of {str(t[0].astype('datetime64[D]'))} (GPS time)")
-    fig.suptitle(f"{title}: DD-fixed kinematic minus reduced-dynamic baseline" if title else
-                 "DD-fixed kinematic minus reduced-dynamic baseline")
+    axes[-1].set_xlabel(xlabel)
+    fig.suptitle(_heading(title, "DD-fixed kinematic minus reduced-dynamic baseline"))
     fig.tight_layout()
     save_figure(fig, path)

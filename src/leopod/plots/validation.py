@@ -31,7 +31,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.plots import by_solution, save_figure
-from leopod.plots.pod import _heading
+from leopod.plots.pod import _heading, _hours_of_day
 
 __all__ = ["plot_daily_statistics", "plot_overlaps", "plot_range_check",
            "plot_reference_differences"]
@@ -213,8 +213,7 @@ def plot_range_check(ds: xr.Dataset, path, title: str = "") -> None:
     title : str
         Pair and day.
     """
-    t = ds.time.values
-    hours = (t - t[0].astype("datetime64[D]")) / np.timedelta64(1, "h")
+    hours, xlabel = _hours_of_day(ds.time.values)
     n = ds.sizes["solution"]
     fig, axes = plt.subplots(n, 1, figsize=(10, 1.6 * n + 1.2), sharex=True, squeeze=False)
     for ax, label in zip(axes[:, 0], ds.solution.values, strict=True):
@@ -226,8 +225,7 @@ def plot_range_check(ds: xr.Dataset, path, title: str = "") -> None:
         ax.set_ylabel("mm")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper right")
-    axes[-1, 0].set_xlabel(f"hours of {str(t[0].astype('datetime64[D]'))} (GPS time)")
-    fig.suptitle(f"{title}: baseline length minus inter-satellite range" if title else
-                 "baseline length minus inter-satellite range")
+    axes[-1, 0].set_xlabel(xlabel)
+    fig.suptitle(_heading(title, "baseline length minus inter-satellite range"))
     fig.tight_layout()
     save_figure(fig, path)
