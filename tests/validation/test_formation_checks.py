@@ -7,12 +7,19 @@ and 9.9 mm RMS about it, tests/io/test_grace_orbit_csv.py) — and analytic rota
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.grace_orbit_csv import read_grace_orbit_csv, read_kband_range_csv
 from leopod.validation.compare import interpolate_orbit
-from leopod.validation.formation import difference_rtn, range_residuals, rms_rtn
+from leopod.validation.formation import (
+    difference_rtn,
+    formation_day_row,
+    formation_table,
+    range_residuals,
+    rms_rtn,
+)
 
 DIR = "grace-b_2010-208"
 
@@ -47,3 +54,33 @@ def test_difference_rtn_is_the_rotated_vector():
                        [[0.0, 1.0, 0.0]] * 3, atol=1e-12)
     rms = rms_rtn(np.array([[0.0, 3.0, 4.0], [0.0, -3.0, -4.0], [np.nan, 0.0, 0.0]]))
     assert rms == {"R": 0.0, "T": 3.0, "N": 4.0, "3D": 5.0, "n": 2}
+
+
+def test_formation_table_rows_means_and_counts():
+    # analytic: the table carries each day's attributes in its units, means and sample STDs
+    # of the daily figures, sums of the counts
+    def day(nl, fixed_3d, kin_3d, std):
+        base = xr.Dataset(attrs={"wl_fixing_rate": 1.0, "nl_fixing_rate": nl,
+                                 "G_nl_fixing_rate": nl, "n_dd_constraints_used": 400,
+                                 **{f"{k}_rms_{c}_m": fixed_3d / 1e3 for k in ("float", "fixed")
+                                    for c in ("r", "t", "n", "3d")}})
+        kin = xr.Dataset(
+            {"rms_minus_truth_m": (("system", "ambiguities", "component"),
+                                   np.full((1, 2, 4), kin_3d / 1e3))},
+            coords={"system": ["G"], "ambiguities": ["float", "fixed"],
+                    "component": ["R", "T", "N", "3D"]})
+        rng = xr.Dataset({"std_m": ("solution", [std / 1e3])},
+                         coords={"solution": ["dynamic DD-fixed"]})
+        wrong = {"all": {"wl_wrong": 0, "nl_wrong": 1, "constrained_wrong": 0}}
+        return formation_day_row(base, kinematic=kin, ranges=rng, wrong=wrong)
+
+    table, meta = formation_table({"2022-195": day(0.99, 3.0, 15.0, 1.4),
+                                   "2022-196": day(0.97, 5.0, 17.0, 1.6)})
+    assert meta["dd_nl_rate"][0] == "%" and meta["dynamic_fixed_vs_truth_3d"][0] == "mm"
+    assert table.loc["2022-195", "dd_nl_rate"] == pytest.approx(99.0)
+    assert table.loc["mean", "dynamic_fixed_vs_truth_3d"] == pytest.approx(4.0)
+    assert table.loc["std", "dynamic_fixed_vs_truth_3d"] == pytest.approx(np.sqrt(2.0))
+    assert table.loc["mean", "kinematic_G_fixed_minus_truth_3d"] == pytest.approx(16.0)
+    assert table.loc["mean", "range_std_dynamic_fixed"] == pytest.approx(1.5)
+    assert table.loc["mean", "dd_nl_wrong"] == 2 and np.isnan(table.loc["std", "dd_nl_wrong"])
+    assert table.loc["mean", "dd_constraints"] == 800

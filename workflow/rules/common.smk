@@ -352,6 +352,35 @@ def kinematic_baseline_inputs(wildcards):
     return files
 
 
+def formation_summary_files(pair):
+    """{date: {product: path or [paths]}} of the formation summary of a pair: baseline, DD
+    table, kinematic baseline, range check and (simulated pairs) the float residuals and truth
+    files that give the wrong DD fixes."""
+    a, b = PAIRS[pair]
+    simulated = is_simulated(a) and is_simulated(b)
+    out = {}
+    for date in DAYS:
+        files = {"baseline": fill(rules.baseline.output.nc, pair=pair, date=date),
+                 "dd": fill(rules.baseline.output.dd, pair=pair, date=date)}
+        if CONFIG["kinematic"]["baseline_systems"]:
+            files["kinematic"] = fill(rules.kinematic_baseline.output.nc, pair=pair, date=date)
+        if simulated:
+            files["range"] = fill(rules.range_check.output.nc, pair=pair, date=date)
+            for key, sat in (("a", a), ("b", b)):
+                files[f"residuals_{key}"] = fill(pod_output("float_pod", "residuals"), sat=sat,
+                                                 date=date)
+                files[f"truth_{key}"] = expand(rules.simulate.output.truth_nc, sat=sat,
+                                               date=arc_days(CONFIG, date))
+        out[date] = files
+    return out
+
+
+def formation_summary_inputs(wildcards):
+    """Every file the formation summary of a pair reads."""
+    return sorted({p for files in formation_summary_files(wildcards.pair).values()
+                   for v in files.values() for p in ([v] if isinstance(v, str) else v)})
+
+
 def range_check_inputs(wildcards):
     """range_check: the pair's range series and its baseline solutions of the day."""
     files = {"range": fill(rules.simulate_range.output.csv, pair=wildcards.pair,
@@ -514,6 +543,7 @@ def all_targets():
         simulated_pairs = [p for p, (a, b) in PAIRS.items()
                            if is_simulated(a) and is_simulated(b)]
         targets += expand(rules.range_check.output.nc, pair=simulated_pairs, date=DAYS)
+        targets += expand(rules.formation_summary.output.csv, pair=list(PAIRS))
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:

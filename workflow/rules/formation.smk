@@ -53,3 +53,44 @@ rule range_check:
         title=lambda w: " - ".join(reversed(PAIRS[w.pair])),
     script:
         "../../scripts/range_check.py"
+
+
+# The campaign summary of a formation pair: per day DD fixing rates and wrong fixes, the
+# reduced-dynamic baseline against the truth, kinematic minus truth and minus dynamic per
+# system, the range checks; mean and STD rows (paper 003, Tables 4-6).
+rule formation_summary:
+    input:
+        formation_summary_inputs,
+        code=library_code("formation_summary"),
+    output:
+        csv="results/summary/{pair}_formation.csv",
+        html=report(
+            "results/summary/{pair}_formation.html",
+            caption="../report/formation_summary.rst",
+            category="Baseline",
+            labels={"pair": "{pair}", "figure": "formation summary"},
+        ),
+        figure=report(
+            "results/summary/{pair}_formation.png",
+            caption="../report/formation_summary_figure.rst",
+            category="Baseline",
+            labels={"pair": "{pair}", "figure": "baselines per day"},
+        ),
+    log:
+        "logs/formation_summary/{pair}.log",
+    benchmark:
+        "logs/benchmarks/formation_summary/{pair}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=5,
+    params:
+        files=lambda w: formation_summary_files(w.pair),
+        phases=lambda w: {x: CONFIG["signals"][x]["phase"] for x in
+                          ([CONFIG["pod"]["system"]] if isinstance(CONFIG["pod"]["system"], str)
+                           else CONFIG["pod"]["system"])},
+        title=lambda w: " - ".join(reversed(PAIRS[w.pair])),
+    script:
+        "../../scripts/formation_summary.py"

@@ -33,8 +33,8 @@ import xarray as xr
 from leopod.plots import by_solution, save_figure
 from leopod.plots.pod import _heading, _hours_of_day
 
-__all__ = ["plot_daily_statistics", "plot_overlaps", "plot_range_check",
-           "plot_reference_differences"]
+__all__ = ["plot_daily_statistics", "plot_formation_summary", "plot_overlaps",
+           "plot_range_check", "plot_reference_differences"]
 
 _M_TO_MM = 1e3
 """Metres to millimetres (display unit of all validation figures)."""
@@ -227,5 +227,46 @@ def plot_range_check(ds: xr.Dataset, path, title: str = "") -> None:
         ax.legend(fontsize=8, loc="upper right")
     axes[-1, 0].set_xlabel(xlabel)
     fig.suptitle(_heading(title, "baseline length minus inter-satellite range"))
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def plot_formation_summary(table, path, title: str = "") -> None:
+    """Baselines of a formation pair per day (3D RMS [mm] against the truth, or against the
+    reduced-dynamic baseline for the kinematic ones when there is no truth) and the DD NL
+    fixing rate.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`leopod.validation.formation.formation_table` (days, then ``mean``/``std``).
+    path : str or path-like
+        PNG to write.
+    title : str
+        Pair.
+    """
+    days = table.drop(index=["mean", "std"], errors="ignore")
+    x = np.arange(len(days))
+    fig, (ax, ax_rate) = plt.subplots(2, 1, figsize=(9, 6), sharex=True,
+                                      gridspec_kw={"height_ratios": [2.5, 1]})
+    truth = any(c.endswith("_minus_truth_3d") for c in days.columns)
+    series = [(c, c.replace("_vs_truth_3d", "").replace("_", " ")) for c in days.columns
+              if c in ("dynamic_float_vs_truth_3d", "dynamic_fixed_vs_truth_3d")]
+    ref = "truth" if truth else "dynamic"
+    series += [(c, c.replace(f"_minus_{ref}_3d", "").replace("_", " ")) for c in days.columns
+               if c.startswith("kinematic_") and c.endswith(f"_fixed_minus_{ref}_3d")]
+    for column, label in series:
+        ax.plot(x, days[column].to_numpy(dtype=float), "o-", label=label)
+    ax.set_ylim(bottom=0.0)
+    ax.set_ylabel(f"3D RMS vs {ref} [mm]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncols=2)
+    ax_rate.plot(x, days["dd_nl_rate"].to_numpy(dtype=float), "s-", color="C3",
+                 label="DD NL fixing rate")
+    ax_rate.set_ylabel("%")
+    ax_rate.grid(alpha=0.3)
+    ax_rate.legend(fontsize=8)
+    _category_axis(ax_rate, [str(d) for d in days.index])
+    fig.suptitle(_heading(title, "formation baselines per day"))
     fig.tight_layout()
     save_figure(fig, path)

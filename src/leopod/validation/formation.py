@@ -6,18 +6,25 @@ solutions or a solution and the truth are compared as the difference vector in t
 radial, along-track, cross-track frame (Zhang et al. 2024, Table 6: dynamic − kinematic).
 Against an inter-satellite range (K-band ranging of GRACE; Kroes et al. 2005), the length
 ``|Δr|`` of a baseline is compared with the range at the same epochs: a check along the line of
-sight only, independent of GNSS.
+sight only, independent of GNSS. The campaign summary of a pair (:func:`formation_day_row`,
+:func:`formation_table`) puts the DD fixing, the baselines against the truth, kinematic −
+dynamic and the range checks of each day in one table, as paper 003's Tables 4-6 do.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
+import pandas as pd
+import xarray as xr
 
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
 from leopod.io.sp3 import read_sp3
 
-__all__ = ["difference_rtn", "range_residuals", "rms_rtn", "truth_baseline_itrf"]
+__all__ = ["difference_rtn", "formation_day_row", "formation_table", "range_residuals",
+           "rms_rtn", "truth_baseline_itrf"]
 
 
 def truth_baseline_itrf(sp3_a, sp3_b, times: np.ndarray) -> np.ndarray:
@@ -79,3 +86,95 @@ def range_residuals(baseline_itrf_m: np.ndarray, times: np.ndarray,
     hit = rt[k] == t
     out[hit] = np.linalg.norm(baseline_itrf_m[hit], axis=1) - range_m[k[hit]]
     return out
+
+
+def _pct(value) -> float:
+    return 100.0 * float(value) if value is not None else np.nan
+
+
+def formation_day_row(baseline: xr.Dataset, *, kinematic: xr.Dataset | None = None,
+                      ranges: xr.Dataset | None = None,
+                      wrong: Mapping | None = None) -> dict[str, tuple[float, str, str]]:
+    """The figures of one pair-day: ``{column: (value, unit, description)}``.
+
+    Parameters
+    ----------
+    baseline : xarray.Dataset
+        Output of the baseline rule (attributes: DD fixing rates overall and per system,
+        ``n_dd_constraints_used``, ``<float|fixed>_rms_<r|t|n|3d>_m`` against the truth).
+    kinematic : xarray.Dataset, optional
+        Output of the kinematic_baseline rule (``rms_minus_truth_m``, ``rms_minus_dynamic_m``).
+    ranges : xarray.Dataset, optional
+        Output of the range_check rule (``std_m``, ``mean_m`` per solution).
+    wrong : mapping, optional
+        Wrong DD fixes against the simulator's integers per system and ``all``
+        (:func:`leopod.simulate.dd_truth.wrong_dd_fixes`).
+    """
+    t = baseline.attrs
+    row: dict[str, tuple[float, str, str]] = {
+        "dd_wl_rate": (_pct(t.get("wl_fixing_rate")), "%",
+                       "DD WL fixing rate (graph rank of the fixed over all independent DDs)"),
+        "dd_nl_rate": (_pct(t.get("nl_fixing_rate")), "%", "DD NL fixing rate (graph rank)"),
+    }
+    systems = sorted({k.split("_", 1)[0] for k in t if k.endswith("_nl_fixing_rate")
+                      and len(k.split("_", 1)[0]) == 1})
+    for x in systems:
+        row[f"dd_nl_rate_{x}"] = (_pct(t.get(f"{x}_nl_fixing_rate")), "%",
+                                  f"DD NL fixing rate of {x}")
+    row["dd_constraints"] = (float(t.get("n_dd_constraints_used", np.nan)), "1",
+                             "fixed DDs constraining the baseline")
+    if wrong is not None:
+        for kind in ("wl", "nl", "constrained"):
+            key = f"{kind}_wrong"
+            row[f"dd_{kind}_wrong"] = (float(wrong["all"][key]), "1",
+                                       f"wrong {kind.upper() if kind != 'constrained' else kind}"
+                                       " DD fixes against the simulator's integers")
+    for label in ("float", "fixed"):
+        name = "DD-fixed" if label == "fixed" else label
+        if f"{label}_rms_3d_m" in t:
+            for c in ("r", "t", "n", "3d"):
+                row[f"dynamic_{label}_vs_truth_{c}"] = (
+                    1e3 * float(t[f"{label}_rms_{c}_m"]), "mm",
+                    f"reduced-dynamic {name} baseline minus truth, RMS {c.upper()}")
+    if kinematic is not None:
+        for x in kinematic.system.values:
+            for kind in kinematic.ambiguities.values:
+                name = "DD-fixed" if kind == "fixed" else str(kind)
+                for ref in ("truth", "dynamic"):
+                    var = f"rms_minus_{ref}_m"
+                    if var in kinematic:
+                        v = kinematic[var].sel(system=x, ambiguities=kind, component="3D")
+                        row[f"kinematic_{x}_{kind}_minus_{ref}_3d"] = (
+                            1e3 * float(v), "mm", f"kinematic {x} {name} baseline minus "
+                            f"{'reduced-dynamic DD-fixed' if ref == 'dynamic' else ref} "
+                            "baseline, RMS 3D")
+    if ranges is not None:
+        for label in ranges.solution.values:
+            key = str(label).replace(" ", "_").replace("DD-fixed", "fixed")
+            row[f"range_std_{key}"] = (1e3 * float(ranges.std_m.sel(solution=label)), "mm",
+                                       f"STD of |baseline| minus range, {label}")
+    return row
+
+
+def formation_table(rows: Mapping[str, Mapping[str, tuple[float, str, str]]]
+                    ) -> tuple[pd.DataFrame, dict[str, tuple[str, str]]]:
+    """Days of :func:`formation_day_row` as a table with ``mean`` and ``std`` rows (counts:
+    the sum and NaN), and ``{column: (unit, description)}``.
+
+    Parameters
+    ----------
+    rows : mapping
+        ``{date: row}``.
+    """
+    meta = {c: (u, d) for row in rows.values() for c, (_, u, d) in row.items()}
+    table = pd.DataFrame({date: {c: v for c, (v, _, _) in row.items()}
+                          for date, row in rows.items()}).T.reindex(columns=list(meta))
+    counts = [c for c, (u, _) in meta.items() if u == "1"]
+    mean = table.mean(numeric_only=True)
+    std = table.std(ddof=1, numeric_only=True)
+    for c in counts:
+        mean[c] = table[c].sum(min_count=1)
+        std[c] = np.nan
+    out = pd.concat([table, pd.DataFrame([mean.rename("mean"), std.rename("std")])])
+    out.index.name = "date"
+    return out, meta

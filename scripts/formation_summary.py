@@ -1,0 +1,69 @@
+"""Rule formation_summary: the campaign table of a formation pair (leopod.validation.formation)
+as CSV and HTML, and its figure."""
+
+import logging
+from collections.abc import Mapping
+
+import numpy as np
+import xarray as xr
+
+from leopod.io import write_text
+from leopod.plots.validation import plot_formation_summary
+from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
+from leopod.validation.formation import formation_day_row, formation_table
+from leopod.workflow.log import configure_logging
+
+log = logging.getLogger(__name__)
+
+
+def _cell(value: float) -> str:
+    if not np.isfinite(value):
+        return "&ndash;"
+    return f"{value:.0f}" if value == round(value) and abs(value) >= 100 else f"{value:.3g}"
+
+
+def _wrong(files: Mapping, phases: Mapping) -> dict | None:
+    """Wrong DD fixes of a simulated pair-day, None without truth files."""
+    if "truth_a" not in files:
+        return None
+    table = xr.load_dataset(files["dd"])
+    res = [xr.load_dataset(files[f"residuals_{k}"]) for k in ("a", "b")]
+    truth = [[xr.load_dataset(p) for p in files[f"truth_{k}"]] for k in ("a", "b")]
+    wl, nl = true_double_differences(table, res[0], res[1], truth[0], truth[1], phases)
+    return wrong_dd_fixes(table, wl, nl)
+
+
+def main(files: Mapping, outputs: Mapping, *, phases: Mapping, title: str) -> None:
+    """Formation table of ``files`` (``{date: {product: path}}``) into ``outputs``."""
+    rows = {}
+    for date, f in files.items():
+        rows[date] = formation_day_row(
+            xr.load_dataset(f["baseline"]),
+            kinematic=xr.load_dataset(f["kinematic"]) if "kinematic" in f else None,
+            ranges=xr.load_dataset(f["range"]) if "range" in f else None,
+            wrong=_wrong(f, phases))
+    table, meta = formation_table(rows)
+    log.info("formation summary:\n%s", table.T.to_string(float_format=lambda v: f"{v:.3g}"))
+    write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
+    # one row per figure (its description and unit), one column per day, mean and STD
+    head = "".join(f"<th>{d}</th>" for d in table.index)
+    body = "\n".join(
+        f"<tr><td>{meta[c][1]}</td><td>{meta[c][0]}</td>"
+        + "".join(f"<td>{_cell(v)}</td>" for v in table[c].to_numpy(dtype=float)) + "</tr>"
+        for c in table.columns)
+    write_text(outputs["html"],
+               f"<html><body><h3>{title}: formation summary</h3>\n<table border='1' "
+               f"cellpadding='3'><tr><th>figure</th><th>unit</th>{head}</tr>\n{body}"
+               "</table></body></html>\n")
+    plot_formation_summary(table, outputs["figure"], title=title)
+
+
+def run(sm) -> None:
+    """Call :func:`main` with the job's files and settings."""
+    configure_logging(sm)
+    main(sm.params.files, dict(sm.output.items()), phases=sm.params.phases,
+         title=sm.params.title)
+
+
+if __name__ == "__main__":
+    run(snakemake)  # noqa: F821 (injected by Snakemake)
