@@ -41,6 +41,7 @@ def main(files: Mapping, outputs: Mapping, *, phases: Mapping, title: str) -> No
             xr.load_dataset(f["baseline"]),
             kinematic=xr.load_dataset(f["kinematic"]) if "kinematic" in f else None,
             ranges=xr.load_dataset(f["range"]) if "range" in f else None,
+            overlap=xr.load_dataset(f["overlap"]) if "overlap" in f else None,
             wrong=_wrong(f, phases))
     table, meta = formation_table(rows)
     log.info("formation summary:\n%s", table.T.to_string(float_format=lambda v: f"{v:.3g}"))

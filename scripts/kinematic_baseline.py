@@ -68,12 +68,13 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                 system, pod, kinematic, eop=pa.eop, antennas_a=pa.antennas,
                 antennas_b=pb.antennas, constraints_table=table if kind == "fixed" else None,
                 constraint_sigma_m=constraint_sigma_m)
-            ds = baseline_dataset(result, leader, eop=pa.eop).isel(time=in_day)
+            ds = baseline_dataset(result, leader, eop=pa.eop)
             stats = {"sigma0": (ds.attrs["sigma0"], "1", "a-posteriori sigma of unit weight"),
                      "dd_constraints": (ds.attrs["dd_constraints"], "1",
                                         "DD constraints in the solution"),
-                     "epochs_solved": (int(ds.solved.sum()), "1", "epochs solved (the day)"),
-                     "epochs": (ds.sizes["time"], "1", "epochs of the day"),
+                     "epochs_solved": (int(ds.solved.values[in_day].sum()), "1",
+                                       "epochs solved (the day)"),
+                     "epochs": (int(in_day.sum()), "1", "epochs of the day"),
                      "isb_m": (ds.attrs["isb_m"][0] if ds.attrs["isb_m"].size else np.nan, "m",
                                "differential code inter-system bias of the second system")}
             by_kind.append(ds.drop_attrs(deep=False).assign(
@@ -81,11 +82,15 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
         parts.append(xr.concat(by_kind, dim="ambiguities"))
     out = xr.concat(parts, dim="system").assign_coords(
         system=list(kinematic.baseline_systems), ambiguities=list(KINDS))
+    out["in_day"] = ("time", in_day.astype("i1"), {
+        "units": "1", "long_name": "1: epoch of the day (statistics), 0: rest of the arc"})
     t = out.time.values
     leader = orbit_state(orbit_a, t, pa.t_ref)
     references = {"dynamic": dynamic.baseline_itrf_m.reindex(time=t).values}
     if "a_truth" in inputs and "b_truth" in inputs:
-        references["truth"] = truth_baseline_itrf(inputs["a_truth"], inputs["b_truth"], t)
+        truth = np.full((t.size, 3), np.nan)
+        truth[in_day] = truth_baseline_itrf(inputs["a_truth"], inputs["b_truth"], t[in_day])
+        references["truth"] = truth
     for name, ref in references.items():
         diff = np.full(out.baseline_itrf_m.shape[:3] + (3,), np.nan)
         rms = np.full(out.baseline_itrf_m.shape[:2] + (4,), np.nan)
@@ -94,14 +99,14 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                 base = out.baseline_itrf_m.values[i, j]
                 ok = (out.solved.values[i, j] == 1) & np.isfinite(ref).all(axis=1)
                 diff[i, j, ok] = difference_rtn(base[ok], ref[ok], t[ok], leader[ok])
-                r = rms_rtn(diff[i, j])
+                r = rms_rtn(diff[i, j][in_day])
                 rms[i, j] = [r["R"], r["T"], r["N"], r["3D"]]
                 log.info("%s %s kinematic minus %s baseline: RMS R %.1f T %.1f N %.1f 3D %.1f "
                          "mm (%d epochs)", system, kind, name, *(1e3 * rms[i, j]), r["n"])
         out[f"minus_{name}_rtn_m"] = (("system", "ambiguities", "time", "rtn"), diff, {
             "units": "m", "long_name": f"kinematic minus {name} baseline, leader RTN"})
         out[f"rms_minus_{name}_m"] = (("system", "ambiguities", "component"), rms, {
-            "units": "m", "long_name": f"RMS of kinematic minus {name} baseline"})
+            "units": "m", "long_name": f"RMS of kinematic minus {name} baseline (the day)"})
     out = out.assign_coords(component=["R", "T", "N", "3D"])
     names = tuple(p["sat"] for p in pair)
     out.attrs.update({"leader": names[0], "follower": names[1]})

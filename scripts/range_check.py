@@ -9,6 +9,7 @@ import xarray as xr
 from leopod.io.grace_orbit_csv import read_kband_range_csv
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.validation import plot_range_check
+from leopod.time.calendar import parse_date_id
 from leopod.validation.formation import range_residuals
 from leopod.workflow.log import configure_logging
 
@@ -28,12 +29,16 @@ def _solutions(dynamic: xr.Dataset, kinematic: xr.Dataset | None) -> dict:
     return out
 
 
-def main(range_path, dynamic_path, kinematic_path, nc_path, figure_path, *, title: str) -> None:
-    """Residuals |baseline| − range of every solution, their statistics and figure."""
+def main(range_path, dynamic_path, kinematic_path, nc_path, figure_path, *, date: str,
+         title: str) -> None:
+    """Residuals |baseline| − range of every solution over the day ``date`` (YYYY-DDD), their
+    statistics and figure."""
     rng = read_kband_range_csv(range_path)
     dynamic = xr.load_dataset(dynamic_path)
     kinematic = None if kinematic_path is None else xr.load_dataset(kinematic_path)
+    day = np.datetime64(parse_date_id(date), "ns")
     times = dynamic.time.values
+    times = times[(times >= day) & (times < day + np.timedelta64(1, "D"))]
     labels, residuals, stats = [], [], []
     for label, (t, base) in _solutions(dynamic, kinematic).items():
         res = range_residuals(base, t, rng.range_m.values, rng.time.values)
@@ -68,7 +73,8 @@ def run(sm) -> None:
     """Call :func:`main` with the job's files and settings."""
     configure_logging(sm)
     main(sm.input.range, sm.input.dynamic, getattr(sm.input, "kinematic", None),
-         sm.output.nc, sm.output.figure, title=f"{sm.params.title} {sm.wildcards.date}")
+         sm.output.nc, sm.output.figure, date=sm.wildcards.date,
+         title=f"{sm.params.title} {sm.wildcards.date}")
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ from leopod.frames.rtn import rtn_matrix
 from leopod.io.grace_orbit_csv import read_grace_orbit_csv, read_kband_range_csv
 from leopod.validation.compare import interpolate_orbit
 from leopod.validation.formation import (
+    baseline_overlap,
     difference_rtn,
     formation_day_row,
     formation_table,
@@ -84,3 +85,21 @@ def test_formation_table_rows_means_and_counts():
     assert table.loc["mean", "range_std_dynamic_fixed"] == pytest.approx(1.5)
     assert table.loc["mean", "dd_nl_wrong"] == 2 and np.isnan(table.loc["std", "dd_nl_wrong"])
     assert table.loc["mean", "dd_constraints"] == 800
+
+
+def test_baseline_overlap_on_common_epochs():
+    # analytic: two solutions 0.5 mm apart along the leader's velocity over 3 common epochs
+    t = np.datetime64("2022-07-14T21:00", "ns") + np.arange(6) * np.timedelta64(30, "s")
+    pos = np.tile([7e6, 0.0, 0.0], (6, 1))
+    vel = np.tile([0.0, 7.5e3, 0.0], (6, 1))
+    leader = np.concatenate([pos, vel], axis=1)
+    rot = np.stack([itrf_to_gcrf(t, np.tile(e, (6, 1)))[0] for e in np.eye(3)], axis=2)
+    t_itrf = np.einsum("mji,mj->mi", rot, np.tile([0.0, 1.0, 0.0], (6, 1)))   # GCRF +y in ITRF
+    base_a = np.tile([100.0, -5000.0, 300.0], (6, 1)) + 5e-4 * t_itrf
+    base_b = np.tile([100.0, -5000.0, 300.0], (3, 1))
+    base_b[1] = np.nan                                        # not solved: left out
+    times, diff = baseline_overlap(t, base_a, t[3:], base_b, leader)
+    assert np.array_equal(times, t[[3, 5]])
+    assert np.allclose(diff, [[0.0, 5e-4, 0.0]] * 2, atol=1e-9)
+    empty_t, empty = baseline_overlap(t[:3], base_a[:3], t[3:], base_b, leader[:3])
+    assert empty_t.size == 0 and empty.shape == (0, 3)

@@ -354,8 +354,8 @@ def kinematic_baseline_inputs(wildcards):
 
 def formation_summary_files(pair):
     """{date: {product: path or [paths]}} of the formation summary of a pair: baseline, DD
-    table, kinematic baseline, range check and (simulated pairs) the float residuals and truth
-    files that give the wrong DD fixes."""
+    table, kinematic baseline, overlap with the next day, range check and (simulated pairs) the
+    float residuals and truth files that give the wrong DD fixes."""
     a, b = PAIRS[pair]
     simulated = is_simulated(a) and is_simulated(b)
     out = {}
@@ -364,6 +364,8 @@ def formation_summary_files(pair):
                  "dd": fill(rules.baseline.output.dd, pair=pair, date=date)}
         if CONFIG["kinematic"]["baseline_systems"]:
             files["kinematic"] = fill(rules.kinematic_baseline.output.nc, pair=pair, date=date)
+        if date != DAYS[-1]:
+            files["overlap"] = fill(rules.baseline_overlap.output.nc, pair=pair, date=date)
         if simulated:
             files["range"] = fill(rules.range_check.output.nc, pair=pair, date=date)
             for key, sat in (("a", a), ("b", b)):
@@ -379,6 +381,23 @@ def formation_summary_inputs(wildcards):
     """Every file the formation summary of a pair reads."""
     return sorted({p for files in formation_summary_files(wildcards.pair).values()
                    for v in files.values() for p in ([v] if isinstance(v, str) else v)})
+
+
+def baseline_overlap_inputs(wildcards):
+    """The baseline solutions of a day and of the next campaign day, and the leader's float
+    orbit of the day (RTN axes)."""
+    later = DAYS[DAYS.index(wildcards.date) + 1]
+    files = {"dynamic_a": fill(rules.baseline.output.nc, pair=wildcards.pair,
+                               date=wildcards.date),
+             "dynamic_b": fill(rules.baseline.output.nc, pair=wildcards.pair, date=later),
+             "leader": fill(pod_output("float_pod", "orbit"), sat=PAIRS[wildcards.pair][0],
+                            date=wildcards.date)}
+    if CONFIG["kinematic"]["baseline_systems"]:
+        files["kinematic_a"] = fill(rules.kinematic_baseline.output.nc, pair=wildcards.pair,
+                                    date=wildcards.date)
+        files["kinematic_b"] = fill(rules.kinematic_baseline.output.nc, pair=wildcards.pair,
+                                    date=later)
+    return files
 
 
 def range_check_inputs(wildcards):
@@ -543,6 +562,9 @@ def all_targets():
         simulated_pairs = [p for p, (a, b) in PAIRS.items()
                            if is_simulated(a) and is_simulated(b)]
         targets += expand(rules.range_check.output.nc, pair=simulated_pairs, date=DAYS)
+        if len(DAYS) > 1:
+            targets += expand(rules.baseline_overlap.output.nc, pair=list(PAIRS),
+                              date=DAYS[:-1])
         targets += expand(rules.formation_summary.output.csv, pair=list(PAIRS))
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)

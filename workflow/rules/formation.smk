@@ -94,3 +94,25 @@ rule formation_summary:
         title=lambda w: " - ".join(reversed(PAIRS[w.pair])),
     script:
         "../../scripts/formation_summary.py"
+
+
+# Baseline overlap: the solutions of a day and of the next campaign day over the span their
+# arcs share (6 h for 30-h arcs), in the leader's RTN (paper 003: 0.5-0.8 mm 3D).
+rule baseline_overlap:
+    input:
+        unpack(baseline_overlap_inputs),
+        code=library_code("baseline_overlap"),
+    output:
+        nc="results/baseline_overlap/{pair}/{date}.nc",
+    log:
+        "logs/baseline_overlap/{pair}/{date}.log",
+    benchmark:
+        "logs/benchmarks/baseline_overlap/{pair}/{date}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../../scripts/baseline_overlap.py"

@@ -82,6 +82,8 @@ def plot_baseline_differences(ds: xr.Dataset, path, title: str = "") -> None:
         for system in ds.system.values:
             d = ds.minus_dynamic_rtn_m.sel(system=system, ambiguities="fixed",
                                            rtn=comp).values * 1e3
+            if "in_day" in ds:
+                d = np.where(ds.in_day.values == 1, d, np.nan)
             ok = np.isfinite(d)
             rms = float(np.sqrt(np.mean(d[ok] ** 2))) if ok.any() else float("nan")
             dots(ax, hours[ok], d[ok], size_pt2=2.0, label=f"{system}: RMS {rms:.1f} mm")
