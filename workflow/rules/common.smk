@@ -327,7 +327,9 @@ def baseline_inputs(wildcards):
             inputs[f"float_{name}"] = fill(pod_output("float_pod", name), sat=sat,
                                            date=wildcards.date)
         if is_simulated(sat):
-            inputs["truth"] = fill(rules.simulate.output.truth_sp3, sat=sat, date=wildcards.date)
+            # the truth netCDF, not the SP3: SP3 positions are rounded to 1 mm, which puts
+            # 0.7 mm 3D RMS of rounding into a truth baseline
+            inputs["truth"] = fill(rules.simulate.output.truth_nc, sat=sat, date=wildcards.date)
         files.update({f"{key}_{k}": v for k, v in inputs.items()})
     return files
 

@@ -17,11 +17,30 @@ joint covariance; each orbit is corrected through its partials
 ``Δr = r_B − r_A`` has the covariance
 ``G_B C_BB G_Bᵀ + G_A C_AA G_Aᵀ − G_B C_BA G_Aᵀ − G_A C_AB G_Bᵀ`` (cross terms from the
 joint solve; Kroes et al. 2005, GRACE baseline).
+
+**Relative dynamics** (``baseline.dynamics: relative``). Two satellites a few km apart feel
+nearly the same unmodelled forces (the same thermospheric density structures of hundreds of
+km, the same Sun and Earth radiation on twins of one design); what the estimator's empirical
+accelerations, drag and SRP scales and pulses absorb is therefore nearly common, and the
+baseline needs only the differential part. Each parameter of the follower that has a
+counterpart of the leader (the same force-model parameter name on the same arc, or the pulse
+of the same epoch in the same direction) gets the pseudo-observation::
+
+    x_B,j − x_A,j = 0 ± σ_rel,j
+
+with ``σ_rel`` the expected differential level (:class:`BaselineSettings`; the campaign's
+comment derives it from the simulated differential acceleration). The initial states, the
+follower's burn accelerations, the receiver-specific ISBs and the ambiguities stay free: the
+common orbit errors then cancel in ``r_B − r_A`` while each orbit is still fitted to its own
+undifferenced data (in the spirit of the relative dynamics of GRACE baseline filters, Kroes
+et al. 2005; here as pseudo-observations of the joint normal equations).
+``independent`` (default): no such rows, the two dynamics as in two PODs.
 """
 
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -32,12 +51,130 @@ from leopod.estimation.float_pod import ArcNormals, PodResult
 from leopod.estimation.normals import NormalEquations, solve
 from leopod.frames.earth_rotation import gcrf_to_itrf
 from leopod.frames.rtn import rtn_matrix
+from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 
-__all__ = ["JointSolution", "baseline_rtn", "dd_rows", "fixed_baseline", "float_baseline",
-           "joint_solve"]
+__all__ = ["BaselineSettings", "JointSolution", "baseline_rtn", "constraint_residuals",
+           "dd_rows", "fixed_baseline", "float_baseline", "joint_solve", "relative_rows"]
 
 log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class BaselineSettings(Settings):
+    """How the two arcs of a pair are tied together (config ``baseline``).
+
+    Attributes
+    ----------
+    dynamics : str
+        ``independent``: each arc with its own a-priori constraints only; ``relative``: the
+        parameters the two arcs share tied by differential sigmas (module docstring).
+    relative_pulse_sigma_m_s : tuple of 3 float
+        σ of ``Δv_B − Δv_A`` of pulses of the same epoch, R, T, N [m/s].
+    relative_empirical_sigma_m_s2 : float
+        σ of the difference of an empirical acceleration coefficient [m/s²].
+    relative_drag_scale_sigma : float
+        σ of the difference of a drag scale factor [1].
+    relative_srp_scale_sigma : float
+        σ of the difference of an SRP scale factor [1].
+    dd_constraint_sigma_m : float or None
+        σ of the fixed DD constraints [m]; None: the ambiguity step's ``constraint_sigma_m``.
+    """
+
+    SCHEMA_DEF = "baseline"
+
+    dynamics: str
+    relative_pulse_sigma_m_s: tuple[float, float, float]
+    relative_empirical_sigma_m_s2: float
+    relative_drag_scale_sigma: float
+    relative_srp_scale_sigma: float
+    dd_constraint_sigma_m: float | None
+
+
+def _pulse_matches(a: ArcNormals, b: ArcNormals, tolerance_s: float = 1.0):
+    """Index pairs (i_a, i_b) of the pulse parameters of the same epoch and direction."""
+    if a.pulse_epochs_s is None or b.pulse_epochs_s is None:
+        return np.empty(0, int), np.empty(0, int), np.empty(0, int)
+    ta = a.pulse_epochs_s + float(seconds_since(np.datetime64(a.t_ref, "ns"), b.t_ref))
+    tb = b.pulse_epochs_s
+    if ta.size == 0 or tb.size == 0:
+        return np.empty(0, int), np.empty(0, int), np.empty(0, int)
+    nearest = np.clip(np.searchsorted(ta, tb), 0, ta.size - 1)
+    better = np.clip(nearest - 1, 0, ta.size - 1)
+    nearest = np.where(np.abs(ta[better] - tb) < np.abs(ta[nearest] - tb), better, nearest)
+    ok = np.abs(ta[nearest] - tb) <= tolerance_s
+    first_a = a.names.index("pulse_R_0")
+    first_b = b.names.index("pulse_R_0")
+    ia, ib, axis = [], [], []
+    for j in np.flatnonzero(ok):
+        for c in range(3):
+            ia.append(first_a + 3 * int(nearest[j]) + c)
+            ib.append(first_b + 3 * int(j) + c)
+            axis.append(c)
+    return np.asarray(ia, int), np.asarray(ib, int), np.asarray(axis, int)
+
+
+def relative_rows(a: ArcNormals, b: ArcNormals, settings: BaselineSettings
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """Pseudo-observations ``x_B,j − x_A,j = 0 ± σ_rel`` of the shared dynamic parameters.
+
+    Parameters
+    ----------
+    a, b : ArcNormals
+        Leader and follower (``names``, ``values``, ``t_ref``, ``pulse_epochs_s`` set).
+    settings : BaselineSettings
+
+    Returns
+    -------
+    design : ndarray, shape (p, n_A + n_B)
+    misclosure : ndarray, shape (p,)
+        ``0 − (x_B,j − x_A,j)`` at the linearisation [parameter units].
+    weight : ndarray, shape (p,)
+        ``1/σ_rel²``.
+    counts : dict of str to int
+        Rows per kind (``pulse``, ``empirical``, ``drag_scale``, ``srp_scale``).
+
+    Notes
+    -----
+    Force-model parameters are paired by name only when both arcs have the same reference
+    epoch (their intervals then coincide); otherwise only pulses are paired (by epoch).
+    """
+    n_a, n_b = a.normals.rhs.size, b.normals.rhs.size
+    ia, ib, sig = [], [], []
+    counts = {"pulse": 0, "empirical": 0, "drag_scale": 0, "srp_scale": 0}
+    pa, pb, axis = _pulse_matches(a, b)
+    ia += list(pa)
+    ib += list(pb)
+    sig += list(np.asarray(settings.relative_pulse_sigma_m_s, dtype=float)[axis])
+    counts["pulse"] = int(pa.size)
+    if np.datetime64(a.t_ref, "ns") == np.datetime64(b.t_ref, "ns"):
+        index_a = {name: i for i, name in enumerate(a.names)}
+        kinds = (("emp_", "empirical", settings.relative_empirical_sigma_m_s2),
+                 ("drag_scale_", "drag_scale", settings.relative_drag_scale_sigma),
+                 ("srp_scale_", "srp_scale", settings.relative_srp_scale_sigma))
+        for j, name in enumerate(b.names):
+            for prefix, kind, sigma in kinds:
+                if name.startswith(prefix) and name in index_a:
+                    ia.append(index_a[name])
+                    ib.append(j)
+                    sig.append(sigma)
+                    counts[kind] += 1
+    else:
+        log.warning("leader and follower arcs have different reference epochs (%s, %s): "
+                    "only pulses are tied", a.t_ref, b.t_ref)
+    ia, ib = np.asarray(ia, int), np.asarray(ib, int)
+    design = np.zeros((ia.size, n_a + n_b))
+    design[np.arange(ia.size), ia] = -1.0
+    design[np.arange(ib.size), n_a + ib] = 1.0
+    misclosure = -(b.values[ib] - a.values[ia])
+    return design, misclosure, 1.0 / np.asarray(sig, dtype=float) ** 2, counts
+
+
+def constraint_residuals(design: np.ndarray, misclosure: np.ndarray, dx_a: np.ndarray,
+                         dx_b: np.ndarray) -> np.ndarray:
+    """Residuals ``D dx − misclosure`` (p,) of pseudo-observations after a joint solve (the
+    value of each constrained combination minus its constraint) [constraint units]."""
+    return design @ np.concatenate([dx_a, dx_b]) - misclosure
 
 
 class JointSolution(NamedTuple):
