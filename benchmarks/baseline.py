@@ -63,7 +63,8 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
         parts.append(f"  DD-fixed minus float baseline 3D RMS "
                      f"{1e3 * t['fixed_minus_float_rms_3d_m']:.2f} mm; DD constraint residuals "
                      f"RMS {1e3 * t['dd_constraint_residual_rms_m']:.4f} mm, max "
-                     f"{1e3 * t['dd_constraint_residual_max_m']:.4f} mm; dynamics "
+                     f"{1e3 * t['dd_constraint_residual_max_m']:.4f} mm; mode "
+                     f"{t.get('baseline_mode', 'joint')}, dynamics "
                      f"{t.get('baseline_dynamics', 'independent')}")
     parts.append(f"  DD constraints used {t['n_dd_constraints_used']} of "
                  f"{t['n_dd_candidates']} candidates; job {bench.s.iloc[0]:.0f} s, peak RSS "

@@ -19,8 +19,10 @@ from leopod.estimation.baseline import (  # noqa: E402
     constraint_residuals,
     dd_rows,
     fixed_baseline,
+    fixed_correction,
     float_baseline,
     joint_solve,
+    reference_fixed_solve,
     relative_rows,
 )
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
@@ -106,9 +108,14 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
         design = np.vstack([design, rel[0]])
         misclosure = np.concatenate([misclosure, rel[1]])
         weight = np.concatenate([weight, rel[2]])
-    joint = joint_solve(*normals, design, misclosure, weight)
-    log.info("joint solution (%s dynamics): %d + %d parameters, %d DD constraints",
-             baseline.dynamics, joint.n_a, joint.dx_b.size, n_dd)
+    if baseline.mode == "reference_fixed":
+        dx_a = fixed_correction(normals[0], xr.load_dataset(inputs["a_fixed_parameters"]),
+                                xr.load_dataset(inputs["a_fixed_ambiguities"]))
+        joint = reference_fixed_solve(*normals, design, misclosure, weight, dx_a)
+    else:
+        joint = joint_solve(*normals, design, misclosure, weight)
+    log.info("%s solution (%s dynamics): %d + %d parameters, %d DD constraints",
+             baseline.mode, baseline.dynamics, joint.n_a, joint.dx_b.size, n_dd)
     resid = constraint_residuals(design, misclosure, joint.dx_a, joint.dx_b)
     dd_resid = resid[:n_dd]
     norm_rel = resid[n_dd:] * np.sqrt(weight[n_dd:])
@@ -125,14 +132,16 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     day = np.datetime64(parse_date_id(date), "ns")
     times = np.intersect1d(floats[0].orbit.time.values, floats[1].orbit.time.values)
     times = times[(times >= day) & (times < day + np.timedelta64(1, "D"))]
-    fix = fixed_baseline(times, *res, joint)
+    fix = fixed_baseline(times, *res, joint, label=(
+        "DD-fixed, leader held at its fixed POD" if baseline.mode == "reference_fixed"
+        else "DD-fixed joint solution"))
     flo = float_baseline(floats[0].orbit, floats[1].orbit, times)
     out = xr.merge([fix, flo.rename({v: f"float_{v}" for v in flo.data_vars})])
     attrs = {k: v for k, v in dd.table.attrs.items() if k.startswith(("wl_", "nl_", "systems"))
              or k.split("_", 1)[-1] in ("wl_fixing_rate", "nl_fixing_rate", "wl_dd_fixed_share",
                                          "nl_dd_fixed_share", "n_independent", "n_nodes")}
     attrs.update({"leader": names[0], "follower": names[1],
-                  "baseline_dynamics": baseline.dynamics,
+                  "baseline_mode": baseline.mode, "baseline_dynamics": baseline.dynamics,
                   **{f"n_relative_{k}": v for k, v in rel_counts.items()},
                   "dd_constraint_residual_rms_m": float(np.sqrt(np.mean(dd_resid**2)))
                   if n_dd else 0.0,

@@ -1,5 +1,6 @@
-"""Relative dynamics of a formation pair in the joint solution
-(leopod.estimation.baseline.relative_rows, constraint_residuals).
+"""Relative dynamics and the reference-fixed mode of a formation pair's baseline
+(leopod.estimation.baseline: relative_rows, constraint_residuals, reference_fixed_solve,
+fixed_correction).
 
 Authorities: analytic least squares (Koch 1999, Parameter Estimation, sec. 3.2: constraint
 rows are further weighted observations; adding observations never increases a variance);
@@ -12,7 +13,9 @@ import numpy as np
 from leopod.estimation.baseline import (
     BaselineSettings,
     constraint_residuals,
+    fixed_correction,
     joint_solve,
+    reference_fixed_solve,
     relative_rows,
 )
 from leopod.estimation.float_pod import ArcNormals
@@ -128,3 +131,56 @@ def test_hard_dd_constraint_has_zero_residual():
     sol = joint_solve(*arcs, design, misclosure, weight)
     res = constraint_residuals(design, misclosure, sol.dx_a, sol.dx_b)
     assert abs(res[0]) < 0.1 * 1e-5
+
+
+def test_reference_fixed_recovers_a_known_offset():
+    """Leader held at a (slightly wrong) fixed solution: the follower, tied to it by a
+    precise differential observation (a DD-like row on x0) and by relative dynamics, takes
+    the leader's value plus the true offset — the baseline is right even where the leader's
+    orbit is not (authority: the conditional least-squares solution, Koch 1999 sec. 3.2)."""
+    t = np.linspace(0.0, 1.0, 11)
+    h = np.column_stack([np.ones_like(t), t, np.zeros_like(t), np.zeros_like(t)])
+    names = ["x0_m", *_pulse_names(1)]
+    offset = 2.5
+    x_a = np.array([1.0, 0.3, 0.0, 0.0])
+    x_b = x_a + np.array([offset, 0.0, 0.0, 0.0])
+    lin = np.zeros(4)
+    reg = np.diag([0.0, 0.0, 1.0, 1.0])
+    w_loose = 1.0 / 1.0**2                           # the follower's own data: 1 m noise
+
+    def arc(x_true, w):
+        return _arc(names, lin, w * h.T @ h + reg, w * h.T @ (h @ x_true), [0.5])
+
+    a, b = arc(x_a, 1e4), arc(x_b, w_loose)
+    leader_error = np.array([0.004, -0.002, 0.0, 0.0])  # the leader's fixed solution, 4 mm off
+    dx_a = x_a + leader_error - lin
+    rel_d, rel_m, rel_w, _ = relative_rows(a, b, SETTINGS)
+    # x0_B − x0_A = offset ± 1e-5 (the differential data)
+    dd = np.zeros((1, 8))
+    dd[0, 0], dd[0, 4] = -1.0, 1.0
+    design = np.vstack([dd, rel_d])
+    misclosure = np.concatenate([[offset - (lin[0] - lin[0])], rel_m])
+    weight = np.concatenate([[1e10], rel_w])
+    sol = reference_fixed_solve(a, b, design, misclosure, weight, dx_a)
+    np.testing.assert_array_equal(sol.dx_a, dx_a)
+    x_b_est = lin + sol.dx_b
+    # the follower follows the leader's error: the baseline is exact to the weights' level
+    np.testing.assert_allclose(x_b_est[0] - (lin[0] + dx_a[0]), offset, atol=1e-5)
+    np.testing.assert_allclose(x_b_est[1], x_a[1] + leader_error[1], atol=1e-5)
+    # the leader has no covariance
+    assert not sol.covariance[:4].any() and not sol.covariance[:, :4].any()
+    assert np.all(np.diag(sol.covariance)[4:] > 0)
+
+
+def test_fixed_correction_by_name_and_pass():
+    import xarray as xr
+
+    names = ["x0_m", "drag_scale_0"]
+    a = _arc(names, np.array([10.0, 1.0]), np.eye(4), np.zeros(4), [], n_amb=2)
+    a.active = np.array([3, 7])
+    a.ambiguity_m = np.array([0.5, -1.0])
+    params = xr.Dataset({"estimate": (("parameter",), [1.02, 10.5, 9.9])},
+                        coords={"parameter": ["drag_scale_0", "x0_m", "isb_C_m"]})
+    amb = xr.Dataset({"pass_index": (("ambiguity",), [7, 3, 5]),
+                      "value_m": (("ambiguity",), [-1.1, 0.7, 3.0])})
+    np.testing.assert_allclose(fixed_correction(a, params, amb), [0.5, 0.02, 0.2, -0.1])

@@ -35,6 +35,14 @@ common orbit errors then cancel in ``r_B − r_A`` while each orbit is still fit
 undifferenced data (in the spirit of the relative dynamics of GRACE baseline filters, Kroes
 et al. 2005; here as pseudo-observations of the joint normal equations).
 ``independent`` (default): no such rows, the two dynamics as in two PODs.
+
+**Reference fixed** (``baseline.mode: reference_fixed``, Zhang et al. 2024, sec. 2): the
+leader's parameters are held at its single-difference-fixed POD (``dx_A`` given) and only the
+follower is estimated: the conditional of the joint system on ``x_A``,
+``(N_B + D_Bᵀ W D_B) dx_B = b_B + D_Bᵀ W (v − D x₀ − D_A dx_A)``, with the DD constraints
+tying the follower's ambiguities to the leader's fixed ones and, with relative dynamics, its
+pulses and empirical accelerations to the leader's fixed values. The leader then has no
+covariance: the baseline's formal sigma is the follower's.
 """
 
 from __future__ import annotations
@@ -55,7 +63,8 @@ from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 
 __all__ = ["BaselineSettings", "JointSolution", "baseline_rtn", "constraint_residuals",
-           "dd_rows", "fixed_baseline", "float_baseline", "joint_solve", "relative_rows"]
+           "dd_rows", "fixed_baseline", "fixed_correction", "float_baseline", "joint_solve",
+           "reference_fixed_solve", "relative_rows"]
 
 log = logging.getLogger(__name__)
 
@@ -66,6 +75,9 @@ class BaselineSettings(Settings):
 
     Attributes
     ----------
+    mode : str
+        ``joint``: both arcs estimated together; ``reference_fixed``: the leader held at its
+        fixed POD, the follower estimated (module docstring).
     dynamics : str
         ``independent``: each arc with its own a-priori constraints only; ``relative``: the
         parameters the two arcs share tied by differential sigmas (module docstring).
@@ -83,6 +95,7 @@ class BaselineSettings(Settings):
 
     SCHEMA_DEF = "baseline"
 
+    mode: str
     dynamics: str
     relative_pulse_sigma_m_s: tuple[float, float, float]
     relative_empirical_sigma_m_s2: float
@@ -268,6 +281,65 @@ def joint_solve(a: ArcNormals, b: ArcNormals, design: np.ndarray, misclosure: np
                          n_constraints=int(weight.size))
 
 
+def reference_fixed_solve(a: ArcNormals, b: ArcNormals, design: np.ndarray,
+                          misclosure: np.ndarray, weight: np.ndarray,
+                          dx_a: np.ndarray) -> JointSolution:
+    """The follower's solution with the leader's correction held at ``dx_a`` (module
+    docstring, Reference fixed).
+
+    Parameters
+    ----------
+    a, b : ArcNormals
+    design, misclosure, weight
+        Pseudo-observations over ``[x_A; x_B]`` (:func:`dd_rows`, :func:`relative_rows`).
+    dx_a : ndarray, shape (k_A + a_A,)
+        The leader's correction from its linearisation to its fixed solution.
+
+    Returns
+    -------
+    JointSolution
+        ``dx_a`` as given; ``covariance`` zero in the leader's rows and columns.
+    """
+    n_a, n_b = a.normals.rhs.size, b.normals.rhs.size
+    d_a, d_b = design[:, :n_a], design[:, n_a:]
+    reduced = misclosure - d_a @ dx_a
+    wd = d_b * weight[:, None]
+    ne = NormalEquations(matrix=b.normals.matrix + d_b.T @ wd,
+                         rhs=b.normals.rhs + wd.T @ reduced, ltpl=b.normals.ltpl,
+                         n_rows=b.normals.n_rows)
+    dx_b, cov_b = solve(ne)
+    cov = np.zeros((n_a + n_b, n_a + n_b))
+    cov[n_a:, n_a:] = cov_b
+    return JointSolution(dx_a=np.asarray(dx_a, dtype=float).copy(), dx_b=dx_b, covariance=cov,
+                         n_a=n_a, n_constraints=int(weight.size))
+
+
+def fixed_correction(a: ArcNormals, parameters: xr.Dataset, ambiguities: xr.Dataset
+                     ) -> np.ndarray:
+    """The correction ``dx_A`` (k + a,) from the leader's linearisation (its float solution)
+    to its fixed POD: parameter ``estimate`` by name minus ``a.values``, ambiguity
+    ``value_m`` by ``pass_index`` minus ``a.ambiguity_m``.
+
+    Raises
+    ------
+    ValueError
+        If a parameter or an active pass of ``a`` is missing from the fixed solution.
+    """
+    names = [str(n) for n in parameters.parameter.values]
+    missing = sorted(set(a.names) - set(names))
+    if missing:
+        raise ValueError(f"fixed POD parameters lack {missing[:5]}")
+    est = parameters.estimate.values
+    index = {n: i for i, n in enumerate(names)}
+    dx_par = np.array([est[index[n]] for n in a.names]) - a.values
+    value = dict(zip(ambiguities.pass_index.values.tolist(), ambiguities.value_m.values))
+    lost = [int(p) for p in a.active if int(p) not in value]
+    if lost:
+        raise ValueError(f"fixed POD ambiguities lack passes {lost[:5]}")
+    dx_amb = np.array([value[int(p)] for p in a.active]) - a.ambiguity_m
+    return np.concatenate([dx_par, dx_amb])
+
+
 def baseline_rtn(pos_a_gcrf: np.ndarray, vel_a_gcrf: np.ndarray, baseline_gcrf: np.ndarray,
                  cov_gcrf: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Baseline (m, 3) and covariance (m, 3, 3) in the leader's radial/along/cross frame."""
@@ -277,7 +349,8 @@ def baseline_rtn(pos_a_gcrf: np.ndarray, vel_a_gcrf: np.ndarray, baseline_gcrf: 
 
 
 def fixed_baseline(times: np.ndarray, res_a: PodResult, res_b: PodResult,
-                   joint: JointSolution, *, eop=None) -> xr.Dataset:
+                   joint: JointSolution, *, eop=None,
+                   label: str = "DD-fixed joint solution") -> xr.Dataset:
     """The DD-fixed baseline ``r_B − r_A`` with its formal covariance (cross terms included).
 
     Parameters
@@ -288,6 +361,8 @@ def fixed_baseline(times: np.ndarray, res_a: PodResult, res_b: PodResult,
         The joint solution of each arc (:meth:`FixedPod.solution`); their covariances are
         scaled by each arc's σ0², the cross block of ``joint`` by ``σ0_A σ0_B``.
     joint : JointSolution
+    label : str
+        The solution type named in the sigma attributes.
 
     Returns
     -------
@@ -305,7 +380,7 @@ def fixed_baseline(times: np.ndarray, res_a: PodResult, res_b: PodResult,
     independent = cov_a + cov_b
     cov = independent - cross - np.swapaxes(cross, 1, 2)
     base = st_b[:, :3] - st_a[:, :3]
-    return _dataset(times, st_a, st_b, base, cov, independent, eop, "DD-fixed joint solution")
+    return _dataset(times, st_a, st_b, base, cov, independent, eop, label)
 
 
 def float_baseline(orbit_a: xr.Dataset, orbit_b: xr.Dataset, times: np.ndarray) -> xr.Dataset:
