@@ -4,7 +4,9 @@ For every formation pair and day of a run directory (``results/baseline/<pair>/<
 DD WL/NL fixing rates in both definitions (graph rank of the fixed DDs over that of all DDs,
 Jiang et al. 2023; share of the DD candidates), wrong fixes against the simulator's integers
 (:mod:`leopod.simulate.dd_truth`), float and DD-fixed baseline RMS (R/T/N/3D, leader RTN) vs
-the truth baseline, and wall time and peak memory of the baseline job (Snakemake benchmark).
+the truth baseline, the same within ±30 min of the follower's burns (its manoeuvre file) and
+elsewhere, the DD-fixed minus float baseline, the residuals of the DD constraints after the
+joint solve, and wall time and peak memory of the baseline job (Snakemake benchmark).
 
     .venv/bin/python benchmarks/baseline.py /work/scratch-base [--configfile config/lt1-sim.yaml]
 """
@@ -14,9 +16,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import xarray as xr
 
+from leopod.io.manoeuvre import read_manoeuvres
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
 from leopod.workflow.campaign import arc_days
 from leopod.workflow.config import load_campaign
@@ -54,10 +58,40 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     for label in ("float", "fixed"):
         parts.append(f"  {label} baseline vs truth RMS R/T/N/3D: " + " / ".join(
             f"{1e3 * t[f'{label}_rms_{c}_m']:.2f}" for c in ("r", "t", "n", "3d")) + " mm")
+    parts.append(_burn_windows(run, b, base))
+    if "fixed_minus_float_rms_3d_m" in t:
+        parts.append(f"  DD-fixed minus float baseline 3D RMS "
+                     f"{1e3 * t['fixed_minus_float_rms_3d_m']:.2f} mm; DD constraint residuals "
+                     f"RMS {1e3 * t['dd_constraint_residual_rms_m']:.4f} mm, max "
+                     f"{1e3 * t['dd_constraint_residual_max_m']:.4f} mm; mode "
+                     f"{t.get('baseline_mode', 'joint')}, dynamics "
+                     f"{t.get('baseline_dynamics', 'independent')}")
     parts.append(f"  DD constraints used {t['n_dd_constraints_used']} of "
                  f"{t['n_dd_candidates']} candidates; job {bench.s.iloc[0]:.0f} s, peak RSS "
                  f"{bench.max_rss.iloc[0]:.0f} MB")
     return "\n".join(parts)
+
+
+def _burn_windows(run: Path, follower: str, base: xr.Dataset, half_s: float = 1800.0) -> str:
+    """DD-fixed baseline vs truth RMS R/T/N/3D within ±``half_s`` of any burn of the
+    follower and elsewhere."""
+    path = run / "resources" / "simulate" / follower / "manoeuvres.txt"
+    t = base.time.values
+    near = np.zeros(t.size, bool)
+    if path.exists():
+        half = np.timedelta64(int(half_s * 1e9), "ns")
+        for m in read_manoeuvres(path)[0]:
+            near |= (t >= m.start - half) & (t <= m.end + half)
+    err = 1e3 * base["error_rtn_m"].values
+    out = []
+    for label, sel in (("within 30 min of a burn", near), ("elsewhere", ~near)):
+        if not sel.any():
+            out.append(f"{label}: no epochs")
+            continue
+        rms = np.sqrt(np.mean(err[sel] ** 2, axis=0))
+        out.append(f"{label} " + " / ".join(f"{v:.2f}" for v in rms)
+                   + f" / {np.sqrt(np.sum(rms**2)):.2f} mm ({int(sel.sum())} epochs)")
+    return "  fixed baseline vs truth RMS R/T/N/3D " + "; ".join(out)
 
 
 def main() -> None:

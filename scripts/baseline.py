@@ -15,17 +15,21 @@ from leopod.ambiguity.double_difference import ReceiverArc, resolve_dd_systems  
 from leopod.ambiguity.resolve import ArSettings  # noqa: E402
 from leopod.estimation.arc import ArcData  # noqa: E402
 from leopod.estimation.baseline import (  # noqa: E402
+    BaselineSettings,
+    constraint_residuals,
     dd_rows,
     fixed_baseline,
+    fixed_correction,
     float_baseline,
     joint_solve,
+    reference_fixed_solve,
+    relative_rows,
 )
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
 from leopod.frames.earth_rotation import itrf_to_gcrf  # noqa: E402
 from leopod.frames.leo_attitude import LeoAttitude  # noqa: E402
 from leopod.frames.rtn import rtn_matrix  # noqa: E402
 from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
-from leopod.io.sp3 import read_sp3  # noqa: E402
 from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
 from leopod.time.calendar import parse_date_id  # noqa: E402
 from leopod.workflow.boundary import plain  # noqa: E402
@@ -55,18 +59,22 @@ def _float_passes(fs: FloatSolution) -> xr.Dataset:
 
 
 def _truth_rtn(path_a, path_b, fixed: xr.Dataset) -> np.ndarray:
-    """Truth baseline (ITRF) of the simulated pair at the baseline epochs (m, 3)."""
+    """Truth baseline (ITRF) of the simulated pair at the baseline epochs (m, 3), from the
+    simulator's daily truth netCDF (full precision: the truth SP3 rounds each coordinate to
+    1 mm, 0.7 mm 3D RMS in a difference of two orbits)."""
     pos = []
     for path in (path_a, path_b):
-        sp3 = read_sp3(path, gps_time=True)
-        pos.append(sp3.pos_m.isel(sv=0).sel(time=fixed.time.values).values)
+        with xr.open_dataset(path) as truth:
+            pos.append(truth.pos_itrf_m.sel(time=fixed.time.values).values)
     return pos[1] - pos[0]
 
 
 def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, arc, pod,
-         forces, code_correction, ambiguity: ArSettings) -> None:
+         forces, code_correction, ambiguity: ArSettings,
+         baseline: BaselineSettings | None = None) -> None:
     """Baseline of the day ``date`` of a pair; ``inputs``: float_pod's inputs and the float
-    solution of the leader (``a_*``) and follower (``b_*``), optional ``*_truth`` SP3."""
+    solution of the leader (``a_*``) and follower (``b_*``), optional ``*_truth`` (the
+    simulator's daily truth netCDF)."""
     by_system = signals if isinstance(signals, Mapping) else {arc.systems[0]: signals}
     names = tuple(p["sat"] for p in pair)
     fixed, receivers, floats = [], [], []
@@ -82,27 +90,63 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                                     code_correction=code_correction, yaw_flips=p["yaw_flips"],
                                     attitude=LeoAttitude.of(p["attitude"])))
     dd = resolve_dd_systems(*receivers, by_system, ambiguity, names=names)
+    baseline = BaselineSettings.from_config({}) if baseline is None else baseline
+    if baseline.dd_constraint_sigma_m is not None:
+        dd = dd._replace(constraints=dd.constraints._replace(sigma_m=np.full_like(
+            dd.constraints.sigma_m, baseline.dd_constraint_sigma_m)))
     normals = [f.pod.normals() for f in fixed]
     design, misclosure, weight = dd_rows(
         *normals, floats[0].ambiguities.pass_index.values,
         floats[1].ambiguities.pass_index.values, dd.constraints)
-    joint = joint_solve(*normals, design, misclosure, weight)
-    log.info("joint solution: %d + %d parameters, %d DD constraints", joint.n_a,
-             joint.dx_b.size, joint.n_constraints)
+    n_dd = weight.size
+    rel_counts = {}
+    if baseline.dynamics == "relative":
+        rel = relative_rows(*normals, baseline)
+        rel_counts = rel[3]
+        log.info("relative dynamics: %s rows tie the follower's parameters to the leader's",
+                 rel_counts)
+        design = np.vstack([design, rel[0]])
+        misclosure = np.concatenate([misclosure, rel[1]])
+        weight = np.concatenate([weight, rel[2]])
+    if baseline.mode == "reference_fixed":
+        dx_a = fixed_correction(normals[0], xr.load_dataset(inputs["a_fixed_parameters"]),
+                                xr.load_dataset(inputs["a_fixed_ambiguities"]))
+        joint = reference_fixed_solve(*normals, design, misclosure, weight, dx_a)
+    else:
+        joint = joint_solve(*normals, design, misclosure, weight)
+    log.info("%s solution (%s dynamics): %d + %d parameters, %d DD constraints",
+             baseline.mode, baseline.dynamics, joint.n_a, joint.dx_b.size, n_dd)
+    resid = constraint_residuals(design, misclosure, joint.dx_a, joint.dx_b)
+    dd_resid = resid[:n_dd]
+    norm_rel = resid[n_dd:] * np.sqrt(weight[n_dd:])
+    log.info("DD constraint residuals after the solve: RMS %.2e m, max %.2e m (sigma %.1e m)",
+             np.sqrt(np.mean(dd_resid**2)) if n_dd else 0.0,
+             np.max(np.abs(dd_resid), initial=0.0),
+             1.0 / np.sqrt(weight[0]) if n_dd else np.nan)
+    if norm_rel.size:
+        log.info("relative-dynamics residuals / sigma: RMS %.2f, max %.2f",
+                 np.sqrt(np.mean(norm_rel**2)), np.max(np.abs(norm_rel)))
     na = joint.n_a
     res = [fixed[0].pod.solution(normals[0], joint.dx_a, joint.covariance[:na, :na]),
            fixed[1].pod.solution(normals[1], joint.dx_b, joint.covariance[na:, na:])]
     day = np.datetime64(parse_date_id(date), "ns")
     times = np.intersect1d(floats[0].orbit.time.values, floats[1].orbit.time.values)
     times = times[(times >= day) & (times < day + np.timedelta64(1, "D"))]
-    fix = fixed_baseline(times, *res, joint)
+    fix = fixed_baseline(times, *res, joint, label=(
+        "DD-fixed, leader held at its fixed POD" if baseline.mode == "reference_fixed"
+        else "DD-fixed joint solution"))
     flo = float_baseline(floats[0].orbit, floats[1].orbit, times)
     out = xr.merge([fix, flo.rename({v: f"float_{v}" for v in flo.data_vars})])
     attrs = {k: v for k, v in dd.table.attrs.items() if k.startswith(("wl_", "nl_", "systems"))
              or k.split("_", 1)[-1] in ("wl_fixing_rate", "nl_fixing_rate", "wl_dd_fixed_share",
                                          "nl_dd_fixed_share", "n_independent", "n_nodes")}
     attrs.update({"leader": names[0], "follower": names[1],
-                  "n_dd_constraints_used": joint.n_constraints,
+                  "baseline_mode": baseline.mode, "baseline_dynamics": baseline.dynamics,
+                  **{f"n_relative_{k}": v for k, v in rel_counts.items()},
+                  "dd_constraint_residual_rms_m": float(np.sqrt(np.mean(dd_resid**2)))
+                  if n_dd else 0.0,
+                  "dd_constraint_residual_max_m": float(np.max(np.abs(dd_resid), initial=0.0)),
+                  "n_dd_constraints_used": n_dd,
                   "n_dd_candidates": int(dd.table.sizes["dd"])})
     if "a_truth" in inputs and "b_truth" in inputs:
         truth = _truth_rtn(inputs["a_truth"], inputs["b_truth"], out)
@@ -118,6 +162,10 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
             attrs[f"{label}_rms_3d_m"] = float(np.sqrt(np.sum(rms**2)))
         log.info("baseline vs truth, 3D RMS: float %.2f mm, fixed %.2f mm",
                  1e3 * attrs["float_rms_3d_m"], 1e3 * attrs["fixed_rms_3d_m"])
+    change = out["baseline_rtn_m"].values - out["float_baseline_rtn_m"].values
+    attrs["fixed_minus_float_rms_3d_m"] = float(np.sqrt(np.mean(np.sum(change**2, axis=1))))
+    log.info("DD-fixed minus float baseline: 3D RMS %.2f mm",
+             1e3 * attrs["fixed_minus_float_rms_3d_m"])
     out.attrs.update(attrs)
     files = [v for v in inputs.values() if isinstance(v, str)]
     write_netcdf(out, outputs["nc"], step="baseline", inputs=files, time_system="GPS",
@@ -163,7 +211,8 @@ def run(sm) -> None:
     p = sm.params
     main(sm.wildcards.date, plain(sm.input), plain(sm.output), pair=list(p.pair),
          **pod_settings(p.signals, p.pod, p.code_bias),
-         ambiguity=ArSettings.from_config(p.settings))
+         ambiguity=ArSettings.from_config(p.settings),
+         baseline=BaselineSettings.from_config(p.baseline))
 
 
 if __name__ == "__main__":

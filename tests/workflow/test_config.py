@@ -131,3 +131,24 @@ def test_formation_block_of_the_lt1_campaign():
     raw["satellites"]["lt1-b"]["formation"]["manoeuvres"][0]["time_of_day"] = "12h"
     with pytest.raises(WorkflowError, match="12h"):
         validated(raw)
+
+
+def test_baseline_section_of_the_lt1_campaign():
+    # the schema (authority for keys and defaults) gives the follower its truth correlation
+    # and the baseline its settings; a mode outside joint/reference_fixed is refused
+    from leopod.estimation.baseline import BaselineSettings
+    from leopod.simulate.formation import FormationSettings
+
+    cfg = load_campaign(REPO / "config" / "lt1-sim.yaml")
+    assert FormationSettings.from_config(
+        cfg["satellites"]["lt1-b"]["formation"]).truth_correlation == 0.999
+    settings = BaselineSettings.from_config(cfg["baseline"])
+    assert (settings.mode, settings.dynamics) == ("joint", "relative")
+    assert settings.dd_constraint_sigma_m == 1.0e-5
+    default = BaselineSettings.from_config({})
+    assert (default.mode, default.dynamics, default.dd_constraint_sigma_m) == (
+        "joint", "independent", None)
+    raw = yaml.safe_load((REPO / "config" / "lt1-sim.yaml").read_text())
+    raw["baseline"]["mode"] = "leader_fixed"
+    with pytest.raises(WorkflowError, match="leader_fixed"):
+        validated(raw)

@@ -35,6 +35,7 @@ rule baseline:
         pod=CONFIG["pod"],
         settings=CONFIG["ambiguity"],
         code_bias=CONFIG["code_bias"],
+        baseline=CONFIG["baseline"],
         pair=baseline_pair_params,
     script:
         "../../scripts/baseline.py"

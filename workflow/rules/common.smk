@@ -318,7 +318,8 @@ def float_pod_inputs(wildcards):
 
 def baseline_inputs(wildcards):
     """baseline: float_pod's inputs, float solution and (simulated) truth orbit of the leader
-    (keys a_*) and the follower (b_*) of a formation pair."""
+    (keys a_*) and the follower (b_*) of a formation pair; with baseline.mode
+    reference_fixed also the leader's fixed POD parameters and ambiguities (a_fixed_*)."""
     files = {}
     for key, sat in zip(("a", "b"), PAIRS[wildcards.pair], strict=True):
         w = SimpleNamespace(sat=sat, date=wildcards.date)
@@ -327,8 +328,16 @@ def baseline_inputs(wildcards):
             inputs[f"float_{name}"] = fill(pod_output("float_pod", name), sat=sat,
                                            date=wildcards.date)
         if is_simulated(sat):
-            inputs["truth"] = fill(rules.simulate.output.truth_sp3, sat=sat, date=wildcards.date)
+            # the truth netCDF, not the SP3: SP3 positions are rounded to 1 mm, which puts
+            # 0.7 mm 3D RMS of rounding into a truth baseline
+            inputs["truth"] = fill(rules.simulate.output.truth_nc, sat=sat, date=wildcards.date)
         files.update({f"{key}_{k}": v for k, v in inputs.items()})
+    if CONFIG["baseline"]["mode"] == "reference_fixed":
+        # the leader held at its single-difference-fixed POD
+        leader = PAIRS[wildcards.pair][0]
+        for name in ("parameters", "ambiguities"):
+            files[f"a_fixed_{name}"] = fill(pod_output("fixed_pod", name), sat=leader,
+                                            date=wildcards.date)
     return files
 
 

@@ -17,11 +17,38 @@ joint covariance; each orbit is corrected through its partials
 ``Δr = r_B − r_A`` has the covariance
 ``G_B C_BB G_Bᵀ + G_A C_AA G_Aᵀ − G_B C_BA G_Aᵀ − G_A C_AB G_Bᵀ`` (cross terms from the
 joint solve; Kroes et al. 2005, GRACE baseline).
+
+**Relative dynamics** (``baseline.dynamics: relative``). Two satellites a few km apart feel
+nearly the same unmodelled forces (the same thermospheric density structures of hundreds of
+km, the same Sun and Earth radiation on twins of one design); what the estimator's empirical
+accelerations, drag and SRP scales and pulses absorb is therefore nearly common, and the
+baseline needs only the differential part. Each parameter of the follower that has a
+counterpart of the leader (the same force-model parameter name on the same arc, or the pulse
+of the same epoch in the same direction) gets the pseudo-observation::
+
+    x_B,j − x_A,j = 0 ± σ_rel,j
+
+with ``σ_rel`` the expected differential level (:class:`BaselineSettings`; the campaign's
+comment derives it from the simulated differential acceleration). The initial states, the
+follower's burn accelerations, the receiver-specific ISBs and the ambiguities stay free: the
+common orbit errors then cancel in ``r_B − r_A`` while each orbit is still fitted to its own
+undifferenced data (in the spirit of the relative dynamics of GRACE baseline filters, Kroes
+et al. 2005; here as pseudo-observations of the joint normal equations).
+``independent`` (default): no such rows, the two dynamics as in two PODs.
+
+**Reference fixed** (``baseline.mode: reference_fixed``, Zhang et al. 2024, sec. 2): the
+leader's parameters are held at its single-difference-fixed POD (``dx_A`` given) and only the
+follower is estimated: the conditional of the joint system on ``x_A``,
+``(N_B + D_Bᵀ W D_B) dx_B = b_B + D_Bᵀ W (v − D x₀ − D_A dx_A)``, with the DD constraints
+tying the follower's ambiguities to the leader's fixed ones and, with relative dynamics, its
+pulses and empirical accelerations to the leader's fixed values. The leader then has no
+covariance: the baseline's formal sigma is the follower's.
 """
 
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -32,12 +59,135 @@ from leopod.estimation.float_pod import ArcNormals, PodResult
 from leopod.estimation.normals import NormalEquations, solve
 from leopod.frames.earth_rotation import gcrf_to_itrf
 from leopod.frames.rtn import rtn_matrix
+from leopod.settings import Settings
 from leopod.time.calendar import seconds_since
 
-__all__ = ["JointSolution", "baseline_rtn", "dd_rows", "fixed_baseline", "float_baseline",
-           "joint_solve"]
+__all__ = ["BaselineSettings", "JointSolution", "baseline_rtn", "constraint_residuals",
+           "dd_rows", "fixed_baseline", "fixed_correction", "float_baseline", "joint_solve",
+           "reference_fixed_solve", "relative_rows"]
 
 log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class BaselineSettings(Settings):
+    """How the two arcs of a pair are tied together (config ``baseline``).
+
+    Attributes
+    ----------
+    mode : str
+        ``joint``: both arcs estimated together; ``reference_fixed``: the leader held at its
+        fixed POD, the follower estimated (module docstring).
+    dynamics : str
+        ``independent``: each arc with its own a-priori constraints only; ``relative``: the
+        parameters the two arcs share tied by differential sigmas (module docstring).
+    relative_pulse_sigma_m_s : tuple of 3 float
+        σ of ``Δv_B − Δv_A`` of pulses of the same epoch, R, T, N [m/s].
+    relative_empirical_sigma_m_s2 : float
+        σ of the difference of an empirical acceleration coefficient [m/s²].
+    relative_drag_scale_sigma : float
+        σ of the difference of a drag scale factor [1].
+    relative_srp_scale_sigma : float
+        σ of the difference of an SRP scale factor [1].
+    dd_constraint_sigma_m : float or None
+        σ of the fixed DD constraints [m]; None: the ambiguity step's ``constraint_sigma_m``.
+    """
+
+    SCHEMA_DEF = "baseline"
+
+    mode: str
+    dynamics: str
+    relative_pulse_sigma_m_s: tuple[float, float, float]
+    relative_empirical_sigma_m_s2: float
+    relative_drag_scale_sigma: float
+    relative_srp_scale_sigma: float
+    dd_constraint_sigma_m: float | None
+
+
+def _pulse_matches(a: ArcNormals, b: ArcNormals, tolerance_s: float = 1.0):
+    """Index pairs (i_a, i_b) of the pulse parameters of the same epoch and direction."""
+    if a.pulse_epochs_s is None or b.pulse_epochs_s is None:
+        return np.empty(0, int), np.empty(0, int), np.empty(0, int)
+    ta = a.pulse_epochs_s + float(seconds_since(np.datetime64(a.t_ref, "ns"), b.t_ref))
+    tb = b.pulse_epochs_s
+    if ta.size == 0 or tb.size == 0:
+        return np.empty(0, int), np.empty(0, int), np.empty(0, int)
+    nearest = np.clip(np.searchsorted(ta, tb), 0, ta.size - 1)
+    better = np.clip(nearest - 1, 0, ta.size - 1)
+    nearest = np.where(np.abs(ta[better] - tb) < np.abs(ta[nearest] - tb), better, nearest)
+    ok = np.abs(ta[nearest] - tb) <= tolerance_s
+    first_a = a.names.index("pulse_R_0")
+    first_b = b.names.index("pulse_R_0")
+    ia, ib, axis = [], [], []
+    for j in np.flatnonzero(ok):
+        for c in range(3):
+            ia.append(first_a + 3 * int(nearest[j]) + c)
+            ib.append(first_b + 3 * int(j) + c)
+            axis.append(c)
+    return np.asarray(ia, int), np.asarray(ib, int), np.asarray(axis, int)
+
+
+def relative_rows(a: ArcNormals, b: ArcNormals, settings: BaselineSettings
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """Pseudo-observations ``x_B,j − x_A,j = 0 ± σ_rel`` of the shared dynamic parameters.
+
+    Parameters
+    ----------
+    a, b : ArcNormals
+        Leader and follower (``names``, ``values``, ``t_ref``, ``pulse_epochs_s`` set).
+    settings : BaselineSettings
+
+    Returns
+    -------
+    design : ndarray, shape (p, n_A + n_B)
+    misclosure : ndarray, shape (p,)
+        ``0 − (x_B,j − x_A,j)`` at the linearisation [parameter units].
+    weight : ndarray, shape (p,)
+        ``1/σ_rel²``.
+    counts : dict of str to int
+        Rows per kind (``pulse``, ``empirical``, ``drag_scale``, ``srp_scale``).
+
+    Notes
+    -----
+    Force-model parameters are paired by name only when both arcs have the same reference
+    epoch (their intervals then coincide); otherwise only pulses are paired (by epoch).
+    """
+    n_a, n_b = a.normals.rhs.size, b.normals.rhs.size
+    ia, ib, sig = [], [], []
+    counts = {"pulse": 0, "empirical": 0, "drag_scale": 0, "srp_scale": 0}
+    pa, pb, axis = _pulse_matches(a, b)
+    ia += list(pa)
+    ib += list(pb)
+    sig += list(np.asarray(settings.relative_pulse_sigma_m_s, dtype=float)[axis])
+    counts["pulse"] = int(pa.size)
+    if np.datetime64(a.t_ref, "ns") == np.datetime64(b.t_ref, "ns"):
+        index_a = {name: i for i, name in enumerate(a.names)}
+        kinds = (("emp_", "empirical", settings.relative_empirical_sigma_m_s2),
+                 ("drag_scale_", "drag_scale", settings.relative_drag_scale_sigma),
+                 ("srp_scale_", "srp_scale", settings.relative_srp_scale_sigma))
+        for j, name in enumerate(b.names):
+            for prefix, kind, sigma in kinds:
+                if name.startswith(prefix) and name in index_a:
+                    ia.append(index_a[name])
+                    ib.append(j)
+                    sig.append(sigma)
+                    counts[kind] += 1
+    else:
+        log.warning("leader and follower arcs have different reference epochs (%s, %s): "
+                    "only pulses are tied", a.t_ref, b.t_ref)
+    ia, ib = np.asarray(ia, int), np.asarray(ib, int)
+    design = np.zeros((ia.size, n_a + n_b))
+    design[np.arange(ia.size), ia] = -1.0
+    design[np.arange(ib.size), n_a + ib] = 1.0
+    misclosure = -(b.values[ib] - a.values[ia])
+    return design, misclosure, 1.0 / np.asarray(sig, dtype=float) ** 2, counts
+
+
+def constraint_residuals(design: np.ndarray, misclosure: np.ndarray, dx_a: np.ndarray,
+                         dx_b: np.ndarray) -> np.ndarray:
+    """Residuals ``D dx − misclosure`` (p,) of pseudo-observations after a joint solve (the
+    value of each constrained combination minus its constraint) [constraint units]."""
+    return design @ np.concatenate([dx_a, dx_b]) - misclosure
 
 
 class JointSolution(NamedTuple):
@@ -131,6 +281,65 @@ def joint_solve(a: ArcNormals, b: ArcNormals, design: np.ndarray, misclosure: np
                          n_constraints=int(weight.size))
 
 
+def reference_fixed_solve(a: ArcNormals, b: ArcNormals, design: np.ndarray,
+                          misclosure: np.ndarray, weight: np.ndarray,
+                          dx_a: np.ndarray) -> JointSolution:
+    """The follower's solution with the leader's correction held at ``dx_a`` (module
+    docstring, Reference fixed).
+
+    Parameters
+    ----------
+    a, b : ArcNormals
+    design, misclosure, weight
+        Pseudo-observations over ``[x_A; x_B]`` (:func:`dd_rows`, :func:`relative_rows`).
+    dx_a : ndarray, shape (k_A + a_A,)
+        The leader's correction from its linearisation to its fixed solution.
+
+    Returns
+    -------
+    JointSolution
+        ``dx_a`` as given; ``covariance`` zero in the leader's rows and columns.
+    """
+    n_a, n_b = a.normals.rhs.size, b.normals.rhs.size
+    d_a, d_b = design[:, :n_a], design[:, n_a:]
+    reduced = misclosure - d_a @ dx_a
+    wd = d_b * weight[:, None]
+    ne = NormalEquations(matrix=b.normals.matrix + d_b.T @ wd,
+                         rhs=b.normals.rhs + wd.T @ reduced, ltpl=b.normals.ltpl,
+                         n_rows=b.normals.n_rows)
+    dx_b, cov_b = solve(ne)
+    cov = np.zeros((n_a + n_b, n_a + n_b))
+    cov[n_a:, n_a:] = cov_b
+    return JointSolution(dx_a=np.asarray(dx_a, dtype=float).copy(), dx_b=dx_b, covariance=cov,
+                         n_a=n_a, n_constraints=int(weight.size))
+
+
+def fixed_correction(a: ArcNormals, parameters: xr.Dataset, ambiguities: xr.Dataset
+                     ) -> np.ndarray:
+    """The correction ``dx_A`` (k + a,) from the leader's linearisation (its float solution)
+    to its fixed POD: parameter ``estimate`` by name minus ``a.values``, ambiguity
+    ``value_m`` by ``pass_index`` minus ``a.ambiguity_m``.
+
+    Raises
+    ------
+    ValueError
+        If a parameter or an active pass of ``a`` is missing from the fixed solution.
+    """
+    names = [str(n) for n in parameters.parameter.values]
+    missing = sorted(set(a.names) - set(names))
+    if missing:
+        raise ValueError(f"fixed POD parameters lack {missing[:5]}")
+    est = parameters.estimate.values
+    index = {n: i for i, n in enumerate(names)}
+    dx_par = np.array([est[index[n]] for n in a.names]) - a.values
+    value = dict(zip(ambiguities.pass_index.values.tolist(), ambiguities.value_m.values))
+    lost = [int(p) for p in a.active if int(p) not in value]
+    if lost:
+        raise ValueError(f"fixed POD ambiguities lack passes {lost[:5]}")
+    dx_amb = np.array([value[int(p)] for p in a.active]) - a.ambiguity_m
+    return np.concatenate([dx_par, dx_amb])
+
+
 def baseline_rtn(pos_a_gcrf: np.ndarray, vel_a_gcrf: np.ndarray, baseline_gcrf: np.ndarray,
                  cov_gcrf: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Baseline (m, 3) and covariance (m, 3, 3) in the leader's radial/along/cross frame."""
@@ -140,7 +349,8 @@ def baseline_rtn(pos_a_gcrf: np.ndarray, vel_a_gcrf: np.ndarray, baseline_gcrf: 
 
 
 def fixed_baseline(times: np.ndarray, res_a: PodResult, res_b: PodResult,
-                   joint: JointSolution, *, eop=None) -> xr.Dataset:
+                   joint: JointSolution, *, eop=None,
+                   label: str = "DD-fixed joint solution") -> xr.Dataset:
     """The DD-fixed baseline ``r_B − r_A`` with its formal covariance (cross terms included).
 
     Parameters
@@ -151,6 +361,8 @@ def fixed_baseline(times: np.ndarray, res_a: PodResult, res_b: PodResult,
         The joint solution of each arc (:meth:`FixedPod.solution`); their covariances are
         scaled by each arc's σ0², the cross block of ``joint`` by ``σ0_A σ0_B``.
     joint : JointSolution
+    label : str
+        The solution type named in the sigma attributes.
 
     Returns
     -------
@@ -168,7 +380,7 @@ def fixed_baseline(times: np.ndarray, res_a: PodResult, res_b: PodResult,
     independent = cov_a + cov_b
     cov = independent - cross - np.swapaxes(cross, 1, 2)
     base = st_b[:, :3] - st_a[:, :3]
-    return _dataset(times, st_a, st_b, base, cov, independent, eop, "DD-fixed joint solution")
+    return _dataset(times, st_a, st_b, base, cov, independent, eop, label)
 
 
 def float_baseline(orbit_a: xr.Dataset, orbit_b: xr.Dataset, times: np.ndarray) -> xr.Dataset:

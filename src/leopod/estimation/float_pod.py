@@ -998,7 +998,10 @@ class FixedPod:
         ne.rhs += np.concatenate([prob.constraint_rhs(state), np.zeros(n)])
         return ArcNormals(normals=ne, k=prob.k, active=sol.active,
                           ambiguity_m=prob.ambiguity[sol.active].copy(), _solution=sol,
-                          _state=state)
+                          _state=state, names=tuple(prob.names),
+                          values=prob.current_vector(state), t_ref=prob.t_ref,
+                          pulse_epochs_s=(np.empty(0) if prob.pulses is None
+                                          else prob.pulses.epochs_s.copy()))
 
     def solution(self, normals: ArcNormals, dx: np.ndarray, covariance: np.ndarray,
                  label: str = "baseline solution") -> PodResult:
@@ -1037,6 +1040,14 @@ class ArcNormals:
         Pass ids (``obs.pass_index`` values) of the ambiguity columns.
     ambiguity_m : ndarray, shape (a,)
         Ambiguity values [m] at the linearisation (misclosures of constraints refer to them).
+    names : tuple of str, length k
+        Names of the arc parameters (``x0_m`` …, force-model parameters, ``pulse_R_0`` …).
+    values : ndarray, shape (k,)
+        Their values at the linearisation (SI units; pulses [m/s]).
+    t_ref : datetime64
+        Reference epoch of the arc (force-model and pulse times count from it).
+    pulse_epochs_s : ndarray, shape (n_pulses,)
+        Epochs of the pulses [s since ``t_ref``] (empty without pulses).
     """
 
     normals: NormalEquations
@@ -1045,3 +1056,7 @@ class ArcNormals:
     ambiguity_m: np.ndarray
     _solution: _Solution
     _state: np.ndarray
+    names: tuple = ()
+    values: np.ndarray | None = None
+    t_ref: np.datetime64 | None = None
+    pulse_epochs_s: np.ndarray | None = None

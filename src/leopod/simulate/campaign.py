@@ -226,14 +226,17 @@ def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, wor
     ``settings.orbit`` then defines, displaced by the ROE
     (:func:`leopod.simulate.formation.follower_initial_state`), and flies its daily burns
     (:func:`leopod.simulate.manoeuvres.daily_manoeuvres`); the dataset attributes
-    ``formation_leader`` and ``formation_roe_m`` record them."""
+    ``formation_leader`` and ``formation_roe_m`` record them. Its stochastic accelerations and
+    drag-scale noise sample the leader's random field (seed of ``truth/<leader>``) with the
+    correlation ``formation.truth_correlation``
+    (:mod:`leopod.simulate.truth_forces`, Formations)."""
     o = settings.orbit
     margin = np.timedelta64(round(o.margin_s * _NS_PER_S), "ns")
     t_start = _epoch(world_start) - margin
     t_end = _epoch(world_end) + _DAY + margin
     models = resolve_model_paths({"m": dict(settings.models)})["m"]
     clock = _time.perf_counter()
-    state0, burns = None, ()
+    state0, burns, common = None, (), {}
     if formation is not None:
         leader = initial_state_sun_synchronous(t_start, o.altitude_km * 1e3, o.ltan_h,
                                                inclination_deg=o.inclination_deg,
@@ -244,12 +247,14 @@ def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, wor
                                         intermediate_to_gcrf_matrix(t_start))
         n_days = int((_epoch(world_end) - _epoch(world_start)) // _DAY) + 1
         burns = daily_manoeuvres(formation.manoeuvres, _epoch(world_start), n_days)
+        common = {"common_seed": settings.int_seed(f"truth/{formation.leader}"),
+                  "correlation": formation.truth_correlation}
     truth = simulate_truth_orbit(
         t_start, t_end, seed=settings.int_seed(f"truth/{sat}"), step_s=o.step_s,
         altitude_m=o.altitude_km * 1e3, ltan_h=o.ltan_h, inclination_deg=o.inclination_deg,
         u0_deg=o.u0_deg, dynamics=settings.dynamics, eop=eop,
         models={"gravity_field": models["field"], "space_weather": models["space_weather"],
-                "ocean_tides": models["ocean"]}, state0=state0, manoeuvres=burns)
+                "ocean_tides": models["ocean"]}, state0=state0, manoeuvres=burns, **common)
     truth.attrs["satellite"] = sat
     if formation is not None:
         truth.attrs["formation_leader"] = formation.leader

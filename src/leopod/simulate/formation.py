@@ -66,6 +66,9 @@ class FormationSettings(Settings):
     manoeuvres : tuple of dict
         Daily burns of the follower: ``time_of_day`` (HH:MM:SS, GPS), ``duration_s`` [s],
         ``dv_rtn_m_s`` (3,) [m/s] (:func:`leopod.simulate.manoeuvres.daily_manoeuvres`).
+    truth_correlation : float
+        Correlation ρ of the follower's truth stochastic accelerations and drag-scale noise
+        with the leader's (:mod:`leopod.simulate.truth_forces`, Formations) [1].
     """
 
     SCHEMA_DEF = "simulate_formation"
@@ -78,6 +81,7 @@ class FormationSettings(Settings):
     a_dix_m: float
     a_diy_m: float
     manoeuvres: tuple
+    truth_correlation: float
 
     @classmethod
     def from_config(cls, section: Mapping[str, Any]) -> Self:
@@ -85,7 +89,8 @@ class FormationSettings(Settings):
         base = super().from_config(section)
         burns = tuple({k: frozen_value(v) for k, v in dict(b).items()}
                       for b in base.manoeuvres)
-        return cls(**{**{k: getattr(base, k) for k in ("leader", *_ROE_KEYS)},
+        return cls(**{**{k: getattr(base, k) for k in ("leader", *_ROE_KEYS,
+                                                        "truth_correlation")},
                       "manoeuvres": burns})
 
     def roe(self, a_m: float) -> np.ndarray:

@@ -18,6 +18,28 @@ deliberately differs from what an estimator will use:
   drawn from N(0, σ²) with σ = (2, 5, 3)·1e-8 m/s² (an ``empirical`` section with
   ``directions: [R, T, N]``, ``terms: [const]``, not estimated).
 
+**Formations.** Two satellites a few km apart (LT-1 B ~5 km, 0.7 s, behind LT-1 A) fly
+through the same thermosphere and the same radiation environment: density structures
+(travelling atmospheric disturbances, gravity waves, the day-night bulge) have horizontal scales
+of hundreds to thousands of km (a physical argument, not a fitted model: the correlation of
+Gaussian-shaped structures of scale L across a separation d is ``exp(−d²/2L²)``, 0.9999 for
+d = 5 km and L = 300 km), and twins of one design in the same
+attitude see the same Sun, albedo and Earth infrared. What differs is the satellites'
+own part: ballistic coefficient and surface properties (a few per cent for twins of one
+design, propellant use) and thermal re-radiation. A follower's truth therefore samples the
+leader's random field, drawn from the leader's own seed, with a correlation ``ρ``
+(``satellites.<sat>.formation.truth_correlation``)::
+
+    x_B = ρ x_A + sqrt(1 − ρ²) x_B,own
+
+for each stochastic acceleration component and for the random part ``N(0, σ²)`` of each drag
+scale (the periodic part is already common). Each satellite alone keeps the statistics of
+the single-satellite truth (variance σ²); the differential part ``x_B − x_A`` has the sigma
+``σ sqrt(2 (1 − ρ))`` (ρ = 0.999: 4.5 % of σ, i.e. (0.9, 2.2, 1.3)e-9 m/s² in R, T, N for
+the default σ). The intervals are the same in time for both (the 0.7-s lag of the follower
+moves an interval edge by 0.1 % of its 600 s, ignored). ρ = 0 gives the independent draws of
+two unrelated satellites, bit-identical to the truth before formations shared a field.
+
 The per-interval values enter the integration as the force-model parameter vector (in the
 order of ``ForceModel.parameters``), not as a-priori values, so they are exact and stored
 with the orbit. All draws come from ``numpy.random.SeedSequence(seed)``: the same seed gives
@@ -156,15 +178,33 @@ class TruthForces:
         return params
 
 
-def _drag_scales(edges_s: np.ndarray, dyn: TruthDynamics, rng: np.random.Generator):
-    """``1 + A sin(2π t_mid / P) + N(0, σ²)`` per interval."""
+def _drag_scales(edges_s: np.ndarray, dyn: TruthDynamics, noise: np.ndarray):
+    """``1 + A sin(2π t_mid / P) + noise`` per interval (``noise``: the N(0, σ²) draws)."""
     mid = 0.5 * (edges_s[:-1] + edges_s[1:])
     periodic = dyn.drag_scale_amplitude * np.sin(2.0 * np.pi * mid / dyn.drag_scale_period_s)
-    return 1.0 + periodic + rng.normal(0.0, dyn.drag_scale_sigma, mid.size)
+    return 1.0 + periodic + noise
+
+
+def _random_draws(span_s: float, seed: int, dyn: TruthDynamics
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The random parameters of an arc from ``seed``: drag-interval edges (n_drag + 1,),
+    drag-scale noise ``N(0, σ²)`` (n_drag,), stochastic-interval edges (n_stoch + 1,) and
+    stochastic accelerations (n_stoch, 3) [m/s²] (two streams spawned from
+    ``numpy.random.SeedSequence(seed)``)."""
+    drag_rng, stoch_rng = (np.random.default_rng(s)
+                           for s in np.random.SeedSequence(seed).spawn(2))
+    drag_edges = interval_edges(0.0, span_s, dyn.drag_interval_s)
+    stoch_edges = interval_edges(0.0, span_s, dyn.stochastic_interval_s)
+    sigma = np.asarray(dyn.stochastic_sigma_rtn_m_s2, dtype=float)
+    drag_noise = drag_rng.normal(0.0, dyn.drag_scale_sigma, drag_edges.size - 1)
+    stoch = stoch_rng.normal(0.0, 1.0, (stoch_edges.size - 1, 3)) * sigma
+    return drag_edges, drag_noise, stoch_edges, stoch
 
 
 def truth_force_config(span_s: float, *, seed: int, dynamics: TruthDynamics | None = None,
-                       models: Mapping[str, object] | None = None) -> TruthForces:
+                       models: Mapping[str, object] | None = None,
+                       common_seed: int | None = None,
+                       correlation: float = 0.0) -> TruthForces:
     """Truth force model of an arc of ``span_s`` seconds and its random parameter values.
 
     Parameters
@@ -179,6 +219,12 @@ def truth_force_config(span_s: float, *, seed: int, dynamics: TruthDynamics | No
     models : mapping, optional
         Overrides of :func:`default_models`: ``gravity_field`` (ICGEM path or Dataset),
         ``space_weather`` (CelesTrak CSV), ``ocean_tides`` (FES2004 path or None).
+    common_seed : int, optional
+        Seed of the field that a formation shares (the leader's ``seed``): the draws of
+        ``seed`` are then mixed with those of ``common_seed`` (module docstring, Formations).
+        None: the satellite's own draws only.
+    correlation : float
+        ρ in [0, 1] of the mix with the common field (used with ``common_seed``).
 
     Returns
     -------
@@ -186,11 +232,14 @@ def truth_force_config(span_s: float, *, seed: int, dynamics: TruthDynamics | No
     """
     dyn = TruthDynamics.from_config({}) if dynamics is None else dynamics
     files = {**default_models(), **dict(models or {})}
-    drag_rng, stoch_rng = (np.random.default_rng(s)
-                           for s in np.random.SeedSequence(seed).spawn(2))
-    drag_edges = interval_edges(0.0, span_s, dyn.drag_interval_s)
-    stoch_edges = interval_edges(0.0, span_s, dyn.stochastic_interval_s)
-    sigma = np.asarray(dyn.stochastic_sigma_rtn_m_s2, dtype=float)
+    drag_edges, drag_noise, stoch_edges, stoch = _random_draws(span_s, seed, dyn)
+    if common_seed is not None:
+        if not 0.0 <= correlation <= 1.0:
+            raise ValueError(f"correlation must be in [0, 1], not {correlation}")
+        _, common_drag, _, common_stoch = _random_draws(span_s, common_seed, dyn)
+        own = float(np.sqrt(1.0 - correlation**2))
+        drag_noise = correlation * common_drag + own * drag_noise
+        stoch = correlation * common_stoch + own * stoch
     config = {
         # the truth needs no partials: a degree-2 gradient keeps the force model cheap
         "gravity": {"field": files["gravity_field"], "max_degree": dyn.gravity_degree,
@@ -209,8 +258,6 @@ def truth_force_config(span_s: float, *, seed: int, dynamics: TruthDynamics | No
                       "terms": ["const"], "estimate": False},
     }
     return TruthForces(config=config, span_s=float(span_s), drag_edges_s=drag_edges,
-                       drag_scale=_drag_scales(drag_edges, dyn, drag_rng),
-                       stochastic_edges_s=stoch_edges,
-                       stochastic_acc_rtn_m_s2=stoch_rng.normal(
-                           0.0, 1.0, (stoch_edges.size - 1, 3)) * sigma)
+                       drag_scale=_drag_scales(drag_edges, dyn, drag_noise),
+                       stochastic_edges_s=stoch_edges, stochastic_acc_rtn_m_s2=stoch)
 

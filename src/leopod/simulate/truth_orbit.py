@@ -221,7 +221,9 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
                          integrator_step_s: float = DEFAULT_STEP_S,
                          eop: EarthOrientation | None = None,
                          state0: np.ndarray | None = None,
-                         manoeuvres: Sequence[Manoeuvre] = ()) -> xr.Dataset:
+                         manoeuvres: Sequence[Manoeuvre] = (),
+                         common_seed: int | None = None,
+                         correlation: float = 0.0) -> xr.Dataset:
     """Integrate the truth orbit over [t_start, t_end] (module docstring).
 
     Parameters
@@ -250,6 +252,12 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
         Burns (constant RTN accelerations) added to the stochastic accelerations
         (:func:`leopod.simulate.manoeuvres.with_manoeuvres`), listed in the variables
         ``manoeuvre_start``, ``manoeuvre_end`` and ``manoeuvre_acc_rtn_m_s2``.
+    common_seed : int, optional
+        Seed of the random field a formation shares (its leader's ``seed``), mixed with this
+        satellite's own draws with ``correlation`` (ρ in [0, 1];
+        :func:`leopod.simulate.truth_forces.truth_force_config`); None: own draws only.
+    correlation : float
+        ρ of that mix (attributes ``truth_common_seed`` and ``truth_correlation``).
 
     Returns
     -------
@@ -266,7 +274,8 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
         raise ValueError(f"need t_end > t_start and step_s > 0 (got {t_start}, {t_end}, "
                          f"{step_s})")
     dyn = TruthDynamics.from_config({}) if dynamics is None else dynamics
-    forces = truth_force_config(span_s, seed=seed, dynamics=dyn, models=models)
+    forces = truth_force_config(span_s, seed=seed, dynamics=dyn, models=models,
+                                common_seed=common_seed, correlation=correlation)
     model = build_force_model(ForceModelSettings.from_config(forces.config), t0, 0.0, span_s, eop=eop)
     model, params = with_manoeuvres(model, forces.parameter_vector(model), manoeuvres, t0)
     if state0 is None:
@@ -296,6 +305,9 @@ def simulate_truth_orbit(t_start, t_end, *, seed: int, step_s: float = 10.0,
         "u0_deg": float(u0_deg), "initial_state_gcrf_m_m_s": state0,
         **_force_attrs(forces, dyn, integrator_step_s),
     }
+    if common_seed is not None:
+        attrs.update({"truth_common_seed": int(common_seed),
+                      "truth_correlation": float(correlation)})
     gcrf, itrf = "GCRF (IERS 2010)", "ITRF (IERS 2010, EOP)"
     variables = {
         "pos_gcrf_m": _vector(pos, "m", gcrf, "true centre-of-mass position"),
