@@ -83,8 +83,9 @@ def _burn_windows(run: Path, follower: str, base: xr.Dataset, half_s: float = 18
         for m in read_manoeuvres(path)[0]:
             near |= (t >= m.start - half) & (t <= m.end + half)
     err = 1e3 * base["error_rtn_m"].values
+    day = base["in_day"].values == 1 if "in_day" in base else np.ones(t.size, bool)
     out = []
-    for label, sel in (("within 30 min of a burn", near), ("elsewhere", ~near)):
+    for label, sel in (("within 30 min of a burn", near & day), ("elsewhere", ~near & day)):
         if not sel.any():
             out.append(f"{label}: no epochs")
             continue

@@ -26,12 +26,11 @@ from leopod.estimation.baseline import (  # noqa: E402
     relative_rows,
 )
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
-from leopod.frames.earth_rotation import itrf_to_gcrf  # noqa: E402
 from leopod.frames.leo_attitude import LeoAttitude  # noqa: E402
-from leopod.frames.rtn import rtn_matrix  # noqa: E402
 from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
 from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
 from leopod.time.calendar import parse_date_id  # noqa: E402
+from leopod.validation.formation import difference_rtn, rms_rtn, truth_baseline_itrf  # noqa: E402
 from leopod.workflow.boundary import plain  # noqa: E402
 from leopod.workflow.log import configure_logging  # noqa: E402
 from leopod.workflow.settings import pod_settings  # noqa: E402
@@ -56,17 +55,6 @@ def _float_passes(fs: FloatSolution) -> xr.Dataset:
         log.info("%d passes without a float ambiguity left out of the DDs", dropped.size)
     res["pass_index"] = pid.where(known | (pid < 0), -1)
     return res
-
-
-def _truth_rtn(path_a, path_b, fixed: xr.Dataset) -> np.ndarray:
-    """Truth baseline (ITRF) of the simulated pair at the baseline epochs (m, 3), from the
-    simulator's daily truth netCDF (full precision: the truth SP3 rounds each coordinate to
-    1 mm, 0.7 mm 3D RMS in a difference of two orbits)."""
-    pos = []
-    for path in (path_a, path_b):
-        with xr.open_dataset(path) as truth:
-            pos.append(truth.pos_itrf_m.sel(time=fixed.time.values).values)
-    return pos[1] - pos[0]
 
 
 def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, arc, pod,
@@ -130,13 +118,16 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     res = [fixed[0].pod.solution(normals[0], joint.dx_a, joint.covariance[:na, :na]),
            fixed[1].pod.solution(normals[1], joint.dx_b, joint.covariance[na:, na:])]
     day = np.datetime64(parse_date_id(date), "ns")
+    # the whole common arc (30 h: overlaps with the neighbouring days); statistics over the day
     times = np.intersect1d(floats[0].orbit.time.values, floats[1].orbit.time.values)
-    times = times[(times >= day) & (times < day + np.timedelta64(1, "D"))]
+    in_day = (times >= day) & (times < day + np.timedelta64(1, "D"))
     fix = fixed_baseline(times, *res, joint, label=(
         "DD-fixed, leader held at its fixed POD" if baseline.mode == "reference_fixed"
         else "DD-fixed joint solution"))
     flo = float_baseline(floats[0].orbit, floats[1].orbit, times)
     out = xr.merge([fix, flo.rename({v: f"float_{v}" for v in flo.data_vars})])
+    out["in_day"] = ("time", in_day.astype("i1"), {
+        "units": "1", "long_name": "1: epoch of the day (statistics), 0: rest of the arc"})
     attrs = {k: v for k, v in dd.table.attrs.items() if k.startswith(("wl_", "nl_", "systems"))
              or k.split("_", 1)[-1] in ("wl_fixing_rate", "nl_fixing_rate", "wl_dd_fixed_share",
                                          "nl_dd_fixed_share", "n_independent", "n_nodes")}
@@ -149,20 +140,22 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                   "n_dd_constraints_used": n_dd,
                   "n_dd_candidates": int(dd.table.sizes["dd"])})
     if "a_truth" in inputs and "b_truth" in inputs:
-        truth = _truth_rtn(inputs["a_truth"], inputs["b_truth"], out)
-        r = rtn_matrix(floats[0].orbit.pos_gcrf_m.sel(time=times).values,
-                       floats[0].orbit.vel_gcrf_m_s.sel(time=times).values)
+        # the truth files of the day only
+        truth = truth_baseline_itrf(inputs["a_truth"], inputs["b_truth"], times[in_day])
+        leader = np.concatenate([floats[0].orbit.pos_gcrf_m.sel(time=times[in_day]).values,
+                                 floats[0].orbit.vel_gcrf_m_s.sel(time=times[in_day]).values],
+                                axis=1)
         for label, prefix in (("fixed", ""), ("float", "float_")):
-            err_itrf = out[f"{prefix}baseline_itrf_m"].values - truth
-            err = _itrf_to_rtn(err_itrf, times, r)
+            err = np.full((times.size, 3), np.nan)
+            err[in_day] = difference_rtn(out[f"{prefix}baseline_itrf_m"].values[in_day], truth,
+                                         times[in_day], leader)
             out[f"{prefix}error_rtn_m"] = (("time", "rtn"), err, {
                 "units": "m", "long_name": f"{label} baseline minus truth, leader RTN"})
-            rms = np.sqrt(np.mean(err**2, axis=0))
-            attrs.update({f"{label}_rms_{c}_m": float(v) for c, v in zip("rtn", rms)})
-            attrs[f"{label}_rms_3d_m"] = float(np.sqrt(np.sum(rms**2)))
+            r = rms_rtn(err)
+            attrs.update({f"{label}_rms_{c.lower()}_m": r[c] for c in ("R", "T", "N", "3D")})
         log.info("baseline vs truth, 3D RMS: float %.2f mm, fixed %.2f mm",
                  1e3 * attrs["float_rms_3d_m"], 1e3 * attrs["fixed_rms_3d_m"])
-    change = out["baseline_rtn_m"].values - out["float_baseline_rtn_m"].values
+    change = (out["baseline_rtn_m"].values - out["float_baseline_rtn_m"].values)[in_day]
     attrs["fixed_minus_float_rms_3d_m"] = float(np.sqrt(np.mean(np.sum(change**2, axis=1))))
     log.info("DD-fixed minus float baseline: 3D RMS %.2f mm",
              1e3 * attrs["fixed_minus_float_rms_3d_m"])
@@ -174,14 +167,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                  title=f"double-difference ambiguities {names[1]} - {names[0]} {date}")
     title = f"{pair[1]['title']} - {pair[0]['title']} {date}"
     plot_fractional_parts(dd.table, outputs["histogram"], title=f"DD {title}")
-    _plot_rtn(out, outputs["figure"], title)
-
-
-def _itrf_to_rtn(err_itrf, times, r):
-    """ITRF difference vectors (m, 3) in the leader's RTN (``r``: GCRF to RTN, (m, 3, 3)); the
-    ITRF-to-GCRF transformation of positions is a rotation, so it applies to vectors."""
-    err_gcrf, _ = itrf_to_gcrf(times, err_itrf)
-    return np.einsum("mij,mj->mi", r, err_gcrf)
+    _plot_rtn(out.isel(time=in_day), outputs["figure"], title)
 
 
 def _plot_rtn(ds: xr.Dataset, path, title: str) -> None:
