@@ -2,6 +2,7 @@
 (leopod.ambiguity.double_difference, leopod.estimation.baseline)."""
 
 import logging
+import textwrap
 from collections.abc import Mapping
 
 import matplotlib
@@ -13,7 +14,7 @@ import xarray as xr  # noqa: E402
 
 from leopod.ambiguity.double_difference import ReceiverArc, resolve_dd_systems  # noqa: E402
 from leopod.ambiguity.resolve import ArSettings  # noqa: E402
-from leopod.estimation.arc import ArcData  # noqa: E402
+from leopod.estimation.arc import ArcData, arc_outputs  # noqa: E402
 from leopod.estimation.baseline import (  # noqa: E402
     BaselineSettings,
     constraint_residuals,
@@ -26,8 +27,10 @@ from leopod.estimation.baseline import (  # noqa: E402
     relative_rows,
 )
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
+from leopod.estimation.outputs import sp3_dataset  # noqa: E402
 from leopod.frames.leo_attitude import LeoAttitude  # noqa: E402
 from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
+from leopod.io.sp3_write import write_sp3  # noqa: E402
 from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
 from leopod.time.calendar import parse_date_id  # noqa: E402
 from leopod.validation.formation import difference_rtn, rms_rtn, truth_baseline_itrf  # noqa: E402
@@ -165,6 +168,12 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                  title=f"baseline {names[1]} - {names[0]} {date}")
     write_netcdf(dd.table, outputs["dd"], step="baseline", inputs=files, time_system="GPS",
                  title=f"double-difference ambiguities {names[1]} - {names[0]} {date}")
+    kind = ("DD-fixed baseline solution, leader held at its fixed POD"
+            if baseline.mode == "reference_fixed" else "DD-fixed joint baseline solution")
+    for role, f, r, p in zip(("leader", "follower"), fixed, res, pair, strict=True):
+        write_sp3(sp3_dataset(arc_outputs(f.problem, r).orbit, p["sp3_id"]),
+                  outputs[f"sp3_{role}"], orbit_type="FIT", comments=tuple(textwrap.wrap(
+                      f"leopod {kind} of {names[1]} - {names[0]}: {p['sat']} {date}", 77)))
     title = f"{pair[1]['title']} - {pair[0]['title']} {date}"
     plot_fractional_parts(dd.table, outputs["histogram"], title=f"DD {title}")
     _plot_rtn(out.isel(time=in_day), outputs["figure"], title)

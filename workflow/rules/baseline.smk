@@ -8,6 +8,9 @@ rule baseline:
     output:
         nc="results/baseline/{pair}/{date}.nc",
         dd="results/baseline/{pair}/{date}_dd.nc",
+        # the two orbits of the DD-fixed baseline solution
+        sp3_leader="results/baseline/{pair}/{date}_leader.sp3",
+        sp3_follower="results/baseline/{pair}/{date}_follower.sp3",
         figure=report(
             "results/baseline/{pair}/{date}_rtn.png",
             caption="../report/baseline_rtn.rst",

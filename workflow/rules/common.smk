@@ -342,13 +342,14 @@ def baseline_inputs(wildcards):
 
 
 def baseline_pair_params(wildcards):
-    """Per satellite of a pair (leader, follower): name, PCO, attitude, yaw flips, bias spec."""
+    """Per satellite of a pair (leader, follower): name, PCO, attitude, yaw flips, bias spec,
+    SP3 id."""
     out = []
     for sat in PAIRS[wildcards.pair]:
         w = SimpleNamespace(sat=sat, date=wildcards.date)
         out.append({"sat": sat, "title": sat_name(w), "pco_body_m": sat_pco(w),
                     "attitude": sat_attitude(w), "yaw_flips": sat_yaw_flips(w),
-                    "signal_bias": arc_signal_bias(w)})
+                    "signal_bias": arc_signal_bias(w), "sp3_id": sat_pod_sp3_id(w)})
     return out
 
 
