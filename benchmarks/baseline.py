@@ -22,6 +22,7 @@ import xarray as xr
 
 from leopod.io.manoeuvre import read_manoeuvres
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
+from leopod.validation.formation import burn_windows
 from leopod.workflow.campaign import arc_days
 from leopod.workflow.config import load_campaign
 
@@ -77,11 +78,7 @@ def _burn_windows(run: Path, follower: str, base: xr.Dataset, half_s: float = 18
     follower and elsewhere."""
     path = run / "resources" / "simulate" / follower / "manoeuvres.txt"
     t = base.time.values
-    near = np.zeros(t.size, bool)
-    if path.exists():
-        half = np.timedelta64(int(half_s * 1e9), "ns")
-        for m in read_manoeuvres(path)[0]:
-            near |= (t >= m.start - half) & (t <= m.end + half)
+    near = burn_windows(t, read_manoeuvres(path)[0] if path.exists() else (), half_s)
     err = 1e3 * base["error_rtn_m"].values
     day = base["in_day"].values == 1 if "in_day" in base else np.ones(t.size, bool)
     out = []

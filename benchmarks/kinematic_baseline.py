@@ -1,7 +1,8 @@
 """Kinematic baselines of a formation campaign (issue 21): per pair, day and GNSS solution,
 kinematic minus truth and minus the reduced-dynamic baseline (R/T/N/3D RMS, leader RTN), float
-and DD-fixed, epochs solved, differential ISB, and wall time and peak memory of the job
-(Snakemake benchmark file).
+and DD-fixed, epochs solved, differential ISB, the DD-fixed minus truth 3D RMS within 30 min of
+the follower's burns and elsewhere, and wall time and peak memory of the job (Snakemake
+benchmark file).
 
     .venv/bin/python benchmarks/kinematic_baseline.py /work/scratch-kb
 """
@@ -15,11 +16,15 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from leopod.io.manoeuvre import read_manoeuvres
+from leopod.validation.formation import burn_windows, rms_rtn
 
-def day_report(nc: Path, bench: Path) -> str:
-    """Lines of one pair-day."""
+
+def day_report(nc: Path, bench: Path, burns: np.ndarray | None = None) -> str:
+    """Lines of one pair-day; ``burns``: epochs near a burn (:func:`burn_windows`)."""
     ds = xr.load_dataset(nc)
     lines = [f"{nc.parent.name} {nc.stem}"]
+    day = ds.in_day.values == 1 if "in_day" in ds else np.ones(ds.sizes["time"], bool)
     for system in ds.system.values:
         for kind in ds.ambiguities.values:
             d = ds.sel(system=system, ambiguities=kind)
@@ -33,6 +38,11 @@ def day_report(nc: Path, bench: Path) -> str:
             if np.isfinite(float(d.isb_m)):
                 parts.append(f"ISB {float(d.isb_m):+.4f} m")
             parts.append(f"sigma0 {float(d.sigma0):.3f}, {int(d.dd_constraints)} DD constraints")
+            if burns is not None and kind == "fixed" and "minus_truth_rtn_m" in d:
+                err = d.minus_truth_rtn_m.values
+                parts.append("3D near burns / elsewhere " + " / ".join(
+                    f"{1e3 * rms_rtn(err[sel & day])['3D']:.1f}" for sel in (burns, ~burns))
+                    + " mm")
             lines.append(", ".join(parts))
     if bench.exists():
         b = pd.read_csv(bench, sep="\t")
@@ -47,7 +57,11 @@ def main() -> None:
     for nc in sorted((args.run / "results" / "kinematic_baseline").glob("*/*.nc")):
         bench = (args.run / "logs" / "benchmarks" / "kinematic_baseline" / nc.parent.name
                  / f"{nc.stem}.tsv")
-        print(day_report(nc, bench))
+        with xr.open_dataset(nc) as ds:
+            follower, times = ds.attrs["follower"], ds.time.values
+        path = args.run / "resources" / "simulate" / follower / "manoeuvres.txt"
+        burns = burn_windows(times, read_manoeuvres(path)[0]) if path.exists() else None
+        print(day_report(nc, bench, burns))
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ from leopod.io.grace_orbit_csv import read_grace_orbit_csv, read_kband_range_csv
 from leopod.validation.compare import interpolate_orbit
 from leopod.validation.formation import (
     baseline_overlap,
+    burn_windows,
     difference_rtn,
     formation_day_row,
     formation_table,
@@ -103,3 +104,17 @@ def test_baseline_overlap_on_common_epochs():
     assert np.allclose(diff, [[0.0, 5e-4, 0.0]] * 2, atol=1e-9)
     empty_t, empty = baseline_overlap(t[:3], base_a[:3], t[3:], base_b, leader[:3])
     assert empty_t.size == 0 and empty.shape == (0, 3)
+
+
+def test_burn_windows_mark_the_margin_around_each_burn():
+    # analytic: a 60-s burn at 12:00 with a 30-min margin covers 11:30:00-12:31:00
+    from types import SimpleNamespace
+
+    t0 = np.datetime64("2022-07-14T11:00", "ns")
+    t = t0 + np.arange(0, 7200, 30) * np.timedelta64(1, "s")
+    burn = SimpleNamespace(start=np.datetime64("2022-07-14T12:00", "ns"),
+                           end=np.datetime64("2022-07-14T12:01", "ns"))
+    near = burn_windows(t, [burn], half_s=1800.0)
+    assert t[near][0] == np.datetime64("2022-07-14T11:30", "ns")
+    assert t[near][-1] == np.datetime64("2022-07-14T12:31", "ns")
+    assert not burn_windows(t, []).any()

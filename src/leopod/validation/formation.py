@@ -16,7 +16,7 @@ dynamic and the range checks of each day in one table, as paper 003's Tables 4-6
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 import pandas as pd
@@ -25,8 +25,8 @@ import xarray as xr
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
 
-__all__ = ["baseline_overlap", "difference_rtn", "formation_day_row", "formation_table",
-           "range_residuals", "rms_rtn", "truth_baseline_itrf"]
+__all__ = ["baseline_overlap", "burn_windows", "difference_rtn", "formation_day_row",
+           "formation_table", "range_residuals", "rms_rtn", "truth_baseline_itrf"]
 
 
 def truth_baseline_itrf(truth_a, truth_b, times: np.ndarray) -> np.ndarray:
@@ -224,3 +224,23 @@ def baseline_overlap(times_a: np.ndarray, baseline_a: np.ndarray, times_b: np.nd
         return common[ok], np.zeros((0, 3))
     return common[ok], difference_rtn(baseline_a[ia], baseline_b[ib], common[ok],
                                       leader_gcrf[ia])
+
+
+def burn_windows(times: np.ndarray, manoeuvres: Iterable, half_s: float = 1800.0) -> np.ndarray:
+    """Epochs within ``half_s`` [s] before the start or after the end of any burn (bool (m,)),
+    to show the effect of the manoeuvres on a baseline apart from the rest.
+
+    Parameters
+    ----------
+    times : ndarray of datetime64, shape (m,)
+    manoeuvres : iterable of leopod.io.manoeuvre.Manoeuvre
+        Burns (``start``, ``end``; GPS time).
+    half_s : float
+        Margin [s].
+    """
+    t = np.asarray(times, dtype="datetime64[ns]")
+    near = np.zeros(t.size, bool)
+    half = np.timedelta64(int(round(half_s * 1e9)), "ns")
+    for m in manoeuvres:
+        near |= (t >= m.start - half) & (t <= m.end + half)
+    return near
