@@ -5,6 +5,8 @@ Authorities: real data — the GRACE-A/B Bernese orbits and the K-band-derived r
 and 9.9 mm RMS about it, tests/io/test_grace_orbit_csv.py) — and analytic rotations.
 """
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -108,8 +110,6 @@ def test_baseline_overlap_on_common_epochs():
 
 def test_burn_windows_mark_the_margin_around_each_burn():
     # analytic: a 60-s burn at 12:00 with a 30-min margin covers 11:30:00-12:31:00
-    from types import SimpleNamespace
-
     t0 = np.datetime64("2022-07-14T11:00", "ns")
     t = t0 + np.arange(0, 7200, 30) * np.timedelta64(1, "s")
     burn = SimpleNamespace(start=np.datetime64("2022-07-14T12:00", "ns"),
