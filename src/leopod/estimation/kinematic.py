@@ -114,7 +114,7 @@ class KinematicSettings(Settings):
     max_sigma_m: float
     max_iterations: int
     tolerance_m: float
-    baseline_systems: tuple[str, ...] = ()
+    baseline_systems: tuple[str, ...]
 
 
 @dataclass(eq=False)
