@@ -7,7 +7,7 @@ import re
 from pathlib import Path
 from types import SimpleNamespace
 
-from leopod.simulate.product_world import ProductSet
+from leopod.simulate.product_set import ProductSet
 from leopod.workflow.campaign import (
     applied_code_bias_period,
     arc_days,

@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -47,10 +46,10 @@ from leopod.io.clock import read_rinex_clock
 from leopod.io.dcb import read_code_dcb
 from leopod.io.netcdf import merge_days
 from leopod.io.sp3 import read_sp3
-from leopod.settings import Settings
 from leopod.signals import frequency_hz
 from leopod.simulate.biases import SimulatedBiases
 from leopod.simulate.observations import GnssWorld
+from leopod.simulate.product_set import ProductSet
 from leopod.time.calendar import seconds_since
 
 __all__ = ["ProductSet", "osb_biases", "product_world"]
@@ -62,41 +61,6 @@ log = logging.getLogger(__name__)
 #: exactly the day (e.g. CODE's 2023-189 SP3, 00:00-24:00); the POD does not extrapolate and
 #: leaves those epochs out.
 _LIGHT_TIME_MARGIN_S = 1.0
-
-
-@dataclass(frozen=True)
-class ProductSet(Settings):
-    """Files of a real GNSS product set (``simulate.gnss_products`` of the campaign schema).
-
-    Attributes
-    ----------
-    orbit : tuple of str
-        SP3 files covering the campaign (and the arcs' margins), in time order (one path may
-        be given as a string).
-    clock : tuple of str
-        RINEX clock files of the campaign days (one path may be given as a string); empty
-        (``None`` in the configuration): the clocks are simulated.
-    osb : str
-        Bias-SINEX file with the satellite code and phase OSBs.
-    dcb_p1c1 : str or None
-        CODE P1−C1 DCB file for C1C (None: C1C is not simulated with a satellite bias).
-    """
-
-    orbit: tuple[str, ...]
-    clock: tuple[str, ...]
-    osb: str
-    dcb_p1c1: str | None
-
-    def __post_init__(self):
-        for name in ("orbit", "clock"):
-            value = getattr(self, name)
-            object.__setattr__(self, name, (value,) if isinstance(value, str)
-                               else tuple(value or ()))
-
-    @property
-    def files(self) -> list[str]:
-        """All files of the set (workflow inputs)."""
-        return [*self.orbit, *self.clock, self.osb] + ([self.dcb_p1c1] if self.dcb_p1c1 else [])
 
 
 class _ProductOrbit:

@@ -21,7 +21,7 @@ import numpy as np
 from leopod.settings import Settings, frozen_value
 from leopod.simulate.biases import BiasSettings
 from leopod.simulate.observations import ObservationSettings
-from leopod.simulate.product_world import ProductSet
+from leopod.simulate.product_set import ProductSet
 from leopod.simulate.slr import DEFAULT_STATIONS, SlrSettings
 from leopod.simulate.truth_forces import TruthDynamics
 
