@@ -69,6 +69,10 @@ def test_grace_dry_run_lists_the_jobs(shared):
         assert f"rule {rule}:" in out
     assert "results/quality/grace-a/2007-080.nc" in out
     assert "rule simulate" not in out            # the real campaign reads files only
+    # no AR product in the campaign (CODE 2007 has none): nothing can be fixed, so no job
+    # writes a "fixed" orbit that would be the float one again
+    assert "rule float_pod:" in out
+    assert "rule ambiguity:" not in out and "rule fixed_pod:" not in out
 
 
 def test_default_dry_run_has_three_days(tmp_path):

@@ -142,11 +142,19 @@ def is_simulated(sat):
     return sat in SIMULATED_SATS
 
 
+def ar_product_named():
+    """True if the campaign names an AR product (CNES/CLS WL biases or Bias-SINEX OSBs)."""
+    return bool(product_file("wl_bias") or product_file("osb"))
+
+
 def solutions():
-    """POD solutions of the campaign: float, and fixed when ambiguities are resolved."""
+    """POD solutions of the campaign: float, and fixed when ambiguities are resolved with an
+    AR product. Without one no single difference can be fixed, and a copy of the float orbit
+    is not written under the name of a fixed solution."""
     if not product_file("gnss_clock"):
         return []
-    return ["float_pod"] + (["fixed_pod"] if CONFIG["ambiguity"]["enabled"] else [])
+    fixed = CONFIG["ambiguity"]["enabled"] and ar_product_named()
+    return ["float_pod"] + (["fixed_pod"] if fixed else [])
 
 
 # --- upstream outputs ----------------------------------------------------------------------
@@ -517,7 +525,7 @@ def summary_files(sat):
             "residuals": {d: fill(residuals, sat=sat, date=d) for d in DAYS},
             "parameters": {d: fill(parameters, sat=sat, date=d) for d in DAYS},
         }
-        if CONFIG["ambiguity"]["enabled"]:
+        if "fixed_pod" in solutions():
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {
             d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in DAYS[:-1]
@@ -531,7 +539,7 @@ def summary_files(sat):
             f["slr"] = {
                 d: fill(rules.slr.output.nc, sat=sat, solution=solution, date=d) for d in DAYS
             }
-        if is_simulated(base) and CONFIG["ambiguity"]["enabled"]:
+        if is_simulated(base) and "fixed_pod" in solutions():
             # the simulator's integers of the arc's days: wrong fixes per system
             f["truth"] = {
                 d: [fill(rules.simulate.output.truth_nc, sat=base, date=a)
@@ -560,12 +568,13 @@ def all_targets():
     per_day = [rules.quality.output.nc, rules.quality.output.summary]
     if product_file("gnss_clock"):  # POD needs a clock product (schema)
         per_day.append(rules.float_pod.output.sp3)
-        if CONFIG["ambiguity"]["enabled"]:
+        if "fixed_pod" in solutions():
             per_day += [rules.ambiguity.output.table, rules.fixed_pod.output.sp3]
     targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
     targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
-    if PAIRS and "fixed_pod" in solutions():
+    # inter-satellite DDs need no AR product: the float solutions of the pair are enough
+    if PAIRS and CONFIG["ambiguity"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.baseline.output.nc, pair=list(PAIRS), date=DAYS)
         if CONFIG["kinematic"]["baseline_systems"]:
             targets += expand(rules.kinematic_baseline.output.nc, pair=list(PAIRS), date=DAYS)
