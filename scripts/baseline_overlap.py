@@ -38,8 +38,8 @@ def main(inputs: dict, nc_path) -> None:
         if f"{kind}_a" not in inputs:
             continue
         a, b = xr.load_dataset(inputs[f"{kind}_a"]), xr.load_dataset(inputs[f"{kind}_b"])
+        state = orbit_state(leader, a.time.values, a.time.values[0])    # the RTN axes
         for label, (ta, ba, tb, bb) in _solutions(a, b, kind).items():
-            state = orbit_state(leader, ta, ta[0])
             times, diff = baseline_overlap(ta, ba, tb, bb, state)
             r = rms_rtn(diff)
             if r["n"] == 0:

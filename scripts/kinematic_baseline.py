@@ -10,8 +10,8 @@ import xarray as xr
 
 from leopod.estimation.arc import ArcData, setup_arc
 from leopod.estimation.fixed_arc import FloatSolution
-from leopod.estimation.kinematic import KinematicSettings, orbit_state
-from leopod.estimation.kinematic_baseline import baseline_dataset, kinematic_baseline
+from leopod.estimation.kinematic import KinematicSettings
+from leopod.estimation.kinematic_baseline import KinematicBaseline, baseline_dataset
 from leopod.estimation.outputs import pod_start
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.netcdf import write_netcdf
@@ -59,15 +59,16 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     day = np.datetime64(parse_date_id(date), "ns")
     times = pb.observations.times
     in_day = (times >= day) & (times < day + np.timedelta64(1, "D"))
+    pair_solver = KinematicBaseline(pa.observations, pb.observations, pa.products, orbit_a,
+                                    orbit_b, pa.t_ref, pod, kinematic, eop=pa.eop,
+                                    antennas_a=pa.antennas, antennas_b=pb.antennas)
+    leader = pair_solver.leader_state
     parts = []
     for system in kinematic.baseline_systems:
         by_kind = []
         for kind in KINDS:
-            result, leader = kinematic_baseline(
-                pa.observations, pb.observations, pa.products, orbit_a, orbit_b, pa.t_ref,
-                system, pod, kinematic, eop=pa.eop, antennas_a=pa.antennas,
-                antennas_b=pb.antennas, constraints_table=table if kind == "fixed" else None,
-                constraint_sigma_m=constraint_sigma_m)
+            result = pair_solver.solve(system, table if kind == "fixed" else None,
+                                       constraint_sigma_m)
             ds = baseline_dataset(result, leader, eop=pa.eop)
             stats = {"sigma0": (ds.attrs["sigma0"], "1", "a-posteriori sigma of unit weight"),
                      "dd_constraints": (ds.attrs["dd_constraints"], "1",
@@ -85,7 +86,6 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     out["in_day"] = ("time", in_day.astype("i1"), {
         "units": "1", "long_name": "1: epoch of the day (statistics), 0: rest of the arc"})
     t = out.time.values
-    leader = orbit_state(orbit_a, t, pa.t_ref)
     references = {"dynamic": dynamic.baseline_itrf_m.reindex(time=t).values}
     if "a_truth" in inputs and "b_truth" in inputs:
         truth = np.full((t.size, 3), np.nan)

@@ -17,9 +17,9 @@ from _simulated_arc import at_float_orbit, simulated_arc
 from leopod.estimation.float_pod import PodObservations, elevation_sigma
 from leopod.estimation.kinematic import KinematicModel, KinematicSettings, solve_kinematic
 from leopod.estimation.kinematic_baseline import (
+    KinematicBaseline,
     baseline_dataset,
     dd_node_constraints,
-    kinematic_baseline,
     receiver_differences,
 )
 from leopod.workflow.config import with_defaults
@@ -72,14 +72,12 @@ def _formation(arc):
     return obs_a, obs_b, amb_b - amb_a, clock_b - clock_a
 
 
-def _run(arc, obs_a, obs_b, table=None):
+def _pair(arc, obs_a, obs_b):
     p = arc.problem
     # A held at its truth, B linearised 0.4 m off its true place
-    return kinematic_baseline(obs_a, obs_b, p.products, arc.truth,
-                              _shifted(arc.truth, BASELINE_M + [0.3, -0.2, 0.2]), p.t_ref, "G",
-                              arc.pod, SETTINGS, antennas_a=p.antennas, antennas_b=p.antennas,
-                              constraints_table=table,
-                              constraint_sigma_m=arc.ar.constraint_sigma_m)
+    return KinematicBaseline(obs_a, obs_b, p.products, arc.truth,
+                             _shifted(arc.truth, BASELINE_M + [0.3, -0.2, 0.2]), p.t_ref,
+                             arc.pod, SETTINGS, antennas_a=p.antennas, antennas_b=p.antennas)
 
 
 def _errors(result, leader):
@@ -107,7 +105,9 @@ def _true_dd_table(sd, sd_amb):
 
 def test_recovers_a_known_baseline_float_and_dd_fixed(arc):
     obs_a, obs_b, sd_amb, clock_diff = _formation(arc)
-    result, leader = _run(arc, obs_a, obs_b)
+    pair = _pair(arc, obs_a, obs_b)
+    leader = pair.leader_state
+    result = pair.solve("G")
     e, chi2 = _errors(result, leader)
     assert result.converged and result.solved.mean() > 0.99
     # float: SD noise sqrt(2) x that of one receiver; the kinematic POD of this arc measures
@@ -120,8 +120,8 @@ def test_recovers_a_known_baseline_float_and_dd_fixed(arc):
     assert np.sqrt(np.mean((result.clock_m[ok] - clock_diff[ok]) ** 2)) < 0.1
     # DD-fixed with the true DDs: better, at sqrt(2) x the kinematic fixed orbit of one
     # receiver (1.4 cm there: ~2.0 cm; measured 2.04 cm), still described by its covariance
-    sd = receiver_differences(obs_a, obs_b, "G")
-    fixed, _ = _run(arc, obs_a, obs_b, _true_dd_table(sd, sd_amb))
+    fixed = pair.solve("G", _true_dd_table(pair.differences("G"), sd_amb),
+                       arc.ar.constraint_sigma_m)
     assert fixed.n_constraints > 20
     e_fixed, chi2_fixed = _errors(fixed, leader)
     rms_fixed = float(np.sqrt(np.mean(np.sum(e_fixed**2, axis=1))))

@@ -116,15 +116,11 @@ def _pulse_matches(a: ArcNormals, b: ArcNormals, tolerance_s: float = 1.0):
     better = np.clip(nearest - 1, 0, ta.size - 1)
     nearest = np.where(np.abs(ta[better] - tb) < np.abs(ta[nearest] - tb), better, nearest)
     ok = np.abs(ta[nearest] - tb) <= tolerance_s
-    first_a = a.names.index("pulse_R_0")
-    first_b = b.names.index("pulse_R_0")
-    ia, ib, axis = [], [], []
-    for j in np.flatnonzero(ok):
-        for c in range(3):
-            ia.append(first_a + 3 * int(nearest[j]) + c)
-            ib.append(first_b + 3 * int(j) + c)
-            axis.append(c)
-    return np.asarray(ia, int), np.asarray(ib, int), np.asarray(axis, int)
+    j = np.flatnonzero(ok)
+    axis = np.arange(3)
+    ia = (a.names.index("pulse_R_0") + 3 * nearest[j])[:, None] + axis     # R, T, N of each
+    ib = (b.names.index("pulse_R_0") + 3 * j)[:, None] + axis
+    return ia.ravel(), ib.ravel(), np.tile(axis, j.size)
 
 
 def relative_rows(a: ArcNormals, b: ArcNormals, settings: BaselineSettings

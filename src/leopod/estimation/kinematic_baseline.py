@@ -54,8 +54,8 @@ from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.frames.rtn import rtn_matrix
 from leopod.gnss.products import GnssProducts
 
-__all__ = ["ReceiverDifferences", "baseline_dataset", "dd_node_constraints",
-           "kinematic_baseline", "receiver_differences"]
+__all__ = ["KinematicBaseline", "ReceiverDifferences", "baseline_dataset",
+           "dd_node_constraints", "receiver_differences"]
 
 log = logging.getLogger(__name__)
 
@@ -174,14 +174,10 @@ def dd_node_constraints(table: xr.Dataset, nodes: np.ndarray, systems: str,
     return ni[keep], nj[keep], value, np.full(value.shape, float(sigma_m))
 
 
-def kinematic_baseline(obs_a: PodObservations, obs_b: PodObservations,
-                       products: GnssProducts, reference_a: xr.Dataset,
-                       reference_b: xr.Dataset, t_ref, systems: str, pod: PodSettings,
-                       settings: KinematicSettings, *, eop=None, antennas_a: dict,
-                       antennas_b: dict, constraints_table: xr.Dataset | None = None,
-                       constraint_sigma_m: float = 1e-3
-                       ) -> tuple[KinematicResult, np.ndarray]:
-    """Kinematic positions of the follower from SDs with the leader (module docstring).
+class KinematicBaseline:
+    """Kinematic positions of the follower from SDs with the leader (module docstring): the
+    leader's model and each system selection's SD rows built once, then one solve per set of
+    constraints (float, DD-fixed).
 
     Parameters
     ----------
@@ -194,54 +190,80 @@ def kinematic_baseline(obs_a: PodObservations, obs_b: PodObservations,
     reference_b : xarray.Dataset
         The follower's reference orbit (linearisation), e.g. its float orbit.
     t_ref : datetime64
-    systems : str
-        GNSS letters of the solution, the reference of the inter-system bias first.
     pod : PodSettings
     settings : KinematicSettings
     eop : EarthOrientation, optional
     antennas_a, antennas_b : dict
         Each receiver's antenna terms (``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``,
         ``leo_attitude``; :attr:`leopod.estimation.arc.ArcProblem.antennas`).
-    constraints_table : xarray.Dataset, optional
-        DD table of the baseline step: its constrained DDs make the DD-fixed solution; None:
-        float.
-    constraint_sigma_m : float
-        Sigma of a DD constraint [m].
 
-    Returns
-    -------
-    result : KinematicResult
-        The follower's kinematic orbit (its ``clock_m``: the differential clock B − A).
+    Attributes
+    ----------
     leader_state : ndarray, shape (m, 6)
-        The leader's held GCRF position [m] and velocity [m/s] at the same nominal epochs.
+        The leader's held GCRF position [m] and velocity [m/s] at the follower's nominal epochs.
     """
-    sd = receiver_differences(obs_a, obs_b, systems)
-    constraints = (None if constraints_table is None else
-                   dd_node_constraints(constraints_table, sd.nodes, systems, constraint_sigma_m))
-    lin_a = KinematicModel(obs_a, products, reference_a, t_ref, eop, antennas_a)
-    lin_b = KinematicModel(obs_b, products, reference_b, t_ref, eop, antennas_b)
-    model_a, _ = lin_a.model(np.zeros((obs_a.times.size, 3)),
-                             np.nan_to_num(np.asarray(obs_a.clk_rx_m, dtype=float)))
-    clock_a = np.nan_to_num(np.asarray(obs_b.clk_rx_m, dtype=float)) - sd.obs.clk_rx_m
-    ia, ib = sd.rows_a, sd.rows_b
 
-    def model_at(offset: np.ndarray, clock_diff: np.ndarray):
-        model_b, pos_b = lin_b.model(offset, clock_a + clock_diff)
-        return ModelResult(code_m=model_b.code_m[ib] - model_a.code_m[ia],
-                           phase_m=model_b.phase_m[ib] - model_a.phase_m[ia],
-                           los_gcrf=model_b.los_gcrf[ib], el_deg=model_b.el_deg[ib],
-                           az_deg=model_b.az_deg[ib], z_body_gcrf=model_b.z_body_gcrf[ib],
-                           valid=model_b.valid[ib] & model_a.valid[ia]), pos_b
+    def __init__(self, obs_a: PodObservations, obs_b: PodObservations, products: GnssProducts,
+                 reference_a: xr.Dataset, reference_b: xr.Dataset, t_ref, pod: PodSettings,
+                 settings: KinematicSettings, *, eop=None, antennas_a: dict, antennas_b: dict):
+        self._obs_a, self._obs_b = obs_a, obs_b
+        self._pod, self._settings = pod, settings
+        self._lin_b = KinematicModel(obs_b, products, reference_b, t_ref, eop, antennas_b)
+        self._model_a, _ = KinematicModel(obs_a, products, reference_a, t_ref, eop,
+                                          antennas_a).model(
+            np.zeros((obs_a.times.size, 3)), np.nan_to_num(np.asarray(obs_a.clk_rx_m,
+                                                                        dtype=float)))
+        self._sd: dict[str, ReceiverDifferences] = {}
+        self.leader_state = orbit_state(reference_a, obs_b.times, t_ref)
 
-    log.info("kinematic baseline %s: %d SD rows (%d code, %d phase) over %d nodes, %s",
-             systems, ib.size, int(np.isfinite(sd.obs.code_m).sum()),
-             int((sd.obs.pass_index >= 0).sum()), sd.nodes.shape[0],
-             "float" if constraints is None else f"{constraints[0].size} DD constraints")
-    result = solve_kinematic(sd.obs, model_at, lin_b.reference_at, sd.obs.clk_rx_m, pod,
-                             settings, constraints=constraints, clock_offset_m=clock_a,
-                             variance_factors=(_SD_VARIANCE_FACTOR, _SD_VARIANCE_FACTOR),
-                             label=f"kinematic baseline {systems}")
-    return result, orbit_state(reference_a, obs_b.times, t_ref)
+    def differences(self, systems: str) -> ReceiverDifferences:
+        """The SD rows of ``systems`` (:func:`receiver_differences`, built once)."""
+        if systems not in self._sd:
+            self._sd[systems] = receiver_differences(self._obs_a, self._obs_b, systems)
+        return self._sd[systems]
+
+    def solve(self, systems: str, constraints_table: xr.Dataset | None = None,
+              constraint_sigma_m: float = 1e-3) -> KinematicResult:
+        """The follower's kinematic orbit from the SDs of ``systems``.
+
+        Parameters
+        ----------
+        systems : str
+            GNSS letters of the solution, the reference of the inter-system bias first.
+        constraints_table : xarray.Dataset, optional
+            DD table of the baseline step: its constrained DDs make the DD-fixed solution;
+            None: float.
+        constraint_sigma_m : float
+            Sigma of a DD constraint [m].
+
+        Returns
+        -------
+        KinematicResult
+            Its ``clock_m`` is the differential clock B − A.
+        """
+        sd = self.differences(systems)
+        constraints = (None if constraints_table is None else dd_node_constraints(
+            constraints_table, sd.nodes, systems, constraint_sigma_m))
+        clock_a = np.nan_to_num(np.asarray(self._obs_b.clk_rx_m, dtype=float)) - sd.obs.clk_rx_m
+        ia, ib, model_a, lin_b = sd.rows_a, sd.rows_b, self._model_a, self._lin_b
+
+        def model_at(offset: np.ndarray, clock_diff: np.ndarray):
+            model_b, pos_b = lin_b.model(offset, clock_a + clock_diff)
+            return ModelResult(code_m=model_b.code_m[ib] - model_a.code_m[ia],
+                               phase_m=model_b.phase_m[ib] - model_a.phase_m[ia],
+                               los_gcrf=model_b.los_gcrf[ib], el_deg=model_b.el_deg[ib],
+                               az_deg=model_b.az_deg[ib], z_body_gcrf=model_b.z_body_gcrf[ib],
+                               valid=model_b.valid[ib] & model_a.valid[ia]), pos_b
+
+        log.info("kinematic baseline %s: %d SD rows (%d code, %d phase) over %d nodes, %s",
+                 systems, ib.size, int(np.isfinite(sd.obs.code_m).sum()),
+                 int((sd.obs.pass_index >= 0).sum()), sd.nodes.shape[0],
+                 "float" if constraints is None else f"{constraints[0].size} DD constraints")
+        return solve_kinematic(sd.obs, model_at, lin_b.reference_at, sd.obs.clk_rx_m,
+                               self._pod, self._settings, constraints=constraints,
+                               clock_offset_m=clock_a,
+                               variance_factors=(_SD_VARIANCE_FACTOR, _SD_VARIANCE_FACTOR),
+                               label=f"kinematic baseline {systems}")
 
 
 def baseline_dataset(result: KinematicResult, leader_state: np.ndarray, *,
@@ -251,7 +273,7 @@ def baseline_dataset(result: KinematicResult, leader_state: np.ndarray, *,
     Parameters
     ----------
     result : KinematicResult
-        Of :func:`kinematic_baseline`.
+        Of :meth:`KinematicBaseline.solve`.
     leader_state : ndarray, shape (m, 6)
         The leader's held GCRF position [m] and velocity [m/s] at the nominal epochs.
     eop : EarthOrientation, optional
