@@ -1,18 +1,20 @@
 """The results table of Zhang et al. (2024, paper 003) for finished simulated Lutan-1-like
 formation campaigns (issue 21).
 
-For each run (a label, e.g. G, C, G+C: one campaign per system, ``pod.system``) and formation
-pair, as mean ± STD over the days, from the campaign outputs: DD WL/NL fixing rates (graph
-rank; per system) and wrong DD fixes against the simulator's integers; the fixed-POD phase and
-code residual RMS per system of each satellite; the reduced-dynamic baseline float and DD-fixed
-against the truth (3D and R/T/N); its 6-h overlaps; the kinematic baselines (float, DD-fixed)
-against the truth and minus the reduced-dynamic one; the STD of baseline length minus the
-inter-satellite range. Everything comes from ``results/summary/<pair>_formation.csv`` (rule
+For each run (a label and a campaign folder) and pair line (the pair's G+C solution and, with
+``variants``, its G and C solutions ``<pair>_G``, ``<pair>_C``), as mean ± STD over the days,
+from the campaign outputs: DD WL/NL fixing rates (graph rank; per system) and wrong DD fixes
+against the simulator's integers; the fixed-POD phase and code residual RMS per system of each
+satellite and the receiver-SD residual RMS per system of the baseline (paper Fig. 3); the
+reduced-dynamic baseline float and DD-fixed against the truth (3D and R/T/N); its 6-h overlaps;
+the mutual differences of the G, C and G+C baselines (Fig. 5); the kinematic baselines (float,
+DD-fixed) against the truth and minus the reduced-dynamic one; the STD of baseline length minus
+the inter-satellite range. Everything comes from ``results/summary/<pair>_formation.csv`` (rule
 formation_summary) and ``results/summary/<sat>.csv`` (campaign_summary).
 
     .venv/bin/python benchmarks/lt1_table.py LABEL:RUN [LABEL:RUN ...]
 
-e.g.  .venv/bin/python benchmarks/lt1_table.py G+C:../scratch-lt1 G:../scratch-lt1-g
+e.g.  .venv/bin/python benchmarks/lt1_table.py lt1-sim:../scratch-lt1
 """
 
 from __future__ import annotations
@@ -56,12 +58,19 @@ def print_run(label: str, run: Path) -> None:
             with xr.open_dataset(str(first[0]).replace("_dd.nc", ".nc")) as ds:
                 for sat in (ds.attrs["leader"], ds.attrs["follower"]):
                     _residuals(run, sat)
+        for c in cols:
+            if c.startswith("sd_"):
+                unit = "mm" if c.startswith("sd_phase") else "m"
+                print(f"  baseline {c:32s} [{unit}]: {_cell(f, c)}")
         for kind in ("float", "fixed"):
             print(f"  reduced-dynamic {kind:5s} vs truth R/T/N/3D [mm]: " + " / ".join(
                 _cell(f, f"dynamic_{kind}_vs_truth_{c}") for c in ("r", "t", "n", "3d")))
         for c in cols:
             if c.startswith("overlap_3d_"):
                 print(f"  overlap 3D {c[len('overlap_3d_'):]:22s} [mm]: {_cell(f, c)}")
+        for c in cols:
+            if c.startswith("mutual_") and c.endswith("_3d"):
+                print(f"  {c:44s} [mm]: {_cell(f, c)}")
         for c in cols:
             if c.startswith("kinematic_"):
                 print(f"  {c:44s} [mm]: {_cell(f, c)}")

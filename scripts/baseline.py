@@ -33,7 +33,12 @@ from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
 from leopod.io.sp3_write import write_sp3  # noqa: E402
 from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
 from leopod.time.calendar import parse_date_id  # noqa: E402
-from leopod.validation.formation import difference_rtn, rms_rtn, truth_baseline_itrf  # noqa: E402
+from leopod.validation.formation import (  # noqa: E402
+    difference_rtn,
+    rms_rtn,
+    sd_residual_rms,
+    truth_baseline_itrf,
+)
 from leopod.workflow.boundary import plain  # noqa: E402
 from leopod.workflow.log import configure_logging  # noqa: E402
 from leopod.workflow.settings import pod_settings  # noqa: E402
@@ -120,6 +125,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     na = joint.n_a
     res = [fixed[0].pod.solution(normals[0], joint.dx_a, joint.covariance[:na, :na]),
            fixed[1].pod.solution(normals[1], joint.dx_b, joint.covariance[na:, na:])]
+    outs = [arc_outputs(f.problem, r) for f, r in zip(fixed, res, strict=True)]
     day = np.datetime64(parse_date_id(date), "ns")
     # the whole common arc (30 h: overlaps with the neighbouring days); statistics over the day
     times = np.intersect1d(floats[0].orbit.time.values, floats[1].orbit.time.values)
@@ -142,6 +148,15 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                   "dd_constraint_residual_max_m": float(np.max(np.abs(dd_resid), initial=0.0)),
                   "n_dd_constraints_used": n_dd,
                   "n_dd_candidates": int(dd.table.sizes["dd"])})
+    # residuals of the receiver single differences per system (Zhang et al. 2024, Fig. 3)
+    for label, pair_res in (("fixed", [o.residuals for o in outs]),
+                            ("float", [f.residuals for f in floats])):
+        for key, (rms, n) in sd_residual_rms(*pair_res).items():
+            attrs[f"{label}_sd_{key}_rms_m"] = rms
+            attrs[f"{label}_sd_{key}_count"] = n
+    log.info("SD residual RMS, DD-fixed: %s", ", ".join(
+        f"{k.split('_sd_')[1][:-6]} {1e3 * v:.2f} mm" for k, v in attrs.items()
+        if k.startswith("fixed_sd_") and k.endswith("_rms_m")))
     if "a_truth" in inputs and "b_truth" in inputs:
         # the truth files of the day only
         truth = truth_baseline_itrf(inputs["a_truth"], inputs["b_truth"], times[in_day])
@@ -170,8 +185,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                  title=f"double-difference ambiguities {names[1]} - {names[0]} {date}")
     kind = ("DD-fixed baseline solution, leader held at its fixed POD"
             if baseline.mode == "reference_fixed" else "DD-fixed joint baseline solution")
-    for role, f, r, p in zip(("leader", "follower"), fixed, res, pair, strict=True):
-        write_sp3(sp3_dataset(arc_outputs(f.problem, r).orbit, p["sp3_id"]),
+    for role, o, p in zip(("leader", "follower"), outs, pair, strict=True):
+        write_sp3(sp3_dataset(o.orbit, p["sp3_id"]),
                   outputs[f"sp3_{role}"], orbit_type="FIT", comments=tuple(textwrap.wrap(
                       f"leopod {kind} of {names[1]} - {names[0]}: {p['sat']} {date}", 77)))
     title = f"{pair[1]['title']} - {pair[0]['title']} {date}"

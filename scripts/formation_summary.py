@@ -42,7 +42,9 @@ def main(files: Mapping, outputs: Mapping, *, phases: Mapping, title: str) -> No
             kinematic=xr.load_dataset(f["kinematic"]) if "kinematic" in f else None,
             ranges=xr.load_dataset(f["range"]) if "range" in f else None,
             overlap=xr.load_dataset(f["overlap"]) if "overlap" in f else None,
-            wrong=_wrong(f, phases))
+            wrong=_wrong(f, phases),
+            lines={k: xr.load_dataset(v) for k, v in f["lines"].items()} if "lines" in f
+            else None)
     table, meta = formation_table(rows)
     log.info("formation summary:\n%s", table.T.to_string(float_format=lambda v: f"{v:.3g}"))
     write_text(outputs["csv"], table.to_csv(float_format="%.4f"))

@@ -23,6 +23,7 @@ from leopod.validation.formation import (
     formation_table,
     range_residuals,
     rms_rtn,
+    sd_residual_rms,
 )
 
 DIR = "grace-b_2010-208"
@@ -67,7 +68,8 @@ def test_formation_table_rows_means_and_counts():
         base = xr.Dataset(attrs={"wl_fixing_rate": 1.0, "nl_fixing_rate": nl,
                                  "G_nl_fixing_rate": nl, "n_dd_constraints_used": 400,
                                  **{f"{k}_rms_{c}_m": fixed_3d / 1e3 for k in ("float", "fixed")
-                                    for c in ("r", "t", "n", "3d")}})
+                                    for c in ("r", "t", "n", "3d")},
+                                 "fixed_sd_G_phase_rms_m": fixed_3d / 1e3 + 0.001})
         kin = xr.Dataset(
             {"rms_minus_truth_m": (("system", "ambiguities", "component"),
                                    np.full((1, 2, 4), kin_3d / 1e3))},
@@ -88,6 +90,9 @@ def test_formation_table_rows_means_and_counts():
     assert table.loc["mean", "range_std_dynamic_fixed"] == pytest.approx(1.5)
     assert table.loc["mean", "dd_nl_wrong"] == 2 and np.isnan(table.loc["std", "dd_nl_wrong"])
     assert table.loc["mean", "dd_constraints"] == 800
+    assert table.loc["mean", "sd_phase_residual_G_fixed"] == pytest.approx(5.0)
+    assert meta["sd_phase_residual_G_fixed"][0] == "mm"
+    assert "sd_code_residual_G_fixed" not in table
 
 
 def test_baseline_overlap_on_common_epochs():
@@ -118,3 +123,29 @@ def test_burn_windows_mark_the_margin_around_each_burn():
     assert t[near][0] == np.datetime64("2022-07-14T11:30", "ns")
     assert t[near][-1] == np.datetime64("2022-07-14T12:31", "ns")
     assert not burn_windows(t, []).any()
+
+
+def test_sd_residual_rms_differences_common_epochs_and_satellites():
+    # analytic: B - A on the epochs and satellites both solutions used; a residual NaN in
+    # either (not used) drops that single difference; per system and observable
+    t = np.array(["2022-07-14T00:00", "2022-07-14T00:00:30", "2022-07-14T00:01"],
+                 dtype="datetime64[ns]")
+
+    def res(times, sv, phase, code):
+        return xr.Dataset({"phase_residual_m": (("time", "sv"), np.asarray(phase, float)),
+                           "code_residual_m": (("time", "sv"), np.asarray(code, float))},
+                          coords={"time": times, "sv": sv})
+
+    a = res(t, ["C20", "G01", "G02"], [[0.001, 0.002, 0.0], [0.0, 0.001, np.nan],
+                                       [0.0, 0.0, 0.0]], np.zeros((3, 3)))
+    # B lacks the last epoch and has one more satellite (G03): neither enters
+    b = res(t[:2], ["C20", "G01", "G02", "G03"], [[0.004, 0.006, 0.003, 9.0],
+                                                  [0.0, 0.005, 0.5, 9.0]],
+            [[0.3, 0.0, 0.4, 9.0], [0.0, 0.0, 0.0, 9.0]])
+    out = sd_residual_rms(a, b)
+    # G phase: SDs 0.004, 0.003, 0.004 (G02 at the second epoch is NaN in A)
+    assert out["G_phase"][1] == 3
+    assert out["G_phase"][0] == pytest.approx(np.sqrt((0.004**2 + 0.003**2 + 0.004**2) / 3))
+    assert out["C_phase"] == (pytest.approx(np.sqrt(0.003**2 / 2)), 2)
+    assert out["G_code"] == (pytest.approx(np.sqrt(0.4**2 / 4)), 4)
+    assert set(out) == {"C_phase", "C_code", "G_phase", "G_code"}

@@ -35,8 +35,8 @@ rule baseline:
         runtime=30,
     params:
         signals=CONFIG["signals"],
-        pod=CONFIG["pod"],
-        settings=CONFIG["ambiguity"],
+        pod=lambda w: pair_config(w.pair)["pod"],
+        settings=lambda w: pair_config(w.pair)["ambiguity"],
         code_bias=CONFIG["code_bias"],
         baseline=CONFIG["baseline"],
         pair=baseline_pair_params,

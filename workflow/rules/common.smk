@@ -24,7 +24,7 @@ from leopod.workflow.campaign import (
     signal_bias_inputs,
 )
 from leopod.workflow.config import validated
-from leopod.workflow.variants import pod_lines, variant_config
+from leopod.workflow.variants import formation_pairs, pod_lines, variant_config
 from leopod.workflow.downloads import (
     destination_template,
     load_catalogue,
@@ -64,12 +64,12 @@ VARIANTS = {
 }
 #: Satellites whose files the simulate rules write.
 SIMULATED_SATS = [s for s in SATS if CONFIG["satellites"][s].get("source") == "simulate"]
-#: Formation pairs {"<leader>-<follower>": (leader, follower)} of satellites.<sat>.formation.
-PAIRS = {
-    f"{block['formation']['leader']}-{sat}": (block["formation"]["leader"], sat)
-    for sat, block in CONFIG["satellites"].items()
-    if sat in SATS and (block.get("formation") or {}).get("leader") in SATS
-}
+#: Pair lines of the formation pairs (satellites.<sat>.formation) {pair id: FormationPair}:
+#: "<leader>-<follower>" of the campaign's solution, "<leader>-<follower>_<variant>" of the
+#: pair's lines of each variant (leopod.workflow.variants); the baseline steps run per pair line.
+PAIRS = formation_pairs(CONFIG, SATS)
+#: The pair lines of the campaign's own solution (kinematic baselines, simulated ranges).
+BASE_PAIRS = [p for p, line in PAIRS.items() if line.variant is None]
 PERIODS = code_bias_periods(CONFIG)
 #: Folder of the leopod sources the rules depend on: src/ of the checkout beside the
 #: Snakefile (None: the imported package).
@@ -138,8 +138,27 @@ def line_ambiguity(wildcards):
 
 
 def is_simulated(sat):
-    """True if the satellite's files are written by the simulate rules."""
-    return sat in SIMULATED_SATS
+    """True if the satellite's (or POD line's satellite's) files are written by the simulate
+    rules."""
+    return LINES.get(sat, (sat, None))[0] in SIMULATED_SATS
+
+
+def pair_config(pair):
+    """The validated campaign of a pair line (its variant's, or the campaign)."""
+    variant = PAIRS[pair].variant
+    return CONFIG if variant is None else VARIANTS[variant]
+
+
+def pair_phases(wildcards):
+    """{system: phase signal pair} of the systems of a pair line's POD."""
+    system = pair_config(wildcards.pair)["pod"]["system"]
+    return {x: CONFIG["signals"][x]["phase"] for x in ([system] if isinstance(system, str)
+                                                       else system)}
+
+
+def pair_title(wildcards):
+    """"<follower> - <leader>" of a pair line (POD line ids), for titles."""
+    return f"{PAIRS[wildcards.pair].follower} - {PAIRS[wildcards.pair].leader}"
 
 
 def ar_product_named():
@@ -329,7 +348,8 @@ def baseline_inputs(wildcards):
     (keys a_*) and the follower (b_*) of a formation pair; with baseline.mode
     reference_fixed also the leader's fixed POD parameters and ambiguities (a_fixed_*)."""
     files = {}
-    for key, sat in zip(("a", "b"), PAIRS[wildcards.pair], strict=True):
+    line = PAIRS[wildcards.pair]
+    for key, sat in (("a", line.leader), ("b", line.follower)):
         w = SimpleNamespace(sat=sat, date=wildcards.date)
         inputs = float_pod_inputs(w)
         for name in ("orbit", "parameters", "ambiguities", "residuals"):
@@ -338,11 +358,12 @@ def baseline_inputs(wildcards):
         if is_simulated(sat):
             # the truth netCDF, not the SP3: SP3 positions are rounded to 1 mm, which puts
             # 0.7 mm 3D RMS of rounding into a truth baseline
-            inputs["truth"] = fill(rules.simulate.output.truth_nc, sat=sat, date=wildcards.date)
+            inputs["truth"] = fill(rules.simulate.output.truth_nc, sat=LINES[sat][0],
+                                   date=wildcards.date)
         files.update({f"{key}_{k}": v for k, v in inputs.items()})
     if CONFIG["baseline"]["mode"] == "reference_fixed":
         # the leader held at its single-difference-fixed POD
-        leader = PAIRS[wildcards.pair][0]
+        leader = line.leader
         for name in ("parameters", "ambiguities"):
             files[f"a_fixed_{name}"] = fill(pod_output("fixed_pod", name), sat=leader,
                                             date=wildcards.date)
@@ -353,7 +374,7 @@ def baseline_pair_params(wildcards):
     """Per satellite of a pair (leader, follower): name, PCO, attitude, yaw flips, bias spec,
     SP3 id."""
     out = []
-    for sat in PAIRS[wildcards.pair]:
+    for sat in PAIRS[wildcards.pair][:2]:
         w = SimpleNamespace(sat=sat, date=wildcards.date)
         out.append({"sat": sat, "title": sat_name(w), "pco_body_m": sat_pco(w),
                     "attitude": sat_attitude(w), "yaw_flips": sat_yaw_flips(w),
@@ -370,18 +391,38 @@ def kinematic_baseline_inputs(wildcards):
     return files
 
 
+def kinematic_baselines(pair):
+    """True if the pair line has kinematic baselines (kinematic.baseline_systems; the
+    campaign's own solution only: it holds every system's kinematic solution)."""
+    return bool(CONFIG["kinematic"]["baseline_systems"]) and PAIRS[pair].variant is None
+
+
+def pair_label(pair):
+    """Short label of a pair line's solution: its variant, or the campaign's systems
+    ("G+C")."""
+    variant = PAIRS[pair].variant
+    if variant is not None:
+        return variant
+    system = CONFIG["pod"]["system"]
+    return system if isinstance(system, str) else "+".join(system)
+
+
 def formation_summary_files(pair):
-    """{date: {product: path or [paths]}} of the formation summary of a pair: baseline, DD
-    table, kinematic baseline, overlap with the next day, range check and (simulated pairs) the
-    float residuals and truth files that give the wrong DD fixes."""
-    a, b = PAIRS[pair]
+    """{date: {product: path or [paths]}} of the formation summary of a pair line: baseline,
+    DD table, kinematic baseline, overlap with the next day, range check, (simulated pairs) the
+    float residuals and truth files that give the wrong DD fixes, and (the campaign's own pair
+    line, with variants) the baselines of every pair line of the pair ("lines", by label)."""
+    a, b = PAIRS[pair][:2]
     simulated = is_simulated(a) and is_simulated(b)
     out = {}
     for date in DAYS:
         files = {"baseline": fill(rules.baseline.output.nc, pair=pair, date=date),
                  "dd": fill(rules.baseline.output.dd, pair=pair, date=date)}
-        if CONFIG["kinematic"]["baseline_systems"]:
+        if kinematic_baselines(pair):
             files["kinematic"] = fill(rules.kinematic_baseline.output.nc, pair=pair, date=date)
+        if VARIANTS and PAIRS[pair].variant is None:
+            files["lines"] = {pair_label(p): fill(rules.baseline.output.nc, pair=p, date=date)
+                              for p, line in PAIRS.items() if line.base == pair}
         if date != DAYS[-1]:
             files["overlap"] = fill(rules.baseline_overlap.output.nc, pair=pair, date=date)
         if simulated:
@@ -389,8 +430,8 @@ def formation_summary_files(pair):
             for key, sat in (("a", a), ("b", b)):
                 files[f"residuals_{key}"] = fill(pod_output("float_pod", "residuals"), sat=sat,
                                                  date=date)
-                files[f"truth_{key}"] = expand(rules.simulate.output.truth_nc, sat=sat,
-                                               date=arc_days(CONFIG, date))
+                files[f"truth_{key}"] = expand(rules.simulate.output.truth_nc,
+                                               sat=LINES[sat][0], date=arc_days(CONFIG, date))
         out[date] = files
     return out
 
@@ -398,7 +439,9 @@ def formation_summary_files(pair):
 def formation_summary_inputs(wildcards):
     """Every file the formation summary of a pair reads."""
     return sorted({p for files in formation_summary_files(wildcards.pair).values()
-                   for v in files.values() for p in ([v] if isinstance(v, str) else v)})
+                   for v in files.values()
+                   for p in ([v] if isinstance(v, str) else list(v.values())
+                             if isinstance(v, dict) else v)})
 
 
 def baseline_overlap_inputs(wildcards):
@@ -408,9 +451,9 @@ def baseline_overlap_inputs(wildcards):
     files = {"dynamic_a": fill(rules.baseline.output.nc, pair=wildcards.pair,
                                date=wildcards.date),
              "dynamic_b": fill(rules.baseline.output.nc, pair=wildcards.pair, date=later),
-             "leader": fill(pod_output("float_pod", "orbit"), sat=PAIRS[wildcards.pair][0],
-                            date=wildcards.date)}
-    if CONFIG["kinematic"]["baseline_systems"]:
+             "leader": fill(pod_output("float_pod", "orbit"),
+                            sat=PAIRS[wildcards.pair].leader, date=wildcards.date)}
+    if kinematic_baselines(wildcards.pair):
         files["kinematic_a"] = fill(rules.kinematic_baseline.output.nc, pair=wildcards.pair,
                                     date=wildcards.date)
         files["kinematic_b"] = fill(rules.kinematic_baseline.output.nc, pair=wildcards.pair,
@@ -419,12 +462,13 @@ def baseline_overlap_inputs(wildcards):
 
 
 def range_check_inputs(wildcards):
-    """range_check: the pair's range series and its baseline solutions of the day."""
-    files = {"range": fill(rules.simulate_range.output.csv, pair=wildcards.pair,
+    """range_check: the pair's range series (one per pair: of its satellites' truth) and the
+    pair line's baseline solutions of the day."""
+    files = {"range": fill(rules.simulate_range.output.csv, pair=PAIRS[wildcards.pair].base,
                            date=wildcards.date),
              "dynamic": fill(rules.baseline.output.nc, pair=wildcards.pair,
                              date=wildcards.date)}
-    if CONFIG["kinematic"]["baseline_systems"]:
+    if kinematic_baselines(wildcards.pair):
         files["kinematic"] = fill(rules.kinematic_baseline.output.nc, pair=wildcards.pair,
                                   date=wildcards.date)
     return files
@@ -577,9 +621,9 @@ def all_targets():
     if PAIRS and CONFIG["ambiguity"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.baseline.output.nc, pair=list(PAIRS), date=DAYS)
         if CONFIG["kinematic"]["baseline_systems"]:
-            targets += expand(rules.kinematic_baseline.output.nc, pair=list(PAIRS), date=DAYS)
-        simulated_pairs = [p for p, (a, b) in PAIRS.items()
-                           if is_simulated(a) and is_simulated(b)]
+            targets += expand(rules.kinematic_baseline.output.nc, pair=BASE_PAIRS, date=DAYS)
+        simulated_pairs = [p for p, line in PAIRS.items()
+                           if is_simulated(line.leader) and is_simulated(line.follower)]
         targets += expand(rules.range_check.output.nc, pair=simulated_pairs, date=DAYS)
         if len(DAYS) > 1:
             targets += expand(rules.baseline_overlap.output.nc, pair=list(PAIRS),

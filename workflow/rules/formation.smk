@@ -6,8 +6,9 @@
 
 rule simulate_range:
     input:
-        a=lambda w: fill(rules.simulate.output.truth_nc, sat=PAIRS[w.pair][0], date=w.date),
-        b=lambda w: fill(rules.simulate.output.truth_nc, sat=PAIRS[w.pair][1], date=w.date),
+        a=lambda w: fill(rules.simulate.output.truth_nc, sat=PAIRS[w.pair].leader, date=w.date),
+        b=lambda w: fill(rules.simulate.output.truth_nc, sat=PAIRS[w.pair].follower,
+                         date=w.date),
         code=library_code("simulate_range"),
     output:
         csv="resources/simulate/{pair}/{date}_range.csv",
@@ -50,7 +51,7 @@ rule range_check:
         mem_mb=1000,
         runtime=5,
     params:
-        title=lambda w: " - ".join(reversed(PAIRS[w.pair])),
+        title=pair_title,
     script:
         "../../scripts/range_check.py"
 
@@ -88,10 +89,8 @@ rule formation_summary:
         runtime=5,
     params:
         files=lambda w: formation_summary_files(w.pair),
-        phases=lambda w: {x: CONFIG["signals"][x]["phase"] for x in
-                          ([CONFIG["pod"]["system"]] if isinstance(CONFIG["pod"]["system"], str)
-                           else CONFIG["pod"]["system"])},
-        title=lambda w: " - ".join(reversed(PAIRS[w.pair])),
+        phases=pair_phases,
+        title=pair_title,
     script:
         "../../scripts/formation_summary.py"
 

@@ -24,9 +24,12 @@ import xarray as xr
 
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
+from leopod.signals import system_of
 
 __all__ = ["baseline_overlap", "burn_windows", "difference_rtn", "formation_day_row",
-           "formation_table", "range_residuals", "rms_rtn", "truth_baseline_itrf"]
+           "formation_table", "mutual_differences", "range_residuals", "rms_rtn",
+           "sd_residual_rms",
+           "truth_baseline_itrf"]
 
 
 def truth_baseline_itrf(truth_a, truth_b, times: np.ndarray) -> np.ndarray:
@@ -93,20 +96,89 @@ def range_residuals(baseline_itrf_m: np.ndarray, times: np.ndarray,
     return out
 
 
+def sd_residual_rms(residuals_a: xr.Dataset, residuals_b: xr.Dataset
+                    ) -> dict[str, tuple[float, int]]:
+    """RMS of the receiver single differences B − A of the post-fit residuals, per GNSS system
+    and observable: ``{"<system>_<phase|code>": (rms [m], count)}``.
+
+    The residuals of the two satellites' solutions (:func:`leopod.estimation.outputs.
+    residual_dataset`: ionosphere-free, NaN where not used) are differenced at the epochs and
+    GNSS satellites both used: the residuals of the receiver-SD observations that Zhang et al.
+    (2024, Table 1 and Fig. 3) give for their baselines (GPS 4.4 mm, BDS-3 2.5 mm phase), here
+    for solutions that fit each satellite's undifferenced data (the common GNSS orbit and clock
+    errors cancel in the difference as they do in SD observations).
+
+    Parameters
+    ----------
+    residuals_a, residuals_b : xarray.Dataset
+        On (time, sv) with ``phase_residual_m`` and ``code_residual_m`` [m].
+    """
+    times = np.intersect1d(residuals_a.time.values, residuals_b.time.values)
+    sv = np.intersect1d(residuals_a.sv.values, residuals_b.sv.values)
+    a = residuals_a.sel(time=times, sv=sv)
+    b = residuals_b.sel(time=times, sv=sv)
+    systems = system_of(sv)
+    out = {}
+    for x in sorted(set(systems)):
+        cols = systems == x
+        for kind in ("phase", "code"):
+            var = f"{kind}_residual_m"
+            sd = b[var].values[:, cols] - a[var].values[:, cols]
+            sd = sd[np.isfinite(sd)]
+            out[f"{x}_{kind}"] = (float(np.sqrt(np.mean(sd**2))) if sd.size else np.nan,
+                                  int(sd.size))
+    return out
+
+
+def _in_day(ds: xr.Dataset) -> xr.Dataset:
+    """The day's epochs of a baseline file (all of them in files without ``in_day``)."""
+    return ds.isel(time=ds.in_day.values == 1) if "in_day" in ds else ds
+
+
+def mutual_differences(lines: Mapping[str, xr.Dataset]) -> dict[str, dict[str, float]]:
+    """RMS R/T/N/3D [m] of the differences between the DD-fixed reduced-dynamic baselines of
+    the solutions of one pair-day (Zhang et al. 2024, Fig. 5: G/C, G/GC and C/GC), over the
+    day's epochs they share: ``{"<a>_minus_<b>": rms_rtn}`` for each two labels in order.
+
+    Parameters
+    ----------
+    lines : mapping
+        ``{label: baseline dataset}`` (output of the baseline rule, ``baseline_rtn_m`` in its
+        leader's RTN), e.g. ``{"G+C": ..., "G": ..., "C": ...}``.
+
+    Notes
+    -----
+    The RTN components are differenced directly: the leader orbits of two solutions differ by
+    millimetres, their RTN axes by < 1e-9 rad, i.e. < 5 µm on a 5-km baseline.
+    """
+    days = {k: _in_day(v) for k, v in lines.items()}
+    labels = list(days)
+    out = {}
+    for i, la in enumerate(labels):
+        for lb in labels[i + 1:]:
+            a, b = days[la], days[lb]
+            _, ia, ib = np.intersect1d(a.time.values, b.time.values, return_indices=True)
+            out[f"{la}_minus_{lb}"] = rms_rtn(a.baseline_rtn_m.values[ia]
+                                              - b.baseline_rtn_m.values[ib])
+    return out
+
+
 def _pct(value) -> float:
     return 100.0 * float(value) if value is not None else np.nan
 
 
 def formation_day_row(baseline: xr.Dataset, *, kinematic: xr.Dataset | None = None,
                       ranges: xr.Dataset | None = None, overlap: xr.Dataset | None = None,
-                      wrong: Mapping | None = None) -> dict[str, tuple[float, str, str]]:
+                      wrong: Mapping | None = None, lines: Mapping | None = None
+                      ) -> dict[str, tuple[float, str, str]]:
     """The figures of one pair-day: ``{column: (value, unit, description)}``.
 
     Parameters
     ----------
     baseline : xarray.Dataset
         Output of the baseline rule (attributes: DD fixing rates overall and per system,
-        ``n_dd_constraints_used``, ``<float|fixed>_rms_<r|t|n|3d>_m`` against the truth).
+        ``n_dd_constraints_used``, ``<float|fixed>_rms_<r|t|n|3d>_m`` against the truth,
+        ``<float|fixed>_sd_<system>_<phase|code>_rms_m`` of the SD residuals).
     kinematic : xarray.Dataset, optional
         Output of the kinematic_baseline rule (``rms_minus_truth_m``, ``rms_minus_dynamic_m``).
     ranges : xarray.Dataset, optional
@@ -117,6 +189,9 @@ def formation_day_row(baseline: xr.Dataset, *, kinematic: xr.Dataset | None = No
     wrong : mapping, optional
         Wrong DD fixes against the simulator's integers per system and ``all``
         (:func:`leopod.simulate.dd_truth.wrong_dd_fixes`).
+    lines : mapping, optional
+        ``{label: baseline dataset}`` of the pair's solutions (e.g. G+C, G, C) for their
+        mutual differences (:func:`mutual_differences`).
     """
     t = baseline.attrs
     row: dict[str, tuple[float, str, str]] = {
@@ -144,6 +219,15 @@ def formation_day_row(baseline: xr.Dataset, *, kinematic: xr.Dataset | None = No
                 row[f"dynamic_{label}_vs_truth_{c}"] = (
                     1e3 * float(t[f"{label}_rms_{c}_m"]), "mm",
                     f"reduced-dynamic {name} baseline minus truth, RMS {c.upper()}")
+    for label in ("float", "fixed"):
+        name = "DD-fixed" if label == "fixed" else label
+        for x in systems:
+            for kind, unit, scale in (("phase", "mm", 1e3), ("code", "m", 1.0)):
+                key = f"{label}_sd_{x}_{kind}_rms_m"
+                if key in t:
+                    row[f"sd_{kind}_residual_{x}_{label}"] = (
+                        scale * float(t[key]), unit,
+                        f"RMS of the receiver-SD {kind} residuals of {x}, {name} baseline")
     if kinematic is not None:
         for x in kinematic.system.values:
             for kind in kinematic.ambiguities.values:
@@ -169,6 +253,12 @@ def formation_day_row(baseline: xr.Dataset, *, kinematic: xr.Dataset | None = No
             row[f"overlap_3d_{key}"] = (
                 1e3 * float(overlap.rms_m.sel(solution=label, component="3D")), "mm",
                 f"overlap with the next day's solution, RMS 3D, {label}")
+    if lines is not None:
+        for key, r in mutual_differences(lines).items():
+            a, b = key.split("_minus_")
+            for c in ("R", "T", "N", "3D"):
+                row[f"mutual_{key}_{c.lower()}"] = (
+                    1e3 * r[c], "mm", f"DD-fixed reduced-dynamic baseline {a} minus {b}, RMS {c}")
     return row
 
 

@@ -14,7 +14,10 @@ Every satellite then has one *POD line* per solution: its own id for the campaig
 and ``<sat>_<variant>`` for each variant (satellite ids have no underscore, schema). The
 upstream steps (ingest, quality, code-bias maps) run once per satellite; the POD, ambiguity
 and validation steps run per line and write their products under the line id, so each
-variant has its own campaign summary.
+variant has its own campaign summary. A formation pair (``satellites.<follower>.formation``)
+likewise has one *pair line* per solution: ``<leader>-<follower>`` of the two satellites'
+own lines and ``<leader>-<follower>_<variant>`` of their lines of each variant, e.g. the GPS,
+BDS-3 and GPS + BDS-3 baselines of Zhang et al. (2024) from one campaign.
 """
 
 from __future__ import annotations
@@ -22,12 +25,12 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from leopod.settings import SCHEMA
 from leopod.workflow.config import validated
 
-__all__ = ["SEPARATOR", "pod_lines", "variant_config"]
+__all__ = ["SEPARATOR", "FormationPair", "formation_pairs", "pod_lines", "variant_config"]
 
 #: Between the satellite id and the variant name in a POD line id.
 SEPARATOR = "_"
@@ -47,6 +50,48 @@ def pod_lines(config: Mapping[str, Any]) -> dict[str, tuple[str, str | None]]:
         for name in config.get("variants", {}):
             lines[f"{sat}{SEPARATOR}{name}"] = (sat, name)
     return lines
+
+
+class FormationPair(NamedTuple):
+    """A pair line: the POD lines of a formation pair in one solution.
+
+    Attributes
+    ----------
+    leader, follower : str
+        POD line ids (:func:`pod_lines`) of the leader and the follower.
+    base : str
+        Id of the pair line of the campaign's own solution (the pair of the satellites).
+    variant : str or None
+        The variant of both lines; None for the campaign's solution.
+    """
+
+    leader: str
+    follower: str
+    base: str
+    variant: str | None
+
+
+def formation_pairs(config: Mapping[str, Any], satellites) -> dict[str, FormationPair]:
+    """Pair lines of a validated campaign: ``{pair id: FormationPair}`` (module docstring).
+
+    Parameters
+    ----------
+    config : mapping
+        The validated campaign.
+    satellites : collection of str
+        Satellites processed (a pair needs both).
+    """
+    pairs: dict[str, FormationPair] = {}
+    for sat, block in config["satellites"].items():
+        leader = (block.get("formation") or {}).get("leader")
+        if sat not in satellites or leader not in satellites:
+            continue
+        base = f"{leader}-{sat}"
+        pairs[base] = FormationPair(leader, sat, base, None)
+        for name in config.get("variants", {}):
+            pairs[f"{base}{SEPARATOR}{name}"] = FormationPair(
+                f"{leader}{SEPARATOR}{name}", f"{sat}{SEPARATOR}{name}", base, name)
+    return pairs
 
 
 def variant_config(raw: Mapping[str, Any], name: str, schema: str | Path = SCHEMA) -> dict:
