@@ -12,7 +12,7 @@ import yaml
 
 from leopod.settings import read_yaml
 from leopod.workflow.config import validated
-from leopod.workflow.variants import pod_lines, variant_config
+from leopod.workflow.variants import formation_pairs, pod_lines, variant_config
 
 REPO = Path(__file__).resolve().parents[2]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
@@ -92,3 +92,41 @@ def test_the_dag_runs_the_pod_per_line_and_the_upstream_steps_per_satellite(tmp_
                            str(tmp_path / "plain.yaml")],
                           capture_output=True, text=True, timeout=600, cwd=REPO)
     assert proc.returncode == 0 and "variant_comparison" not in proc.stdout
+
+
+LT1 = REPO / "config" / "lt1-sim.yaml"
+
+
+def test_a_formation_pair_has_one_pair_line_per_solution():
+    # config/lt1-sim.yaml: LT-1 B follows LT-1 A; variants G and C beside the G+C solution
+    campaign = validated(read_yaml(LT1))
+    pairs = formation_pairs(campaign, ["lt1-a", "lt1-b"])
+    assert list(pairs) == ["lt1-a-lt1-b", "lt1-a-lt1-b_G", "lt1-a-lt1-b_C"]
+    assert pairs["lt1-a-lt1-b"] == ("lt1-a", "lt1-b", "lt1-a-lt1-b", None)
+    assert pairs["lt1-a-lt1-b_C"] == ("lt1-a_C", "lt1-b_C", "lt1-a-lt1-b", "C")
+    # a pair needs both satellites
+    assert formation_pairs(campaign, ["lt1-b"]) == {}
+
+
+def test_the_dag_solves_each_pair_line_and_compares_them_in_the_pair_summary(tmp_path):
+    proc = subprocess.run([SNAKEMAKE, "-n", "-p", "--snakefile", str(REPO / "Snakefile"),
+                           "--directory", str(tmp_path), "--configfile", str(LT1)],
+                          capture_output=True, text=True, timeout=600, cwd=REPO)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    stats = dict(re.findall(r"^(\w+)\s+(\d+)$", proc.stdout, flags=re.M))
+    # the satellites' files once (2 satellites x 3 days), the POD per line (x 3 solutions)
+    assert stats["simulate"] == stats["ingest"] == "6" and stats["float_pod"] == "18"
+    # a baseline, range check and summary per pair line; one range series and one kinematic
+    # baseline job per pair-day (the kinematic job solves G, C and G+C itself)
+    assert stats["baseline"] == stats["range_check"] == "9"
+    assert stats["simulate_range"] == stats["kinematic_baseline"] == "3"
+    assert stats["formation_summary"] == "3" and stats["baseline_overlap"] == "6"
+    out = proc.stdout
+    assert "results/baseline/lt1-a-lt1-b_G/2022-196.nc" in out
+    assert "results/kinematic_baseline/lt1-a-lt1-b_G" not in out
+    assert "resources/simulate/lt1-a_G" not in out
+    # the G+C pair summary reads the G and C baselines (their mutual differences)
+    summary = next(block for block in out.split("\n\n")
+                   if "rule formation_summary:" in block
+                   and "results/summary/lt1-a-lt1-b_formation.csv" in block)
+    assert "results/baseline/lt1-a-lt1-b_C/2022-197.nc" in summary

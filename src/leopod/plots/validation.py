@@ -233,8 +233,9 @@ def plot_range_check(ds: xr.Dataset, path, title: str = "") -> None:
 
 def plot_formation_summary(table, path, title: str = "") -> None:
     """Baselines of a formation pair per day (3D RMS [mm] against the truth, or against the
-    reduced-dynamic baseline for the kinematic ones when there is no truth) and the DD NL
-    fixing rate.
+    reduced-dynamic baseline for the kinematic ones when there is no truth; the mutual
+    differences of the pair's G, C and G+C solutions where the table has them; a log axis when
+    they span more than a factor 10) and the DD NL fixing rate.
 
     Parameters
     ----------
@@ -257,7 +258,16 @@ def plot_formation_summary(table, path, title: str = "") -> None:
                if c.startswith("kinematic_") and c.endswith(f"_fixed_minus_{ref}_3d")]
     for column, label in series:
         ax.plot(x, days[column].to_numpy(dtype=float), "o-", label=label)
-    ax.set_ylim(bottom=0.0)
+    for column in days.columns:
+        if column.startswith("mutual_") and column.endswith("_3d"):
+            a, b = column[len("mutual_"):-len("_3d")].split("_minus_")
+            ax.plot(x, days[column].to_numpy(dtype=float), "^--", label=f"{a} − {b} (dynamic)")
+    values = days[[c for c in days.columns if c.endswith("_3d")]].to_numpy(dtype=float)
+    values = values[np.isfinite(values) & (values > 0)]
+    if values.size and values.max() > 10.0 * values.min():
+        ax.set_yscale("log")     # sub-mm dynamic and cm kinematic baselines in one panel
+    else:
+        ax.set_ylim(bottom=0.0)
     ax.set_ylabel(f"3D RMS vs {ref} [mm]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, ncols=2)
