@@ -25,6 +25,7 @@ from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
 from leopod.validation.formation import burn_windows
 from leopod.workflow.campaign import arc_days
 from leopod.workflow.config import load_campaign
+from leopod.workflow.variants import SEPARATOR
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -33,13 +34,15 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     """One line of figures of a pair-day."""
     base = xr.load_dataset(run / "results" / "baseline" / pair / f"{date}.nc")
     table = xr.load_dataset(run / "results" / "baseline" / pair / f"{date}_dd.nc")
+    # POD lines (<sat> or <sat>_<variant>) and their satellites
     a, b = base.attrs["leader"], base.attrs["follower"]
+    sats = [line.split(SEPARATOR)[0] for line in (a, b)]
     days = arc_days(config, date)
     truth = [[xr.load_dataset(run / "resources" / "simulate" / s / f"{d}_truth.nc")
-              for d in days] for s in (a, b)]
+              for d in days] for s in sats]
     res = [xr.load_dataset(run / "results" / "float_pod" / s / f"{date}_residuals.nc")
            for s in (a, b)]
-    phases = {x: config["signals"][x]["phase"] for x in config["pod"]["system"]}
+    phases = {x: config["signals"][x]["phase"] for x in base.attrs["systems"].split()}
     wl, nl = true_double_differences(table, res[0], res[1], truth[0], truth[1], phases)
     wrong = wrong_dd_fixes(table, wl, nl)
     bench = pd.read_csv(run / "logs" / "benchmarks" / "baseline" / pair / f"{date}.tsv",
@@ -59,7 +62,7 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     for label in ("float", "fixed"):
         parts.append(f"  {label} baseline vs truth RMS R/T/N/3D: " + " / ".join(
             f"{1e3 * t[f'{label}_rms_{c}_m']:.2f}" for c in ("r", "t", "n", "3d")) + " mm")
-    parts.append(_burn_windows(run, b, base))
+    parts.append(_burn_windows(run, sats[1], base))
     if "fixed_minus_float_rms_3d_m" in t:
         parts.append(f"  DD-fixed minus float baseline 3D RMS "
                      f"{1e3 * t['fixed_minus_float_rms_3d_m']:.2f} mm; DD constraint residuals "

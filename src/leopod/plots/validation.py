@@ -27,6 +27,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.dates as mdates
 import matplotlib.pyplot as plt
+from matplotlib.ticker import FuncFormatter
 import numpy as np
 import xarray as xr
 
@@ -266,9 +267,15 @@ def plot_formation_summary(table, path, title: str = "") -> None:
     values = values[np.isfinite(values) & (values > 0)]
     if values.size and values.max() > 10.0 * values.min():
         ax.set_yscale("log")     # sub-mm dynamic and cm kinematic baselines in one panel
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        # minor labels at 2, 3 and 5 x 10^k only
+        ax.yaxis.set_minor_formatter(FuncFormatter(
+            lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "235" else ""))
     else:
         ax.set_ylim(bottom=0.0)
-    ax.set_ylabel(f"3D RMS vs {ref} [mm]")
+    ax.set_ylabel(f"3D RMS [mm]: vs {ref}" + (", ▲ between solutions"
+                                               if any(c.startswith("mutual_") for c in days)
+                                               else ""))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, ncols=2)
     ax_rate.plot(x, days["dd_nl_rate"].to_numpy(dtype=float), "s-", color="C3",
