@@ -46,7 +46,7 @@ backwards (+X against the velocity) is ψ = 180°. GRACE points the K-band horns
 satellites at each other (Case et al. 2010; Tapley et al. 2004), so +X of both is pitched down
 by half the angle the ~220 km separation subtends at the geocentre, about −0.9°: the SCA1B
 quaternions of 2003-09-14 give θ = −0.88° for GRACE-A (the leading satellite, flying backwards:
-ψ = 180°) and −0.7° for GRACE-B (``tests/io/test_attitude.py``). The offset applies to
+ψ = 180°) and −0.7° for GRACE-B (``tests/io/test_attitude_files.py``). The offset applies to
 ``nominal`` and ``yaw_steering`` (and to the nominal fall-back of ``file``), not to the
 quaternions of a file, which are the attitude itself.
 """

@@ -16,7 +16,7 @@ the body axes as *rows* (:func:`leopod.frames.leo_attitude.leo_body_axes`), i.e.
 (:func:`body_axes_from_quaternion`). The direction was checked on the data: with ``R(q)`` the
 SCA1B +Z of GRACE-A/B on 2003-09-14 points within 1° of the geocentre and +X within 1° of
 ∓velocity of the GNV1B orbit; with ``R(q)ᵀ`` the angles are 40–70° (test
-``tests/io/test_attitude.py``).
+``tests/io/test_attitude_files.py``).
 
 **Interpolation**: spherical linear interpolation (Shoemake 1985) between the two records that
 bracket an epoch, ``q(f) = q_i ⊗ (q_i* ⊗ q_{i+1})^f`` with the sign of ``q_{i+1}`` chosen so
