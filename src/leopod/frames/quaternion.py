@@ -18,6 +18,10 @@ SCA1B +Z of GRACE-A/B on 2003-09-14 points within 1° of the geocentre and +X wi
 ∓velocity of the GNV1B orbit; with ``R(q)ᵀ`` the angles are 40–70° (test
 ``tests/io/test_attitude_files.py``).
 
+The GRACE inertial frame is that of J2000 (mean equator and equinox); it differs from the
+GCRF by the frame bias, 23 mas (1.1e-7 rad), which moves an antenna 0.5 m from the centre of
+mass by 0.05 µm: leopod takes the quaternions as GCRF -> body.
+
 **Interpolation**: spherical linear interpolation (Shoemake 1985) between the two records that
 bracket an epoch, ``q(f) = q_i ⊗ (q_i* ⊗ q_{i+1})^f`` with the sign of ``q_{i+1}`` chosen so
 that the two are in the same hemisphere (``q`` and ``−q`` are the same rotation). It turns the

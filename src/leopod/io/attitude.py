@@ -4,18 +4,18 @@ Every reader returns the same schema: ``quat`` (time, q) — unit quaternions fr
 frame (GCRF/J2000) to the satellite body frame, scalar first (``q`` = q0, q1, q2, q3), the
 convention of :mod:`leopod.frames.quaternion` — with GPS-time labels.
 
-**GRACE SCA1B ASCII** (Case et al. 2010, GRACE Level 1B Data Product User Handbook, JPL
-D-22027, sec. 4 "SCA1B"): a header of ``KEY : value`` records up to ``END OF HEADER`` (``TIME
-EPOCH (GPS TIME) : 2000-01-01 12:00:00``, ``NUMBER OF DATA RECORDS``), then one record a line:
-``gps_time GRACE_id sca_id quatangle quaticoeff quatjcoeff quatkcoeff qual_rss qualflg`` —
-integer seconds of GPS time past the epoch, the satellite letter, the star-camera id (combined
-solution), the quaternion (scalar ``quatangle`` first) rotating the inertial frame into the
-satellite reference frame SRF (origin at the accelerometer proof mass, +X towards the K-band
-horn, +Z towards the radiator i.e. nadir-ish, +Y completing), the RSS of the star-camera
-residuals and 8 quality bits (printed most significant first). The direction of the rotation was
-checked on the data (:mod:`leopod.frames.quaternion`). The SRF origin is taken as the centre of
-mass (they differ by < 1 mm on GRACE after centre-of-mass calibration). Binary ``.dat`` files
-are not read (convert them with the GRACE read software's ``Bin2AsciiLevel1``).
+**GRACE SCA1B ASCII** (Case et al. 2010, the SCA1B product and sec. 1.5 conventions): a
+header of ``KEY : value`` records up to ``END OF HEADER`` (``TIME EPOCH (GPS TIME) : 2000-01-01
+12:00:00``, ``NUMBER OF DATA RECORDS``), then one record a line: ``gps_time GRACE_id sca_id
+quatangle quaticoeff quatjcoeff quatkcoeff qual_rss qualflg`` — integer seconds of GPS time past
+the epoch, the satellite letter, the star-camera id, the quaternion (scalar ``quatangle`` first)
+rotating the inertial frame into the satellite reference frame SRF (origin at the accelerometer
+proof mass, +X towards the K-band horn, +Z to the Earth side, nadir-ish), the RSS of the
+star-camera residuals and 8 quality bits (printed most significant first). The direction of the
+rotation was checked on the data (:mod:`leopod.frames.quaternion`). The attitude does not
+depend on the SRF origin; offsets of the antennas and the retro-reflector stay relative to the
+centre of mass as configured. Binary ``.dat`` files are not read (convert them to ASCII with
+the GRACE read software first).
 
 **leopod attitude CSV** (written by :func:`leopod.io.attitude_write.write_attitude_csv`)::
 
