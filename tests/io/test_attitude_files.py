@@ -209,3 +209,29 @@ def test_coverage_errors_and_the_nominal_fallback(tmp_path):
         LeoAttitude.of({"attitude": "file"})
     with pytest.raises(ValueError, match="only read with attitude 'file'"):
         LeoAttitude.of({"attitude": "nominal", "attitude_file": {"path": "a.csv"}})
+
+
+def test_antenna_range_terms_of_a_file_equal_those_of_its_law(tmp_path):
+    """The seam of the quality and ambiguity steps (Earth-fixed states): the LEO PCO range
+    term with the file law equals that of the law the file was written from (< 1 nm)."""
+    from leopod.gnss.antenna_terms import antenna_range_m
+
+    t, pos, vel = _orbit(n_s=120)
+    rot, _ = gcrf_from_itrf_matrices(t)
+    pos_ef = np.einsum("nji,nj->ni", rot, pos)
+    vel_ef = np.einsum("nji,nj->ni", rot, vel)
+    vel_ef = vel_ef - np.cross([0.0, 0.0, 7.292115e-5], pos_ef)         # Earth-fixed velocity
+    model = LeoAttitude.of({"attitude": "nominal",
+                            "attitude_offset": {"yaw_deg": 180.0, "pitch_deg": -0.9}})
+    q = quaternion_from_body_axes(leo_body_axes_ef(model, t, pos_ef, vel_ef) @
+                                  np.swapaxes(rot, 1, 2))              # GCRF -> body
+    path = write_attitude_csv(tmp_path / "att.csv", t, q)
+    law = load_leo_attitude({"attitude": "file", "attitude_file": {"path": str(path)}}, path)
+    sv = pos_ef[:, None, :] + np.array([[[2.0e7, 1.0e6, 5.0e5], [-3.0e6, 2.1e7, 4.0e6]]])
+    pco = [0.01, -0.02, -0.45]
+    a = antenna_range_m(pos_ef, vel_ef, sv, pos_ef * 0 + 1e11, pco, leo_attitude=model,
+                        times=t)
+    b = antenna_range_m(pos_ef, vel_ef, sv, pos_ef * 0 + 1e11, pco, leo_attitude=law,
+                        times=t)
+    assert np.abs(a - b).max() < 1e-9
+    assert np.abs(a).max() > 0.1                                        # the PCO matters

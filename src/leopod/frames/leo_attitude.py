@@ -77,6 +77,13 @@ LAWS = ("nominal", "yaw_steering", "file")
 FILE_FORMATS = ("auto", "sca1b", "csv", "netcdf")
 
 
+def _check_choice(key: str, value: str, known) -> None:
+    """A ValueError naming ``satellites.<sat>.<key>`` unless ``value`` is one of ``known``."""
+    if value not in known:
+        raise ValueError(f"satellites.<sat>.{key}: unknown '{value}' (known: "
+                         f"{', '.join(known)})")
+
+
 @dataclass(frozen=True)
 class YawSteering(Settings):
     """Yaw-steering thresholds (``satellites.<sat>.yaw_steering``; Jiang et al. 2023).
@@ -150,12 +157,8 @@ class AttitudeFile(Settings):
     outside: str
 
     def __post_init__(self):
-        if self.format not in FILE_FORMATS:
-            raise ValueError(f"satellites.<sat>.attitude_file.format: unknown '{self.format}' "
-                             f"(known: {', '.join(FILE_FORMATS)})")
-        if self.outside not in ("error", "nominal"):
-            raise ValueError(f"satellites.<sat>.attitude_file.outside: '{self.outside}' is "
-                             "neither 'error' nor 'nominal'")
+        _check_choice("attitude_file.format", self.format, FILE_FORMATS)
+        _check_choice("attitude_file.outside", self.outside, ("error", "nominal"))
 
 
 @dataclass(frozen=True)
@@ -184,9 +187,7 @@ class LeoAttitude(Settings):
     attitude_file: AttitudeFile
 
     def __post_init__(self):
-        if self.attitude not in LAWS:
-            raise ValueError(f"satellites.<sat>.attitude: unknown law '{self.attitude}' "
-                             f"(known: {', '.join(LAWS)})")
+        _check_choice("attitude", self.attitude, LAWS)
         for name, cls in (("yaw_steering", YawSteering), ("attitude_offset", AttitudeOffset),
                           ("attitude_file", AttitudeFile)):
             if isinstance(getattr(self, name), Mapping):
