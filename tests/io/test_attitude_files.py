@@ -78,6 +78,9 @@ def test_sca1b_axes_point_to_the_geocentre_and_along_the_velocity(grace):
     z_deg = np.degrees(np.arccos(np.einsum("ni,ni->n", axes[:, 2], nadir)))
     sign = -1.0 if sat == "A" else 1.0
     x_deg = np.degrees(np.arccos(np.einsum("ni,ni->n", axes[:, 0], sign * v_in)))
+    print(f"\nGRACE-{sat} SCA1B vs GNV1B ({t.size} epochs): +Z to geocentre "
+          f"{z_deg.min():.3f}..{z_deg.max():.3f} deg, +X to {'-' if sign < 0 else '+'}velocity "
+          f"{x_deg.min():.3f}..{x_deg.max():.3f} deg")
     assert z_deg.max() < 1.1 and x_deg.max() < 1.1
     pitch = np.degrees(np.arcsin(np.einsum("ni,ni->n", axes[:, 0], -nadir)))
     assert np.all((pitch > -1.0) & (pitch < -0.5))
