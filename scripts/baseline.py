@@ -28,7 +28,7 @@ from leopod.estimation.baseline import (  # noqa: E402
 )
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
 from leopod.estimation.outputs import sp3_dataset  # noqa: E402
-from leopod.frames.leo_attitude import LeoAttitude  # noqa: E402
+from leopod.io.attitude import load_leo_attitude  # noqa: E402
 from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
 from leopod.io.sp3_write import write_sp3  # noqa: E402
 from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
@@ -84,7 +84,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
         receivers.append(ReceiverArc(fs.ambiguities, _float_passes(fs), merge_days(data.obs)))
         fixed.append(FixedSolutions(date, data, signals, arc, pod, forces, p["pco_body_m"], fs,
                                     code_correction=code_correction, yaw_flips=p["yaw_flips"],
-                                    attitude=LeoAttitude.of(p["attitude"])))
+                                    attitude=load_leo_attitude(p["attitude"],
+                                                                files.get("attitude", ()))))
     dd = resolve_dd_systems(*receivers, by_system, ambiguity, names=names)
     baseline = BaselineSettings.from_config({}) if baseline is None else baseline
     if baseline.dd_constraint_sigma_m is not None:

@@ -12,9 +12,10 @@ from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
 from leopod.estimation.float_pod import PodSettings
 from leopod.estimation.write import ARC_PRODUCTS, log_arc, write_arc
 from leopod.frames.leo_attitude import LeoAttitude
+from leopod.io.attitude import load_leo_attitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
-from leopod.workflow.boundary import plain
+from leopod.workflow.boundary import attitude_files, plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
 
@@ -57,7 +58,7 @@ def run(sm) -> None:
          **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
          yaw_flips=p.yaw_flips, ambiguity=ArSettings.from_config(p.settings), title=p.title,
          sp3_id=p.sp3_id, signal_bias=getattr(p, "signal_bias", None),
-         attitude=LeoAttitude.of(p.attitude))
+         attitude=load_leo_attitude(p.attitude, attitude_files(sm)))
 
 
 if __name__ == "__main__":

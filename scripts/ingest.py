@@ -9,11 +9,13 @@ import numpy as np
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.gnss.products import GnssProducts
 from leopod.ingest import apriori_from_sp3, apriori_from_spp, canonical_observations, gnss_at_epochs
+from leopod.io.attitude import load_leo_attitude
 from leopod.io.netcdf import write_netcdf
 from leopod.io.product_netcdf import read_antenna_product, read_clock_product, read_orbit_product
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import SystemSignals, signal_settings
+from leopod.workflow.boundary import attitude_files
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)
@@ -71,7 +73,8 @@ def run(sm) -> None:
          apriori_path=sm.input.get("apriori"), antenna_path=sm.input.get("antenna"),
          out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
          signals=signal_settings(sm.params.signals), pco_body_m=sm.params.pco_body_m,
-         sp3_id=sm.params.sp3_id, attitude=LeoAttitude.of(sm.params.attitude))
+         sp3_id=sm.params.sp3_id, attitude=load_leo_attitude(sm.params.attitude,
+                                                            attitude_files(sm)))
 
 
 if __name__ == "__main__":

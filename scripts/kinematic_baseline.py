@@ -13,7 +13,7 @@ from leopod.estimation.fixed_arc import FloatSolution
 from leopod.estimation.kinematic import KinematicSettings
 from leopod.estimation.kinematic_baseline import KinematicBaseline, baseline_dataset
 from leopod.estimation.outputs import pod_start
-from leopod.frames.leo_attitude import LeoAttitude
+from leopod.io.attitude import load_leo_attitude
 from leopod.io.netcdf import write_netcdf
 from leopod.plots.kinematic import plot_baseline_differences
 from leopod.time.calendar import parse_date_id
@@ -37,7 +37,7 @@ def _receiver(date, files: Mapping, p: Mapping, signals, arc, forces, code_corre
     problem = setup_arc(date, data, signals, arc, forces, p["pco_body_m"],
                         code_correction=code_correction, yaw_flips=p["yaw_flips"],
                         apriori_orbit=fs.orbit.pos_itrf_m,
-                        attitude=LeoAttitude.of(p["attitude"]))
+                        attitude=load_leo_attitude(p["attitude"], files.get("attitude", ())))
     start = pod_start(fs.parameters, fs.ambiguities, fs.residuals, problem.observations)
     problem.observations.clk_rx_m = np.where(np.isfinite(start.clk_rx_m), start.clk_rx_m,
                                              problem.observations.clk_rx_m)

@@ -20,12 +20,13 @@ from leopod.estimation.kinematic import (
     kinematic_sp3_dataset,
 )
 from leopod.frames.leo_attitude import LeoAttitude
+from leopod.io.attitude import load_leo_attitude
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3_write import write_sp3
 from leopod.plots.kinematic import plot_kinematic_rtn
 from leopod.signals import SystemSignals
 from leopod.time.calendar import parse_date_id
-from leopod.workflow.boundary import plain
+from leopod.workflow.boundary import attitude_files, plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
 
@@ -75,7 +76,7 @@ def run(sm) -> None:
          **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
          yaw_flips=p.yaw_flips, kinematic=KinematicSettings.from_config(p.kinematic),
          ambiguity=ArSettings.from_config(p.settings), title=p.title, sp3_id=p.sp3_id,
-         signal_bias=getattr(p, "signal_bias", None), attitude=LeoAttitude.of(p.attitude))
+         signal_bias=getattr(p, "signal_bias", None), attitude=load_leo_attitude(p.attitude, attitude_files(sm)))
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.gnss.scb import nadir_angle_deg
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io._text import write_text
+from leopod.io.attitude import load_leo_attitude
 from leopod.io.netcdf import write_netcdf
 from leopod.io.product_netcdf import read_antenna_product
 from leopod.plots.quality import (
@@ -25,7 +26,7 @@ from leopod.plots.quality import (
     summary_html,
 )
 from leopod.signals import SystemSignals, code_band, signal_settings
-from leopod.workflow.boundary import plain
+from leopod.workflow.boundary import attitude_files, plain
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)
@@ -111,7 +112,7 @@ def run(sm) -> None:
          bds2_scb=bool(sm.params.bds2_scb), pco_body_m=sm.params.pco_body_m,
          antenna_path=getattr(sm.input, "antenna", None) or None,
          gnss_attitude=getattr(sm.params, "gnss_attitude", "nominal"),
-         attitude=LeoAttitude.of(sm.params.attitude),
+         attitude=load_leo_attitude(sm.params.attitude, attitude_files(sm)),
          signal_biases=read_signal_biases(plain(sm.input),
                                           getattr(sm.params, "signal_bias", None)))
 

@@ -6,9 +6,10 @@ from collections.abc import Mapping
 import xarray as xr
 
 from leopod.frames.leo_attitude import LeoAttitude
+from leopod.io.attitude import load_leo_attitude
 from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
-from leopod.workflow.boundary import plain
+from leopod.workflow.boundary import attitude_files, plain
 from leopod.workflow.log import configure_logging
 
 
@@ -32,7 +33,7 @@ def run(sm) -> None:
     configure_logging(sm)
     main(sm.wildcards.date, sm.wildcards.sat, SimulationSettings.from_config(sm.params.settings),
          sm.params.world_start, sm.params.world_end, sm.params.pco_body_m, sm.input.truth,
-         sm.input.biases, plain(sm.output), LeoAttitude.of(sm.params.attitude))
+         sm.input.biases, plain(sm.output), load_leo_attitude(sm.params.attitude, attitude_files(sm)))
 
 
 if __name__ == "__main__":

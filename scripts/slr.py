@@ -5,12 +5,13 @@ from collections.abc import Mapping
 import xarray as xr
 
 from leopod.frames.leo_attitude import LeoAttitude
+from leopod.io.attitude import load_leo_attitude
 from leopod.io.blq import read_blq
 from leopod.io.crd import read_crd
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
 from leopod.validation.slr import SlrResidualSettings, slr_residuals
-from leopod.workflow.boundary import plain
+from leopod.workflow.boundary import attitude_files, plain
 from leopod.workflow.log import configure_logging
 
 
@@ -37,7 +38,7 @@ def run(sm) -> None:
     p = sm.params
     main(plain(sm.input), sm.output.nc, retro_offset_body_m=p.retro_offset_body_m,
          settings=SlrResidualSettings.from_config(p.settings), solution=p.solution,
-         title=p.title, attitude=LeoAttitude.of(p.attitude))
+         title=p.title, attitude=load_leo_attitude(p.attitude, attitude_files(sm)))
 
 
 if __name__ == "__main__":

@@ -340,6 +340,7 @@ def float_pod_inputs(wildcards):
     files.update(signal_bias_files(wildcards, days)[0])
     if manoeuvre_file(sat):
         files["manoeuvres"] = manoeuvre_file(sat)
+    files.update(attitude_inputs(wildcards))
     return files
 
 
@@ -722,10 +723,24 @@ def sat_pco(wildcards):
 
 
 def sat_attitude(wildcards):
-    """Attitude law of the satellite (leopod.frames.leo_attitude.LeoAttitude): its 'attitude'
-    and 'yaw_steering' keys, the same for every step."""
+    """Attitude law of the satellite (leopod.frames.leo_attitude.LeoAttitude): its 'attitude',
+    'yaw_steering', 'attitude_offset' and 'attitude_file' keys, the same for every step (the
+    files themselves are inputs: attitude_inputs)."""
     block = sat_config(wildcards)
-    return {"attitude": block["attitude"], "yaw_steering": dict(block["yaw_steering"])}
+    return {key: block[key] if isinstance(block[key], str) else dict(block[key])
+            for key in ("attitude", "yaw_steering", "attitude_offset", "attitude_file")}
+
+
+def attitude_inputs(wildcards):
+    """{'attitude': the satellite's attitude files of the days the job's arc reaches} for the
+    'file' attitude law (a daily step reads its neighbours too: a day's last epochs lie
+    after the day's last record), else {}."""
+    sat = satellite(wildcards)
+    template = sat_file(sat, "attitude_file")
+    if not template or CONFIG["satellites"][sat]["attitude"] != "file":
+        return {}
+    days = arc_days(CONFIG, wildcards.date)
+    return {"attitude": list(dict.fromkeys(expand_template(template, d, sat) for d in days))}
 
 
 def sat_sp3_id(wildcards):

@@ -28,6 +28,7 @@ rule gnss_products:
 rule ingest:
     input:
         unpack(ingest_inputs),
+        unpack(attitude_inputs),
         code=library_code("ingest"),
     output:
         obs="results/ingest/{sat}/{date}_obs.nc",

@@ -4,6 +4,7 @@
 rule quality:
     input:
         unpack(quality_antenna),
+        unpack(attitude_inputs),
         unpack(day_signal_bias_inputs),
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,

@@ -96,6 +96,7 @@ rule simulate_gnss:
 # Onboard observations, the day's truth and the SLR normal points of one satellite-day.
 rule simulate:
     input:
+        unpack(attitude_inputs),
         truth=rules.simulate_truth.output.truth,
         biases=rules.simulate_world.output.biases,
         gnss_products=simulation_product_files,

@@ -138,6 +138,7 @@ rule reference_summary:
 rule slr:
     input:
         unpack(slr_inputs),
+        unpack(attitude_inputs),
         code=library_code("slr"),
     output:
         nc="results/slr/{sat}/{solution}/{date}.nc",

@@ -40,6 +40,7 @@ from leopod.gnss.corrections import (
     windup_cycles,
 )
 from leopod.gnss.products import GnssProducts
+from leopod.time.calendar import from_seconds
 
 __all__ = ["ModelResult", "Pairs", "compute_model", "nominal_axes_inertial"]
 
@@ -140,7 +141,11 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     """
     ep, isv = pairs.epoch, pairs.isv
     sun_gcrf = np.einsum("mij,mj->mi", rot_gcrf_itrf, sun_itrf_m)
-    axes = leo_body_axes(leo_attitude, pos_leo_gcrf_m, vel_leo_gcrf_m_s, sun_gcrf)  # (m, 3, 3)
+    times = None
+    if leo_attitude is not None and leo_attitude.needs_epochs:    # attitude from a file
+        times = from_seconds(t_rx_s, products.ref)
+    axes = leo_body_axes(leo_attitude, pos_leo_gcrf_m, vel_leo_gcrf_m_s, sun_gcrf,
+                         times=times)                                     # (m, 3, 3)
     rx = pos_leo_gcrf_m[ep]
     if leo_pco_body_m is not None:
         pco = np.asarray(leo_pco_body_m, dtype=float)

@@ -52,7 +52,7 @@ import xarray as xr
 from leopod import signals
 from leopod.constants import OMEGA_EARTH_RAD_S
 from leopod.frames.attitude import body_to_ef, inertial_velocity_ef
-from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
+from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes, leo_body_axes_ef
 from leopod.gnss.attitude import gnss_attitude_axes, gnss_body_axes, satellite_families
 
 __all__ = ["VARIABLE", "antenna_attrs", "antenna_range_m", "antenna_terms",
@@ -71,7 +71,7 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
                     sat_pcv_m: Callable | None = None,
                     leo_pcv_m: Callable | None = None, sat_family=None,
                     sv_vel_m_s: np.ndarray | None = None,
-                    leo_attitude: LeoAttitude | None = None) -> np.ndarray:
+                    leo_attitude: LeoAttitude | None = None, times=None) -> np.ndarray:
     """Range term ``a_b`` of one band for (epoch, satellite) pairs (module docstring) [m].
 
     Parameters
@@ -98,14 +98,20 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
         Inertial GNSS velocities in Earth-fixed axes [m/s] (with ``sat_family``).
     leo_attitude : LeoAttitude, optional
         Attitude law of the LEO; None: nominal.
+    times : array_like of datetime64, shape (n,), optional
+        Epochs (GPS time): needed by the ``file`` attitude law (its quaternions are inertial,
+        rotated to the Earth-fixed frame at the epochs).
 
     Returns
     -------
     ndarray, shape (n, s)
         ``a_b`` [m]; NaN where a position is missing or a GNSS PCO is unknown.
     """
-    rot = leo_body_axes(leo_attitude, leo_pos_m, inertial_velocity_ef(leo_pos_m, leo_vel_m_s),
-                        sun_m)                                              # (n, 3, 3)
+    if times is not None:
+        rot = leo_body_axes_ef(leo_attitude, times, leo_pos_m, leo_vel_m_s, sun_m=sun_m)
+    else:
+        rot = leo_body_axes(leo_attitude, leo_pos_m,
+                            inertial_velocity_ef(leo_pos_m, leo_vel_m_s), sun_m)  # (n, 3, 3)
     los = _unit(sv_pos_m - leo_pos_m[:, None, :])                           # (n, s, 3)
     pco_ef = body_to_ef(rot, np.asarray(leo_pco_body_m, dtype=float))       # (n, 3)
     term = -np.einsum("nsi,ni->ns", los, pco_ef)
@@ -234,7 +240,7 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
                                    leo_pcv_m=(leo_pcv_m or {}).get(name),
                                    sat_family=None if family is None else family[cols],
                                    sv_vel_m_s=None if sv_vel is None else sv_vel[:, cols],
-                                   leo_attitude=leo_attitude)
+                                   leo_attitude=leo_attitude, times=times)
             key = VARIABLE.format(band=digit)
             if key not in out:
                 out[key] = np.full((len(times), len(svs)), np.nan)
@@ -245,6 +251,8 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         for k, v in out.items()}, coords={"time": times, "sv": svs})
     ds.attrs.update(antenna_attrs(leo_pco, antex, bands, leo_pcv=bool(leo_pcv_m)))
     ds.attrs["antenna_gnss_attitude"] = "nominal" if family is None else gnss_attitude
+    if leo_attitude is not None:
+        ds.attrs["antenna_leo_attitude"] = leo_attitude.describe()
     return ds
 
 

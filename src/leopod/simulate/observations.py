@@ -294,7 +294,8 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
               leo_attitude: LeoAttitude | None = None) -> _Geometry:
     """Light time, ranges per band, angles, clocks, Shapiro and wind-up (module docstring)."""
     sun_gcrf, _ = itrf_to_gcrf(times_rx, sun_position_ef(times_rx), eop=eop)
-    axes = leo_body_axes(leo_attitude, leo_pos, leo_vel, sun_gcrf)        # (n, 3, 3) rows
+    axes = leo_body_axes(leo_attitude, leo_pos, leo_vel, sun_gcrf,
+                         times=times_rx)                                  # (n, 3, 3) rows
     names = _band_names(bands_by_sv)
     missing = sorted({name for name in names.values() if name not in pco_body_m})
     if missing:

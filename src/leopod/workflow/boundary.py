@@ -18,10 +18,17 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["REPOSITORY", "mock_snakemake", "plain"]
+__all__ = ["REPOSITORY", "attitude_files", "mock_snakemake", "plain"]
 
 #: Root of the repository checkout (Snakefile, config/, scripts/).
 REPOSITORY = Path(__file__).resolve().parents[3]
+
+
+def attitude_files(sm) -> list[str]:
+    """The job's attitude files (input ``attitude``: the days its arc reaches), or [] when the
+    satellite's attitude law reads none (``common.smk``: ``attitude_inputs``)."""
+    files = plain(sm.input).get("attitude", [])
+    return [files] if isinstance(files, str) else list(files)
 
 
 def plain(named) -> dict[str, str | list[str]]:

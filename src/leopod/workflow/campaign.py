@@ -85,6 +85,9 @@ def input_references(config: dict):
     for sat, block in (config.get("satellites") or {}).items():
         for key in SATELLITE_INPUTS:
             yield f"satellites.{sat}.{key}", block, key
+        # the attitude files of the 'file' law: satellites.<sat>.attitude_file.path
+        if isinstance(block.get("attitude_file"), dict):
+            yield f"satellites.{sat}.attitude_file", block["attitude_file"], "path"
 
 
 def is_daily_template(template: str) -> bool:
