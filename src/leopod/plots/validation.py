@@ -27,15 +27,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.dates as mdates
 import matplotlib.pyplot as plt
-from matplotlib.ticker import FuncFormatter
 import numpy as np
 import xarray as xr
+from matplotlib.ticker import FuncFormatter
 
 from leopod.plots import by_solution, save_figure
 from leopod.plots.pod import _heading, _hours_of_day
 
 __all__ = ["plot_daily_statistics", "plot_formation_summary", "plot_overlaps",
-           "plot_range_check", "plot_reference_differences"]
+           "plot_range_check", "plot_reference_differences", "plot_strategy"]
 
 _M_TO_MM = 1e3
 """Metres to millimetres (display unit of all validation figures)."""
@@ -285,5 +285,38 @@ def plot_formation_summary(table, path, title: str = "") -> None:
     ax_rate.legend(fontsize=8)
     _category_axis(ax_rate, [str(d) for d in days.index])
     fig.suptitle(_heading(title, "formation baselines per day"))
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def plot_strategy(table, path, title: str, figure: str = "reference_3d_rms_cm"
+                  ) -> None:
+    """One figure of :func:`leopod.workflow.strategy.strategy_table` against the pulse sigma,
+    a line per pulse interval (and empirical sigma).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The strategy table (index ``(sigma_m_s, empirical_sigma_m_s2, figure)``, columns the
+        intervals [min]).
+    path : str or path-like
+        PNG to write.
+    title : str
+    figure : str
+        The row plotted (a campaign-summary figure).
+    """
+    sel = table.xs(figure, level="figure")
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for emp, part in sel.groupby(level="empirical_sigma_m_s2", dropna=False):
+        part = part.droplevel("empirical_sigma_m_s2").sort_index()
+        suffix = "" if not np.isfinite(emp) else f", empirical {emp:.0e} m/s²"
+        for minutes in part.columns:
+            ax.plot(part.index, part[minutes], "o-", label=f"{minutes:g} min{suffix}")
+    ax.set_xscale("log")
+    ax.set_xlabel("pulse a-priori sigma [m/s]")
+    ax.set_ylabel(figure.replace("_", " "))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, title="pulse interval")
+    ax.set_title(title)
     fig.tight_layout()
     save_figure(fig, path)
