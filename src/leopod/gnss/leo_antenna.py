@@ -53,7 +53,8 @@ from leopod.frames.attitude import antenna_el_az, antenna_frame
 from leopod.io.antex import AntennaPattern, read_antex
 from leopod.settings import Settings
 
-__all__ = ["LeoAntenna", "LeoAntennaSettings", "antex_frequency", "leo_antenna",
+__all__ = ["LeoAntenna", "LeoAntennaSettings", "antenna_frame_of", "antex_frequency",
+           "leo_antenna",
            "receiver_pcv_if"]
 
 
@@ -186,6 +187,12 @@ class LeoAntenna(Mapping):
         return (f"ANTEX {self.source}: ARP {self.arp_body_m.tolist()} m, north "
                 f"{self.frame[0].tolist()}, up {self.frame[2].tolist()} (body), bands "
                 f"{', '.join(self._bands)}" + ("" if self.has_pcv else ", no PCV"))
+
+
+def antenna_frame_of(antenna) -> np.ndarray | None:
+    """The antenna frame (rows N, E, U in the body frame) of a :class:`LeoAntenna`; None for a
+    plain PCO table (the default frame: N = +X, E = +Y, U = −Z)."""
+    return antenna.frame if isinstance(antenna, LeoAntenna) else None
 
 
 def receiver_pcv_if(antenna, system: str, phase_pair: Sequence[str]) -> Callable | None:
