@@ -11,6 +11,19 @@ Set-up of tests/estimation/_simulated_arc.py (the default HY-2B-like day, degree
 field, float POD of 1-5 h with the default campaign's settings). The two simulations differ
 only by the PCV: same truth, products and random draws, the GOCE PCO as the body-frame PCO of
 both (``dict(antenna)``: ARP + R_ant PCO_b per band).
+
+Measured (float POD of 1-5 h, 3D RMS against the truth; phase = IF phase residual RMS):
+
+=====================================  ==========  ==========  ====================
+case                                   orbit 3D    phase RMS   residual-PCV corr.
+=====================================  ==========  ==========  ====================
+no PCV simulated, none modelled        29.93 mm    7.93 mm
+GOCE PCV simulated and modelled        29.98 mm    7.93 mm     -0.01
+GOCE PCV simulated, not modelled       42.98 mm    10.92 mm    0.55
+=====================================  ==========  ==========  ====================
+
+(a 4-h float arc is at the cm level, tests/estimation/test_yaw_steering_closed_loop.py; what
+matters is the difference). About 20 s on one core.
 """
 
 from __future__ import annotations
@@ -123,18 +136,25 @@ def test_the_modelled_pattern_gives_the_orbit_without_pcv(cases):
     assert abs(m["phase_rms_m"] - ref["phase_rms_m"]) < 0.2e-3
 
 
+def _pattern_correlation(residuals: xr.Dataset, antenna) -> float:
+    """Correlation of the phase residuals with the (ionosphere-free = L1, the GOCE file)
+    PCV at their antenna-frame angles."""
+    ok = np.isfinite(residuals.phase_residual_m.values)
+    el, az = residuals.el_deg.values[ok], residuals.az_deg.values[ok]
+    pcv = antenna.pcv_m("L1", 90.0 - el, az)
+    r = residuals.phase_residual_m.values[ok]
+    return float(np.corrcoef(r - r.mean(), pcv - pcv.mean())[0, 1])
+
+
 def test_the_unmodelled_pattern_degrades_the_orbit_and_leaves_a_residual_pattern(cases):
-    ref, u = cases["reference"], cases["unmodelled"]
+    ref, m, u = cases["reference"], cases["matched"], cases["unmodelled"]
+    corr_u = _pattern_correlation(u["residuals"], cases["antenna"])
+    corr_m = _pattern_correlation(m["residuals"], cases["antenna"])
     print(f"\nGOCE PCV simulated, not modelled: orbit {u['orbit_3d_m'] * 1e3:.2f} mm 3D, "
-          f"phase RMS {u['phase_rms_m'] * 1e3:.2f} mm")
-    assert u["orbit_3d_m"] > ref["orbit_3d_m"] + 2e-3
+          f"phase RMS {u['phase_rms_m'] * 1e3:.2f} mm; correlation of the residuals with the "
+          f"pattern {corr_u:.2f} (modelled: {corr_m:.2f})")
+    assert u["orbit_3d_m"] > ref["orbit_3d_m"] + 5e-3
     assert u["phase_rms_m"] > 1.25 * ref["phase_rms_m"]
-    # the residuals follow the pattern: correlated with the IF PCV at their antenna angles
-    res = u["residuals"]
-    ok = np.isfinite(res.phase_residual_m.values)
-    el, az = res.el_deg.values[ok], res.az_deg.values[ok]
-    pcv = cases["antenna"].pcv_m("L1", 90.0 - el, az)        # IF = L1 = L2 (GOCE file)
-    r = res.phase_residual_m.values[ok]
-    corr = np.corrcoef(r - r.mean(), pcv - pcv.mean())[0, 1]
-    print(f"correlation of the residuals with the pattern {corr:.2f}")
-    assert corr > 0.5
+    # the residuals follow the pattern (part of it goes into clocks, ambiguities and orbit)
+    assert corr_u > 0.4
+    assert abs(corr_m) < 0.1
