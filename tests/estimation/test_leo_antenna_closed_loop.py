@@ -35,6 +35,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from _bds3_arc import orbit_rms_3d_m
+from _simulated_arc import DAY, SAT, T0, simulated_gnss_world
 
 from leopod.estimation.arc import ArcData, run_arc
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
@@ -46,20 +47,13 @@ from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import signal_settings
-from leopod.simulate.campaign import (
-    simulate_gnss_products,
-    simulate_leo_day,
-    simulate_truth,
-    simulate_world_truth,
-)
+from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.config import load_campaign, with_defaults
 from leopod.workflow.settings import pod_settings
 
 REPO = Path(__file__).resolve().parents[2]
 GOCE = REPO.parent / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
-DAY, SAT = "2019-001", "hy2b-sim"
-T0 = np.datetime64("2019-01-01T00:00", "ns")
 HOURS = (1.0, 5.0)
 
 pytestmark = pytest.mark.skipif(not GOCE.exists(), reason="needs ../shared/data/antex")
@@ -99,12 +93,7 @@ def cases(tmp_path_factory):
     pco_only = {band: antenna[band].tolist() for band in antenna}      # same phase centres
     sim = SimulationSettings.from_config(with_defaults("simulate",
                                                        {"truth": {"gravity_degree": 30}}))
-    truth = simulate_truth(sim, SAT, DAY, DAY)
-    biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
-                                  stations_path=folder / "s.snx")
-    simulate_gnss_products(DAY, sim, DAY, DAY, biases, orbit=folder / "g.sp3",
-                           clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
-                           wl_bias=folder / "g.wsb", osb=folder / "g.bia")
+    truth, biases = simulated_gnss_world(folder, sim)
     for name, ant in (("pcv", antenna), ("nopcv", pco_only)):
         simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, ant,
                          rinex3=folder / f"{name}.rnx", truth_sp3=folder / f"{name}.sp3",
