@@ -231,6 +231,13 @@ def satellite_antennas(antex, sv, epoch, signal_cfg: dict[str, SystemSignals]):
     return pco, pcv
 
 
+def _antenna_name(antenna) -> str:
+    """How an error names the LEO antenna: its ANTEX source, or the config key of the table."""
+    if isinstance(antenna, LeoAntenna):
+        return f"the LEO antenna ({antenna.source}, satellites.<sat>.antenna)"
+    return "antenna_pco_body_m"
+
+
 def receiver_pco_if(pco_body_m: dict | None, system: str, signal_cfg: SystemSignals) -> np.ndarray:
     """Ionosphere-free LEO antenna PCO in the body frame [m] from per-band offsets."""
     if not pco_body_m:
@@ -240,7 +247,7 @@ def receiver_pco_if(pco_body_m: dict | None, system: str, signal_cfg: SystemSign
     f1, f2 = signals.frequency_hz(system, p1), signals.frequency_hz(system, p2)
     missing = [b for b in (b1, b2) if b not in pco_body_m]
     if missing:
-        raise ValueError(f"antenna_pco_body_m has no offset for {missing}")
+        raise ValueError(f"{_antenna_name(pco_body_m)} has no offset for {missing}")
     return ionosphere_free(np.asarray(pco_body_m[b1], float), np.asarray(pco_body_m[b2], float),
                            f1, f2)
 

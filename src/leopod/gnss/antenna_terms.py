@@ -240,7 +240,9 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         for digit in digits:
             name = signals.band(system, digit).name
             if leo_pco and name not in leo_pco:
-                raise ValueError(f"antenna_pco_body_m has no offset for band {name} of "
+                where = (f"LEO antenna {leo_pco_body_m.source}"
+                         if isinstance(leo_pco_body_m, LeoAntenna) else "antenna_pco_body_m")
+                raise ValueError(f"{where} has no offset for band {name} of "
                                  f"system {system} (it has {sorted(leo_pco)})")
             pco = leo_pco.get(name, (0.0, 0.0, 0.0))
             sat_pco = sat_pcv = None
