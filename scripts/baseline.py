@@ -39,7 +39,7 @@ from leopod.validation.formation import (  # noqa: E402
     sd_residual_rms,
     truth_baseline_itrf,
 )
-from leopod.workflow.boundary import plain  # noqa: E402
+from leopod.workflow.boundary import leo_antenna_of, plain  # noqa: E402
 from leopod.workflow.log import configure_logging  # noqa: E402
 from leopod.workflow.settings import pod_settings  # noqa: E402
 
@@ -82,7 +82,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
                                 residuals=files["float_residuals"], orbit=files["float_orbit"])
         floats.append(fs)
         receivers.append(ReceiverArc(fs.ambiguities, _float_passes(fs), merge_days(data.obs)))
-        fixed.append(FixedSolutions(date, data, signals, arc, pod, forces, p["pco_body_m"], fs,
+        fixed.append(FixedSolutions(date, data, signals, arc, pod, forces, leo_antenna_of(p["pco_body_m"], p["antenna"], files), fs,
                                     code_correction=code_correction, yaw_flips=p["yaw_flips"],
                                     attitude=load_leo_attitude(p["attitude"],
                                                                 files.get("attitude", ()))))

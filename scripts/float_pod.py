@@ -11,7 +11,7 @@ from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
-from leopod.workflow.boundary import attitude_files, plain
+from leopod.workflow.boundary import attitude_files, leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
 
@@ -43,7 +43,7 @@ def run(sm) -> None:
     configure_logging(sm)
     p = sm.params
     main(sm.wildcards.date, plain(sm.input), plain(sm.output),
-         **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=p.pco_body_m,
+         **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=leo_antenna_of(p.pco_body_m, p.leo_antenna, plain(sm.input)),
          yaw_flips=p.yaw_flips, title=p.title, sp3_id=p.sp3_id,
          signal_bias=getattr(p, "signal_bias", None), attitude=load_leo_attitude(p.attitude, attitude_files(sm)))
 

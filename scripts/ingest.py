@@ -15,7 +15,7 @@ from leopod.io.product_netcdf import read_antenna_product, read_clock_product, r
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import SystemSignals, signal_settings
-from leopod.workflow.boundary import attitude_files
+from leopod.workflow.boundary import attitude_files, leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)
@@ -72,7 +72,7 @@ def run(sm) -> None:
     main(obs_path=sm.input.obs, orbit_path=sm.input.orbit, clock_path=sm.input.get("clock"),
          apriori_path=sm.input.get("apriori"), antenna_path=sm.input.get("antenna"),
          out_obs=sm.output.obs, out_gnss=sm.output.gnss, out_leo=sm.output.leo,
-         signals=signal_settings(sm.params.signals), pco_body_m=sm.params.pco_body_m,
+         signals=signal_settings(sm.params.signals), pco_body_m=leo_antenna_of(sm.params.pco_body_m, sm.params.leo_antenna, plain(sm.input)),
          sp3_id=sm.params.sp3_id, attitude=load_leo_attitude(sm.params.attitude,
                                                             attitude_files(sm)))
 

@@ -18,7 +18,7 @@ from leopod.io.netcdf import write_netcdf
 from leopod.plots.kinematic import plot_baseline_differences
 from leopod.time.calendar import parse_date_id
 from leopod.validation.formation import difference_rtn, rms_rtn, truth_baseline_itrf
-from leopod.workflow.boundary import plain
+from leopod.workflow.boundary import leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
 
@@ -34,7 +34,7 @@ def _receiver(date, files: Mapping, p: Mapping, signals, arc, forces, code_corre
     fs = FloatSolution.read(parameters=files["float_parameters"],
                             ambiguities=files["float_ambiguities"],
                             residuals=files["float_residuals"], orbit=files["float_orbit"])
-    problem = setup_arc(date, data, signals, arc, forces, p["pco_body_m"],
+    problem = setup_arc(date, data, signals, arc, forces, leo_antenna_of(p["pco_body_m"], p["antenna"], files),
                         code_correction=code_correction, yaw_flips=p["yaw_flips"],
                         apriori_orbit=fs.orbit.pos_itrf_m,
                         attitude=load_leo_attitude(p["attitude"], files.get("attitude", ())))

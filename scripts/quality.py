@@ -11,6 +11,7 @@ from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
 from leopod.frames.attitude import antenna_angles
 from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes_ef
 from leopod.gnss.antenna_terms import antenna_terms
+from leopod.gnss.leo_antenna import antenna_frame_of
 from leopod.gnss.quality import QualitySettings, assess_quality, merge_systems
 from leopod.gnss.scb import nadir_angle_deg
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
@@ -26,7 +27,7 @@ from leopod.plots.quality import (
     summary_html,
 )
 from leopod.signals import SystemSignals, code_band, signal_settings
-from leopod.workflow.boundary import attitude_files, plain
+from leopod.workflow.boundary import attitude_files, leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)
@@ -60,7 +61,9 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
     The multipath is formed without the antenna terms of the LEO PCOs ``pco_body_m`` (per band)
     and the satellite antennas of ``antenna_path`` (oriented by ``gnss_attitude``, the POD's
     setting), which the output keeps for the ambiguity step. The antenna-frame angles and the
-    LEO PCO terms follow the satellite's attitude law ``attitude`` (None: nominal)."""
+    LEO PCO terms follow the satellite's attitude law ``attitude`` (None: nominal); with an
+    ANTEX antenna (``pco_body_m`` a LeoAntenna) the angles are those of its antenna frame and
+    its PCV per band is removed with its PCO."""
     with xr.open_dataset(obs_path) as f:
         obs = f.load()
     with xr.open_dataset(gnss_path) as f:
@@ -69,7 +72,7 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
         leo = f.load()
     rot = leo_body_axes_ef(attitude, obs.time.values, leo.pos_m.values, leo.vel_m_s.values)
     los = gnss.pos_m.values - leo.pos_m.values[:, None, :]
-    el, az = antenna_angles(rot, los)
+    el, az = antenna_angles(rot, los, antenna_frame_of(pco_body_m))
     log.info("epochs without a-priori orbit (no angles): %d",
              int((~np.isfinite(leo.pos_m.values[:, 0])).sum()))
     # nadir angle at the GNSS satellites (the argument of the BDS-2 SCB); both Earth-fixed
@@ -109,7 +112,7 @@ def run(sm) -> None:
     configure_logging(sm)
     main(sm.input.obs, sm.input.gnss, sm.input.leo, signal_settings(sm.params.signals),
          QualitySettings.from_config(sm.params.settings), sm.params.title, plain(sm.output),
-         bds2_scb=bool(sm.params.bds2_scb), pco_body_m=sm.params.pco_body_m,
+         bds2_scb=bool(sm.params.bds2_scb), pco_body_m=leo_antenna_of(sm.params.pco_body_m, sm.params.leo_antenna, plain(sm.input)),
          antenna_path=getattr(sm.input, "antenna", None) or None,
          gnss_attitude=getattr(sm.params, "gnss_attitude", "nominal"),
          attitude=load_leo_attitude(sm.params.attitude, attitude_files(sm)),

@@ -9,7 +9,7 @@ from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
 from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
-from leopod.workflow.boundary import attitude_files, plain
+from leopod.workflow.boundary import attitude_files, leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 
 
@@ -31,8 +31,9 @@ def main(date: str, sat: str, settings: SimulationSettings, world_start: str, wo
 def run(sm) -> None:
     """Call :func:`main` with the job's files and settings."""
     configure_logging(sm)
+    antenna = leo_antenna_of(sm.params.pco_body_m, sm.params.leo_antenna, plain(sm.input))
     main(sm.wildcards.date, sm.wildcards.sat, SimulationSettings.from_config(sm.params.settings),
-         sm.params.world_start, sm.params.world_end, sm.params.pco_body_m, sm.input.truth,
+         sm.params.world_start, sm.params.world_end, antenna, sm.input.truth,
          sm.input.biases, plain(sm.output), load_leo_attitude(sm.params.attitude, attitude_files(sm)))
 
 

@@ -21,6 +21,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
+from _simulated_arc import simulated_gnss_world
 
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_systems
@@ -34,12 +35,7 @@ from leopod.io.clock import read_rinex_clock
 from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import frequency_hz, signal_settings
-from leopod.simulate.campaign import (
-    simulate_gnss_products,
-    simulate_leo_day,
-    simulate_truth,
-    simulate_world_truth,
-)
+from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.config import load_campaign, with_defaults
 from leopod.workflow.settings import pod_settings
@@ -86,12 +82,7 @@ def simulated_world(folder: Path) -> SimpleNamespace:
         "systems": {"G": ["C1C", "C1W", "C2W", "L1C", "L2W"],
                     "C": ["C1P", "C5P", "L1P", "L5P"]},
         "observations": {"noise_m": noise_levels()}}))
-    truth = simulate_truth(sim, SAT, DAY, DAY)
-    biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
-                                  stations_path=folder / "s.snx")
-    simulate_gnss_products(DAY, sim, DAY, DAY, biases, orbit=folder / "g.sp3",
-                           clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
-                           wl_bias=folder / "g.wsb", osb=folder / "g.bia")
+    truth, biases = simulated_gnss_world(folder, sim)
     simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, pco, rinex3=folder / "o.rnx",
                      truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc")
     signals = signal_settings(SIGNALS)

@@ -41,6 +41,18 @@ DAY, SAT = "2019-001", "hy2b-sim"
 T0 = np.datetime64("2019-01-01T00:00", "ns")
 
 
+def simulated_gnss_world(folder: Path, sim: SimulationSettings):
+    """Truth orbit of :data:`SAT` and the world's biases of :data:`DAY`, with the GNSS products
+    written to ``folder`` (``g.sp3``, ``g.clk``, ``g_int.clk``, ``g.wsb``, ``g.bia``)."""
+    truth = simulate_truth(sim, SAT, DAY, DAY)
+    biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
+                                  stations_path=folder / "s.snx")
+    simulate_gnss_products(DAY, sim, DAY, DAY, biases, orbit=folder / "g.sp3",
+                           clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
+                           wl_bias=folder / "g.wsb", osb=folder / "g.bia")
+    return truth, biases
+
+
 def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
                   ar_fault: str = "none", ambiguity: dict | None = None) -> SimpleNamespace:
     """Files of :data:`DAY` in ``folder``, and the float POD and AR of ``hours`` of it.
@@ -59,12 +71,7 @@ def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
     pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
     sim = SimulationSettings.from_config(with_defaults(
         "simulate", {"truth": {"gravity_degree": 30}, "products": {"ar_fault": ar_fault}}))
-    truth = simulate_truth(sim, SAT, DAY, DAY)
-    biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
-                                  stations_path=folder / "s.snx")
-    simulate_gnss_products(DAY, sim, DAY, DAY, biases, orbit=folder / "g.sp3",
-                           clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
-                           wl_bias=folder / "g.wsb", osb=folder / "g.bia")
+    truth, biases = simulated_gnss_world(folder, sim)
     simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, pco, rinex3=folder / "o.rnx",
                      truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc")
     # ingest and quality (scripts/ingest.py, scripts/quality.py)

@@ -341,6 +341,7 @@ def float_pod_inputs(wildcards):
     if manoeuvre_file(sat):
         files["manoeuvres"] = manoeuvre_file(sat)
     files.update(attitude_inputs(wildcards))
+    files.update(antenna_inputs(wildcards))
     return files
 
 
@@ -378,6 +379,7 @@ def baseline_pair_params(wildcards):
     for sat in PAIRS[wildcards.pair][:2]:
         w = SimpleNamespace(sat=sat, date=wildcards.date)
         out.append({"sat": sat, "title": sat_name(w), "pco_body_m": sat_pco(w),
+                    "antenna": sat_antenna(w),
                     "attitude": sat_attitude(w), "yaw_flips": sat_yaw_flips(w),
                     "signal_bias": arc_signal_bias(w), "sp3_id": sat_pod_sp3_id(w)})
     return out
@@ -720,6 +722,27 @@ def campaign_summary_files(wildcards):
 def sat_pco(wildcards):
     """Antenna phase-centre offsets in the body frame [m] per band of the satellite."""
     return sat_config(wildcards).get("antenna_pco_body_m", {})
+
+
+def sat_antenna(wildcards):
+    """The satellite's ANTEX antenna block (satellites.<sat>.antenna: type, ARP, frame; the
+    file itself is an input: antenna_inputs); refuses it together with antenna_pco_body_m."""
+    block = sat_config(wildcards)
+    antenna = dict(block["antenna"])
+    if antenna["antex"] is not None and block.get("antenna_pco_body_m"):
+        raise ValueError(f"satellites.{satellite(wildcards)}: give either antenna_pco_body_m "
+                         "or antenna.antex (an ANTEX receiver antenna), not both")
+    return antenna
+
+
+def antenna_inputs(wildcards):
+    """{'leo_antex': the ANTEX file of the satellite's antenna (satellites.<sat>.antenna.antex,
+    located)} or {} without one."""
+    sat = satellite(wildcards)
+    template = sat_file(sat, "antenna")
+    if not template:
+        return {}
+    return {"leo_antex": expand_template(template, wildcards.date, sat)}
 
 
 def sat_attitude(wildcards):

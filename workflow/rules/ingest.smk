@@ -29,6 +29,7 @@ rule ingest:
     input:
         unpack(ingest_inputs),
         unpack(attitude_inputs),
+        unpack(antenna_inputs),
         code=library_code("ingest"),
     output:
         obs="results/ingest/{sat}/{date}_obs.nc",
@@ -47,6 +48,7 @@ rule ingest:
     params:
         signals=CONFIG["signals"],
         pco_body_m=sat_pco,
+        leo_antenna=sat_antenna,
         attitude=sat_attitude,
         sp3_id=sat_sp3_id,
     script:

@@ -34,6 +34,7 @@ rule kinematic_pod:
         kinematic=CONFIG["kinematic"],
         settings=line_ambiguity,
         pco_body_m=sat_pco,
+        leo_antenna=sat_antenna,
         attitude=sat_attitude,
         title=sat_title,
         sp3_id=sat_pod_sp3_id,

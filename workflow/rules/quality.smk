@@ -5,6 +5,7 @@ rule quality:
     input:
         unpack(quality_antenna),
         unpack(attitude_inputs),
+        unpack(antenna_inputs),
         unpack(day_signal_bias_inputs),
         obs=rules.ingest.output.obs,
         gnss=rules.ingest.output.gnss,
@@ -57,6 +58,7 @@ rule quality:
         settings=CONFIG["quality"],
         bds2_scb=CONFIG["code_bias"]["bds2_scb"],
         pco_body_m=sat_pco,
+        leo_antenna=sat_antenna,
         attitude=sat_attitude,
         signal_bias=day_signal_bias,
         gnss_attitude=CONFIG["pod"]["gnss_attitude"],

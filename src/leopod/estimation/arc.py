@@ -35,6 +35,7 @@ from leopod.estimation.float_pod import PodObservations, PodResult, PodSettings,
 from leopod.estimation.inputs import (
     as_system_signals,
     pod_observations,
+    receiver_antenna,
     receiver_pco_if,
     satellite_antennas,
 )
@@ -207,8 +208,8 @@ class ArcProblem:
     force_model : ForceModel
         The estimator's force model over the arc.
     antennas : dict
-        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``, ``leo_attitude`` keywords of
-        :func:`leopod.estimation.float_pod.float_pod`.
+        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``, ``leo_attitude``,
+        ``leo_antenna`` keywords of :func:`leopod.estimation.float_pod.float_pod`.
     apriori_itrf_m : xarray.DataArray (time, xyz)
         A-priori ITRF positions [m]: the start of the initial fit and the reference of
         ``apriori_diff_rtn_m``.
@@ -257,8 +258,10 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     forces : ForceModelSettings
         The estimator's force model, model files resolved to paths
         (:func:`leopod.dynamics.model_files.resolve_model_paths`).
-    pco_body_m : mapping or None
-        LEO antenna PCO per band name in the body frame [m].
+    pco_body_m : mapping or LeoAntenna or None
+        LEO antenna PCO per band name in the body frame [m]; a
+        :class:`leopod.gnss.leo_antenna.LeoAntenna` (ANTEX) adds its antenna frame and
+        ionosphere-free PCV to the observation model.
     code_correction : CodeCorrection, optional
         Codes corrected with ``data.code_maps`` on every day (none if its ``apply`` is empty
         or there are no maps), and the BDS-2 SCB correction with the nadir angles of
@@ -335,7 +338,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     return ArcProblem(observations=po, t_ref=t_ref, products=products,
                       force_model=force_model,
                       antennas={"leo_pco_body_m": leo_pco, "sat_pco_body_m": sat_pco,
-                                "sat_pcv_m": sat_pcv, "leo_attitude": attitude},
+                                "sat_pcv_m": sat_pcv, "leo_attitude": attitude,
+                                "leo_antenna": receiver_antenna(pco_body_m, po.sv, by_system)},
                       apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s), eop=eop,
                       environment=environment)
 

@@ -435,7 +435,7 @@ class _Problem:
 
     def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
                  t_ref, settings: PodSettings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m,
-                 leo_attitude: LeoAttitude | None = None):
+                 leo_attitude: LeoAttitude | None = None, leo_antenna=None):
         self.obs, self.products, self.fm, self.settings = obs, products, force_model, settings
         self.eop = eop
         self.rotation = _ReceptionRotation(eop)
@@ -443,6 +443,7 @@ class _Problem:
                         else np.asarray(leo_pco_body_m, dtype=float).copy())
         self.sat_pco, self.sat_pcv = sat_pco_body_m, sat_pcv_m
         self.leo_attitude = leo_attitude
+        self.leo_antenna = leo_antenna
         self.t_ref = np.datetime64(t_ref, "ns")
         self.t_nom_s = seconds_since(obs.times, self.t_ref)
         self.t_nom_prod_s = seconds_since(obs.times, products.ref)
@@ -577,7 +578,7 @@ class _Problem:
                               leo_pco_body_m=pco, sat_pco_body_m=self.sat_pco,
                               sat_pcv_m=self.sat_pcv,
                               nl_wavelength_m=self.obs.nl_wavelength_m,
-                              leo_attitude=self.leo_attitude)
+                              leo_attitude=self.leo_attitude, leo_antenna=self.leo_antenna)
         g = _position_partials(traj, self.pulses, self.est, self.k)
         return traj, model, g
 
@@ -846,7 +847,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
               state0_gcrf: np.ndarray, settings: PodSettings, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
               sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
-              leo_attitude: LeoAttitude | None = None) -> PodResult:
+              leo_attitude: LeoAttitude | None = None, leo_antenna=None) -> PodResult:
     """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -871,6 +872,8 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         ``f(sat_index, nadir_deg) -> m``: ionosphere-free GNSS antenna PCV.
     leo_attitude : LeoAttitude, optional
         Attitude law of the LEO (PCO, wind-up, PCO-Z partial); None: nominal.
+    leo_antenna : leopod.estimation.obsmodel.ReceiverAntenna, optional
+        Antenna frame and ionosphere-free PCV of an ANTEX LEO antenna; None: none.
 
     Returns
     -------
@@ -879,7 +882,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         without convergence, an integration at the final estimates.
     """
     prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
-                    sat_pco_body_m, sat_pcv_m, leo_attitude)
+                    sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna)
     state = np.asarray(state0_gcrf, dtype=float).copy()
     _announce("float POD", prob)
     screening = False
@@ -932,7 +935,7 @@ class FixedPod:
     Parameters
     ----------
     obs, products, force_model, t_ref, settings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m,
-    leo_attitude
+    leo_attitude, leo_antenna
         As for :func:`float_pod` (the same as for the float solution).
     start : PodStart
         The float solution of the arc.
@@ -942,9 +945,9 @@ class FixedPod:
                  t_ref, settings: PodSettings, start: PodStart, *,
                  eop: EarthOrientation | None = None, leo_pco_body_m=None,
                  sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
-                 leo_attitude: LeoAttitude | None = None):
+                 leo_attitude: LeoAttitude | None = None, leo_antenna=None):
         self._prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
-                              sat_pco_body_m, sat_pcv_m, leo_attitude)
+                              sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna)
         self._start = start
         _announce("fixed POD (linearised at the float solution)", self._prob)
         self._traj, self._model, self._g = self._prob.linearise(self._prob.load(start))

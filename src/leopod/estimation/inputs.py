@@ -10,16 +10,21 @@ pairs (GPS L1/L2, BDS-3 B1C/B2a, Galileo E1/E5a, ...: the frequencies come from
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import xarray as xr
 
 from leopod import signals
 from leopod.estimation.float_pod import PodObservations
+from leopod.estimation.obsmodel import ReceiverAntenna
 from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free, narrow_lane_wavelength_m
+from leopod.gnss.leo_antenna import LeoAntenna, receiver_pcv_if
 from leopod.signals import SystemSignals
 
-__all__ = ["as_system_signals", "pod_observations", "receiver_pco_if", "satellite_antenna",
+__all__ = ["as_system_signals", "pod_observations", "receiver_antenna", "receiver_pco_if",
+           "satellite_antenna",
            "satellite_antennas"]
 
 
@@ -226,6 +231,13 @@ def satellite_antennas(antex, sv, epoch, signal_cfg: dict[str, SystemSignals]):
     return pco, pcv
 
 
+def _antenna_name(antenna) -> str:
+    """How an error names the LEO antenna: its ANTEX source, or the config key of the table."""
+    if isinstance(antenna, LeoAntenna):
+        return f"the LEO antenna ({antenna.source}, satellites.<sat>.antenna)"
+    return "antenna_pco_body_m"
+
+
 def receiver_pco_if(pco_body_m: dict | None, system: str, signal_cfg: SystemSignals) -> np.ndarray:
     """Ionosphere-free LEO antenna PCO in the body frame [m] from per-band offsets."""
     if not pco_body_m:
@@ -235,6 +247,45 @@ def receiver_pco_if(pco_body_m: dict | None, system: str, signal_cfg: SystemSign
     f1, f2 = signals.frequency_hz(system, p1), signals.frequency_hz(system, p2)
     missing = [b for b in (b1, b2) if b not in pco_body_m]
     if missing:
-        raise ValueError(f"antenna_pco_body_m has no offset for {missing}")
+        raise ValueError(f"{_antenna_name(pco_body_m)} has no offset for {missing}")
     return ionosphere_free(np.asarray(pco_body_m[b1], float), np.asarray(pco_body_m[b2], float),
                            f1, f2)
+
+
+def receiver_antenna(antenna, svs, by_system: Mapping[str, SystemSignals]
+                     ) -> ReceiverAntenna | None:
+    """Antenna frame and ionosphere-free PCV of a LEO ANTEX antenna for the POD model.
+
+    Parameters
+    ----------
+    antenna : LeoAntenna or mapping or None
+        The satellite's antenna (:func:`leopod.gnss.leo_antenna.leo_antenna`); a plain PCO
+        table (or None) has neither frame nor PCV.
+    svs : sequence of str, shape (s,)
+        Satellites of the observation file (``PodObservations.sv``).
+    by_system : mapping
+        System -> its signals: the phase pair of the ionosphere-free PCV
+        ``(f1² PCV1 − f2² PCV2) / (f1² − f2²)`` (:func:`leopod.gnss.leo_antenna.
+        receiver_pcv_if`), the pair of the ionosphere-free PCO.
+
+    Returns
+    -------
+    ReceiverAntenna or None
+    """
+    if not isinstance(antenna, LeoAntenna):
+        return None
+    per_system = {x: receiver_pcv_if(antenna, x, sig.phase) for x, sig in by_system.items()}
+    if all(f is None for f in per_system.values()):
+        return ReceiverAntenna(frame=antenna.frame, pcv_if_m=None)
+    owner = np.array([str(sv)[0] for sv in svs])
+
+    def pcv_if_m(sat_index: np.ndarray, el_deg: np.ndarray, az_deg: np.ndarray) -> np.ndarray:
+        out = np.zeros(np.shape(el_deg))
+        system = owner[sat_index]
+        for x, f in per_system.items():
+            sel = system == x
+            if f is not None and sel.any():
+                out[sel] = f(el_deg[sel], az_deg[sel])
+        return out
+
+    return ReceiverAntenna(frame=antenna.frame, pcv_if_m=pcv_if_m)

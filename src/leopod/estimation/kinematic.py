@@ -310,8 +310,8 @@ class KinematicModel:
         Time origin.
     eop : EarthOrientation or None
     antennas : dict
-        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``, ``leo_attitude`` of
-        :func:`leopod.estimation.obsmodel.compute_model`.
+        ``leo_pco_body_m``, ``sat_pco_body_m``, ``sat_pcv_m``, ``leo_attitude``,
+        ``leo_antenna`` of :func:`leopod.estimation.obsmodel.compute_model`.
     """
 
     def __init__(self, obs: PodObservations, products: GnssProducts, reference: xr.Dataset,
@@ -347,7 +347,7 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
                   pod: PodSettings, settings: KinematicSettings, *, eop=None,
                   leo_pco_body_m=None, sat_pco_body_m: np.ndarray | None = None,
                   sat_pcv_m=None, leo_attitude: LeoAttitude | None = None,
-                  constraints=None) -> KinematicResult:
+                  leo_antenna=None, constraints=None) -> KinematicResult:
     """Kinematic positions and clocks of an arc (module docstring).
 
     Parameters
@@ -364,7 +364,7 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
     pod : PodSettings
         Weights, elevation mask, ``outlier_k``, ``min_phase_obs``.
     settings : KinematicSettings
-    eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m, leo_attitude
+    eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna
         As for :func:`leopod.estimation.float_pod.float_pod`.
     constraints : tuple, optional
         ``(pass_i, pass_j, value_m, sigma_m)``: fixed single differences ``B_i − B_j``
@@ -379,7 +379,8 @@ def kinematic_pod(obs: PodObservations, products: GnssProducts, reference: xr.Da
                          "arc would need inter-system biases); use a single-system POD line")
     lin = KinematicModel(obs, products, reference, t_ref, eop,
                          {"leo_pco_body_m": leo_pco_body_m, "sat_pco_body_m": sat_pco_body_m,
-                          "sat_pcv_m": sat_pcv_m, "leo_attitude": leo_attitude})
+                          "sat_pcv_m": sat_pcv_m, "leo_attitude": leo_attitude,
+                          "leo_antenna": leo_antenna})
     return solve_kinematic(obs, lin.model, lin.reference_at,
                            np.nan_to_num(np.asarray(obs.clk_rx_m, dtype=float)), pod, settings,
                            constraints=constraints)

@@ -7,6 +7,8 @@ For each (epoch, GNSS satellite) pair the model computes, in the GCRF:
 * the LEO antenna phase centre: centre of mass plus the body-frame ionosphere-free PCO
   rotated with the satellite's attitude law (:mod:`leopod.frames.leo_attitude`: nominal, +Z
   to the geocentre and +X along the inertial velocity, or yaw steering), as the simulator;
+  with an ANTEX antenna (:mod:`leopod.gnss.leo_antenna`) the ionosphere-free PCV of the LEO
+  at the antenna-frame angles is added to code and phase (ANTEX 1.4, sec. 3);
 * the transmission time by light-time iteration; the GNSS position of the product (ITRF,
   centre of mass, :class:`leopod.gnss.products.GnssProducts`) at the transmission time is
   taken into the GCRF of the reception time with ``R(t) R3(ω τ)`` (the Earth rotation during
@@ -30,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S
-from leopod.frames.attitude import nominal_axes_inertial
+from leopod.frames.attitude import antenna_el_az, nominal_axes_inertial
 from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
 from leopod.gnss.attitude import gnss_attitude_axes
 from leopod.gnss.corrections import (
@@ -42,7 +44,7 @@ from leopod.gnss.corrections import (
 from leopod.gnss.products import GnssProducts
 from leopod.time.calendar import from_seconds
 
-__all__ = ["ModelResult", "Pairs", "compute_model", "nominal_axes_inertial"]
+__all__ = ["ModelResult", "Pairs", "ReceiverAntenna", "compute_model", "nominal_axes_inertial"]
 
 _LIGHT_TIME_ITERATIONS = 3
 
@@ -77,7 +79,9 @@ class ModelResult:
     los_gcrf : ndarray, shape (n, 3)
         Unit vector receiver -> transmitter (GCRF).
     el_deg, az_deg : ndarray, shape (n,)
-        Antenna-frame elevation above the body X-Y plane and azimuth from +X to +Y [deg].
+        Antenna-frame elevation and azimuth from north towards east [deg]
+        (:func:`leopod.frames.attitude.antenna_el_az`; default frame: elevation above the
+        body X-Y plane towards -Z, azimuth from +X to +Y).
     z_body_gcrf : ndarray, shape (n, 3)
         Body +Z axis at the epoch (GCRF), for the PCO-Z partial.
     valid : ndarray of bool, shape (n,)
@@ -93,6 +97,26 @@ class ModelResult:
     valid: np.ndarray
 
 
+@dataclass(frozen=True)
+class ReceiverAntenna:
+    """What the ionosphere-free model needs of a LEO ANTEX antenna
+    (:func:`leopod.estimation.inputs.receiver_antenna`).
+
+    Attributes
+    ----------
+    frame : ndarray, shape (3, 3) or None
+        Rows north, east, up of the antenna frame in the body frame
+        (:func:`leopod.frames.attitude.antenna_frame`); None: north +X, up -Z.
+    pcv_if_m : callable or None
+        ``f(sat_index (n,), el_deg (n,), az_deg (n,)) -> (n,)`` [m]: ionosphere-free PCV of
+        the signal pair of each observation-file satellite's system at the antenna-frame
+        angles; None: no PCV.
+    """
+
+    frame: np.ndarray | None
+    pcv_if_m: object
+
+
 def _rot3(angle_rad: np.ndarray, vec: np.ndarray) -> np.ndarray:
     """Coordinates of ``vec`` in axes rotated by ``angle`` about Z (R3(angle) @ vec)."""
     c, s = np.cos(angle_rad), np.sin(angle_rad)
@@ -106,7 +130,8 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
                   leo_pco_body_m: np.ndarray | None = None,
                   sat_pco_body_m: np.ndarray | None = None,
                   sat_pcv_m=None, nl_wavelength_m: float | np.ndarray = 0.0,
-                  leo_attitude: LeoAttitude | None = None) -> ModelResult:
+                  leo_attitude: LeoAttitude | None = None,
+                  leo_antenna: ReceiverAntenna | None = None) -> ModelResult:
     """Model ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -134,6 +159,9 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
     leo_attitude : LeoAttitude, optional
         Attitude law of the LEO (:func:`leopod.frames.leo_attitude.leo_body_axes`, the Sun
         rotated to the GCRF); None: nominal.
+    leo_antenna : ReceiverAntenna, optional
+        Antenna frame of the LEO (the angles) and its ionosphere-free PCV per observation-file
+        satellite, added to code and phase; None: north +X, up -Z, no PCV.
 
     Returns
     -------
@@ -188,8 +216,12 @@ def compute_model(pairs: Pairs, t_rx_s: np.ndarray, pos_leo_gcrf_m: np.ndarray,
             -np.sum(los_itrf * sv_axes_itrf[:, 2], axis=-1), -1.0, 1.0)))
         geometric = geometric + np.where(valid, sat_pcv_m(pairs.sat, nadir), 0.0)
     body = np.einsum("nij,nj->ni", axes[ep], los)
-    el = np.degrees(np.arcsin(np.clip(-body[:, 2], -1.0, 1.0)))
-    az = np.degrees(np.arctan2(body[:, 1], body[:, 0])) % 360.0
+    frame = None if leo_antenna is None else leo_antenna.frame
+    el, az = antenna_el_az(body, frame)
+    if leo_antenna is not None and leo_antenna.pcv_if_m is not None:
+        # observed range = range to the mean phase centre + PCV (ANTEX 1.4, sec. 3)
+        pcv = leo_antenna.pcv_if_m(pairs.sat, el, az)
+        geometric = geometric + np.where(valid, pcv, 0.0)
     phase = geometric.copy()
     nl = np.asarray(nl_wavelength_m, dtype=float)
     if np.any(nl):

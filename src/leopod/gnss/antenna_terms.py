@@ -28,8 +28,11 @@ Range term of band ``b`` for the line of sight ``e`` (unit vector receiver → t
   Sun of :func:`leopod.astro.sun.sun_position_ef`) — the source and attitude of the POD's satellite
   antenna model (:func:`leopod.estimation.inputs.satellite_antenna`), per frequency instead of
   ionosphere-free;
-- ``PCV_LEO,b``: optional LEO phase-centre variations (callables of the antenna-frame elevation
-  and azimuth; none are configured, and the POD uses none).
+- ``PCV_LEO,b``: the LEO phase-centre variations of an ANTEX antenna (``satellites.<sat>.
+  antenna``, :class:`leopod.gnss.leo_antenna.LeoAntenna`: ``p_LEO,b`` is then its ``ARP +
+  R_ant PCO_b``) at the zenith and azimuth of the line of sight in its antenna frame
+  (:func:`leopod.frames.attitude.antenna_el_az`), the PCV the POD combines to its
+  ionosphere-free PCV; none with ``antenna_pco_body_m``.
 
 Sign (ANTEX 1.4, sec. 3: mean phase centre = reference point + PCO; observed range = range to
 the mean phase centre + PCV): the range between the phase centres of band ``b`` is the range
@@ -51,9 +54,10 @@ import xarray as xr
 
 from leopod import signals
 from leopod.constants import OMEGA_EARTH_RAD_S
-from leopod.frames.attitude import body_to_ef, inertial_velocity_ef
+from leopod.frames.attitude import antenna_el_az, body_to_ef, inertial_velocity_ef
 from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes, leo_body_axes_ef
 from leopod.gnss.attitude import gnss_attitude_axes, gnss_body_axes, satellite_families
+from leopod.gnss.leo_antenna import LeoAntenna
 
 __all__ = ["VARIABLE", "antenna_attrs", "antenna_range_m", "antenna_terms",
            "remove_antenna_terms"]
@@ -69,7 +73,8 @@ def _unit(vec: np.ndarray) -> np.ndarray:
 def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np.ndarray,
                     sun_m: np.ndarray, leo_pco_body_m, *, sat_pco_body_m=None,
                     sat_pcv_m: Callable | None = None,
-                    leo_pcv_m: Callable | None = None, sat_family=None,
+                    leo_pcv_m: Callable | None = None, leo_antenna_frame=None,
+                    sat_family=None,
                     sv_vel_m_s: np.ndarray | None = None,
                     leo_attitude: LeoAttitude | None = None, times=None) -> np.ndarray:
     """Range term ``a_b`` of one band for (epoch, satellite) pairs (module docstring) [m].
@@ -90,7 +95,10 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
         ``sat_pcv_m(column (k,), nadir_deg (k,)) -> (k,)`` [m]: GNSS PCV of the band.
     leo_pcv_m : callable, optional
         ``leo_pcv_m(el_deg (n, s), az_deg (n, s)) -> (n, s)`` [m]: LEO PCV of the band in the
-        antenna frame of :func:`leopod.frames.attitude.antenna_angles`.
+        antenna frame of :func:`leopod.frames.attitude.antenna_el_az`.
+    leo_antenna_frame : ndarray, shape (3, 3), optional
+        Rows north, east, up of the LEO antenna frame in the body frame (the angles of
+        ``leo_pcv_m``); None: north +X, up -Z.
     sat_family : ndarray of str, shape (s,), optional
         GNSS attitude family per satellite (:func:`leopod.gnss.attitude.satellite_families`);
         None: nominal yaw steering.
@@ -134,9 +142,7 @@ def antenna_range_m(leo_pos_m: np.ndarray, leo_vel_m_s: np.ndarray, sv_pos_m: np
         pcv[ok] = sat_pcv_m(cols[ok], nadir[ok])
         term = term + pcv
     if leo_pcv_m is not None:
-        body = np.einsum("nij,nsj->nsi", rot, los)
-        el = np.degrees(np.arcsin(np.clip(-body[..., 2], -1.0, 1.0)))
-        az = np.degrees(np.arctan2(body[..., 1], body[..., 0])) % 360.0
+        el, az = antenna_el_az(np.einsum("nij,nsj->nsi", rot, los), leo_antenna_frame)
         term = term + leo_pcv_m(el, az)
     return term
 
@@ -187,9 +193,10 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         Earth-fixed Sun position [m].
     bands : mapping
         System letter -> RINEX band digits whose terms are wanted (``{"G": ["1", "2"]}``).
-    leo_pco_body_m : mapping or None
+    leo_pco_body_m : mapping or LeoAntenna or None
         LEO PCO per band name (``"L1"``, ``"B2a"``) in the body frame [m] (configuration
-        ``satellites.<sat>.antenna_pco_body_m``); None or empty: no LEO PCO.
+        ``satellites.<sat>.antenna_pco_body_m``), or an ANTEX antenna (its phase centres, and
+        its PCV unless ``leo_pcv_m`` is given); None or empty: no LEO PCO.
     antex : leopod.io.antex.AntexFile, optional
         GNSS satellite antennas (PCO and PCV per frequency); None: centre of mass, as the POD.
     leo_pcv_m : mapping, optional
@@ -215,6 +222,11 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
     svs = [str(s) for s in svs]
     system_of = np.array([s[0] for s in svs])
     leo_pco = dict(leo_pco_body_m or {})
+    frame = None
+    if isinstance(leo_pco_body_m, LeoAntenna):
+        frame = leo_pco_body_m.frame
+        if leo_pcv_m is None and leo_pco_body_m.has_pcv:
+            leo_pcv_m = {b: leo_pco_body_m.pcv_el_az(b) for b in leo_pco_body_m}
     epoch = np.datetime64(times[0], "ns")
     family = sv_vel = None
     if gnss_attitude == "eclipse_models" and antex is not None and len(times) > 1:
@@ -228,7 +240,9 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         for digit in digits:
             name = signals.band(system, digit).name
             if leo_pco and name not in leo_pco:
-                raise ValueError(f"antenna_pco_body_m has no offset for band {name} of "
+                where = (f"LEO antenna {leo_pco_body_m.source}"
+                         if isinstance(leo_pco_body_m, LeoAntenna) else "antenna_pco_body_m")
+                raise ValueError(f"{where} has no offset for band {name} of "
                                  f"system {system} (it has {sorted(leo_pco)})")
             pco = leo_pco.get(name, (0.0, 0.0, 0.0))
             sat_pco = sat_pcv = None
@@ -238,6 +252,7 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
             term = antenna_range_m(leo_pos_m, leo_vel_m_s, sv_pos_m[:, cols], sun_m, pco,
                                    sat_pco_body_m=sat_pco, sat_pcv_m=sat_pcv,
                                    leo_pcv_m=(leo_pcv_m or {}).get(name),
+                                   leo_antenna_frame=frame,
                                    sat_family=None if family is None else family[cols],
                                    sv_vel_m_s=None if sv_vel is None else sv_vel[:, cols],
                                    leo_attitude=leo_attitude, times=times)
@@ -250,6 +265,8 @@ def antenna_terms(times: np.ndarray, svs: Sequence[str], leo_pos_m: np.ndarray,
         "between the phase centres minus range between the centres of mass"})
         for k, v in out.items()}, coords={"time": times, "sv": svs})
     ds.attrs.update(antenna_attrs(leo_pco, antex, bands, leo_pcv=bool(leo_pcv_m)))
+    if isinstance(leo_pco_body_m, LeoAntenna):
+        ds.attrs["antenna_leo_antex"] = leo_pco_body_m.describe()
     ds.attrs["antenna_gnss_attitude"] = "nominal" if family is None else gnss_attitude
     if leo_attitude is not None:
         ds.attrs["antenna_leo_attitude"] = leo_attitude.describe()

@@ -13,7 +13,10 @@ For every receiver epoch (clock reading ``t_read``, GPS-time label) and GNSS sat
   of position and velocity, :func:`leopod.numerics.interpolate.interpolate_table`); antenna
   phase centre of band ``b`` = centre of mass + the body-frame PCO of the band rotated with the
   satellite's attitude law (nominal or yaw steering, :func:`leopod.frames.leo_attitude.
-  leo_body_axes` with the Sun in the GCRF), the law the estimator uses;
+  leo_body_axes` with the Sun in the GCRF), the law the estimator uses; with an ANTEX
+  antenna (:class:`leopod.gnss.leo_antenna.LeoAntenna`) the PCO of the band is ``ARP +
+  R_ant PCO_b(N, E, U)`` and its PCV at the antenna-frame zenith and azimuth is added to the
+  range of the band (codes and phases; ANTEX 1.4, sec. 3);
 * transmission time ``t − τ`` by light-time iteration on the exact analytic GNSS orbit in the
   GCRF (no Sagnac term is needed in an inertial frame); transmitter phase centre = centre of
   mass + ANTEX PCO of the band (yaw-steering attitude, or the published eclipse/turn laws of
@@ -77,6 +80,7 @@ import xarray as xr
 from leopod import signals
 from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
+from leopod.frames.attitude import antenna_el_az
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
 from leopod.gnss.attitude import gnss_attitude_axes, satellite_families
@@ -86,6 +90,7 @@ from leopod.gnss.corrections import (
     unwrap_windup,
     windup_cycles,
 )
+from leopod.gnss.leo_antenna import LeoAntenna
 from leopod.gnss.scb import bds2_scb_m, nadir_angle_deg
 from leopod.numerics.interpolate import interpolate_table
 from leopod.settings import Settings
@@ -243,12 +248,10 @@ def _light_time(world: GnssWorld, svs, t_rx_s: np.ndarray, rx_m: np.ndarray):
     return t_tx, pos, vel
 
 
-def _antenna_angles(axes: np.ndarray, los: np.ndarray):
-    """Antenna-frame elevation and azimuth [deg] (n, s) of unit lines of sight (n, s, 3)."""
-    body = np.einsum("nij,nsj->nsi", axes, los)
-    el = np.degrees(np.arcsin(np.clip(-body[..., 2], -1.0, 1.0)))
-    az = np.degrees(np.arctan2(body[..., 1], body[..., 0])) % 360.0
-    return el, az
+def _antenna_angles(axes: np.ndarray, los: np.ndarray, frame: np.ndarray | None = None):
+    """Antenna-frame elevation and azimuth [deg] (n, s) of unit lines of sight (n, s, 3)
+    (:func:`leopod.frames.attitude.antenna_el_az`; ``frame``: that of the LEO antenna)."""
+    return antenna_el_az(np.einsum("nij,nsj->nsi", axes, los), frame)
 
 
 def _sat_antenna(antex, svs, epoch, bands_by_sv) -> tuple[dict, dict]:
@@ -316,6 +319,9 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
     nadir = np.degrees(np.arccos(np.clip(-np.sum(los * sv_axes[..., 2, :], axis=-1), -1.0,
                                          1.0)))
     system_of = np.array([sv[0] for sv in svs])
+    frame = pco_body_m.frame if isinstance(pco_body_m, LeoAntenna) else None
+    el, az = _antenna_angles(axes, los, frame)
+    leo_pcv = isinstance(pco_body_m, LeoAntenna) and pco_body_m.has_pcv
     ranges = {}
     for key in rx:
         cols = np.flatnonzero(system_of == key[0])
@@ -328,8 +334,9 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
         for j in cols:
             if (svs[j], key[1]) in sat_pcv:
                 rho[:, j] += sat_pcv[svs[j], key[1]](nadir[:, j])
+        if leo_pcv:     # ANTEX 1.4 sec. 3: observed range = range to the phase centre + PCV
+            rho[:, cols] += pco_body_m.pcv_m(names[key], 90.0 - el[:, cols], az[:, cols])
         ranges[key] = rho
-    el, az = _antenna_angles(axes, los)
     up = leo_pos / np.linalg.norm(leo_pos, axis=-1, keepdims=True)
     local_el = np.degrees(np.arcsin(np.clip(np.einsum("nsi,ni->ns", los, up), -1.0, 1.0)))
     clock = world.clock_s(svs, t_tx) + relativistic_clock_s(sv_pos, sv_vel)
@@ -403,8 +410,11 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
     signal_codes : mapping
         System -> RINEX 3 codes to simulate (e.g. ``{"G": ["C1C", "C1W", "C2W", "L1C",
         "L2W"]}``); satellites of other systems are left out.
-    pco_body_m : mapping
-        LEO antenna PCO per band name (``"L1"``, ``"B2a"``) in the body frame [m].
+    pco_body_m : mapping or LeoAntenna
+        LEO antenna PCO per band name (``"L1"``, ``"B2a"``) in the body frame [m]; a
+        :class:`leopod.gnss.leo_antenna.LeoAntenna` also adds its PCV to the range of each
+        band (codes and phases) at the antenna-frame angles, which are then those of its
+        frame (``el_deg``, ``az_deg``).
     code_bias_maps : sequence of CodeBiasMap
         Antenna-frame code-bias maps, each added to its ``signal``.
     settings : ObservationSettings
@@ -513,7 +523,8 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
                               "ionosphere-free combination of the geometric ranges (truth)")
     truth_vars = {
         "el_deg": (geo.el_deg, "degree", "antenna-frame elevation (truth)"),
-        "az_deg": (geo.az_deg, "degree", "antenna-frame azimuth from +X towards +Y (truth)"),
+        "az_deg": (geo.az_deg, "degree", ("antenna-frame azimuth from north (default +X) towards east "
+                                         "(+Y) (truth)")),
         "windup_cyc": (windup, "1", "phase wind-up added to every phase [cycles] (truth)"),
         "stec_tecu": (stec, "TECU", "slant TEC of the thin-shell ionosphere (truth)"),
         "shapiro_m": (geo.shapiro_m, "m", "Shapiro delay (truth)"),

@@ -31,6 +31,21 @@ def attitude_files(sm) -> list[str]:
     return [files] if isinstance(files, str) else list(files)
 
 
+def leo_antenna_of(pco_body_m, antenna, files) -> object:
+    """The satellite's antenna for the library (:func:`leopod.gnss.leo_antenna.leo_antenna`):
+    a :class:`~leopod.gnss.leo_antenna.LeoAntenna` read from the job's input ``leo_antex``
+    (``common.smk``: ``antenna_inputs``) when ``antenna`` (params ``leo_antenna``, the
+    ``satellites.<sat>.antenna`` block) names an ANTEX file, else the PCO table
+    ``pco_body_m``."""
+    from leopod.gnss.leo_antenna import leo_antenna
+
+    path = (files or {}).get("leo_antex")
+    if antenna and antenna.get("antex") is not None and not path:
+        raise ValueError(f"satellites.<sat>.antenna.antex {antenna['antex']!r}: the job has no "
+                         "input leo_antex (the rule needs unpack(antenna_inputs))")
+    return leo_antenna(pco_body_m, antenna, path)
+
+
 def plain(named) -> dict[str, str | list[str]]:
     """A Snakemake input/output container as a dict of str paths (lists for lists of files).
 

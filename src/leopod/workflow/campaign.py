@@ -88,6 +88,9 @@ def input_references(config: dict):
         # the attitude files of the 'file' law: satellites.<sat>.attitude_file.path
         if isinstance(block.get("attitude_file"), dict):
             yield f"satellites.{sat}.attitude_file", block["attitude_file"], "path"
+        # the ANTEX file of the LEO antenna: satellites.<sat>.antenna.antex
+        if isinstance(block.get("antenna"), dict):
+            yield f"satellites.{sat}.antenna", block["antenna"], "antex"
 
 
 def is_daily_template(template: str) -> bool:

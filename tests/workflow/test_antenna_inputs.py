@@ -1,0 +1,75 @@
+"""The ANTEX file of a LEO antenna reaches every step that models the antenna (common.smk:
+sat_antenna, antenna_inputs; leopod.workflow.boundary.leo_antenna_of).
+
+Authority: the design rule that a step's files are its inputs (a changed ANTEX file reruns
+exactly the steps that read it, through the locate step) and its settings its params.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+from _campaign_config import default_config
+
+from leopod.gnss.leo_antenna import LeoAntenna
+from leopod.workflow.boundary import leo_antenna_of, mock_snakemake, plain
+from leopod.workflow.campaign import input_templates, locate_inputs
+
+SAT = "hy2b-sim"
+GOCE = Path(__file__).resolve().parents[3] / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
+LOCATED = f"resources/locate/satellites.{SAT}.antenna/GOCE_MAIN_0001.ATX"
+
+
+def _config(**changes) -> dict:
+    cfg = default_config(**changes)
+    cfg["satellites"][SAT].pop("antenna_pco_body_m", None)
+    cfg["satellites"][SAT]["antenna"] = {"antex": str(GOCE), "type": "GOCE",
+                                         "arp_body_m": [0.0, 0.0, -0.4]}
+    return cfg
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    path = tmp_path_factory.mktemp("ant") / "campaign.yaml"
+    path.write_text(yaml.safe_dump(_config()))
+    return path
+
+
+def test_the_antex_file_is_located():
+    located, entries = locate_inputs(_config())
+    assert entries[f"satellites.{SAT}.antenna"] == str(GOCE)
+    assert input_templates(located)[f"satellites.{SAT}.antenna"] == LOCATED
+
+
+@pytest.mark.parametrize("rule", ["simulate", "ingest", "quality", "float_pod", "fixed_pod",
+                                  "kinematic_pod"])
+def test_the_antex_file_is_an_input_and_the_antenna_a_param(campaign, monkeypatch, rule):
+    monkeypatch.chdir(Path.cwd())
+    sm = mock_snakemake(rule, configfiles=[campaign], sat=SAT, date="2019-002")
+    assert plain(sm.input)["leo_antex"] == LOCATED
+    params = dict(sm.params.leo_antenna)
+    assert params["type"] == "GOCE" and params["arp_body_m"] == [0.0, 0.0, -0.4]
+    assert params["up_body"] == [0.0, 0.0, -1.0]          # schema default
+    if GOCE.exists():       # the located link stands for the file: read the original here
+        antenna = leo_antenna_of(sm.params.pco_body_m, params, {"leo_antex": str(GOCE)})
+        assert isinstance(antenna, LeoAntenna) and antenna.has_pcv
+
+
+def test_no_antex_no_input(monkeypatch):
+    monkeypatch.chdir(Path.cwd())
+    sm = mock_snakemake("float_pod", sat=SAT, date="2019-002")
+    assert "leo_antex" not in plain(sm.input)
+    assert leo_antenna_of(sm.params.pco_body_m, sm.params.leo_antenna, plain(sm.input)) \
+        == sm.params.pco_body_m
+
+
+def test_both_antenna_definitions_stop_the_campaign(tmp_path, monkeypatch):
+    cfg = _config()
+    cfg["satellites"][SAT]["antenna_pco_body_m"] = {"L1": [0, 0, -0.3], "L2": [0, 0, -0.3]}
+    path = tmp_path / "both.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    monkeypatch.chdir(Path.cwd())
+    with pytest.raises(Exception, match="either antenna_pco_body_m"):
+        mock_snakemake("float_pod", configfiles=[path], sat=SAT, date="2019-002")
