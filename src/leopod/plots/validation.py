@@ -263,16 +263,8 @@ def plot_formation_summary(table, path, title: str = "") -> None:
         if column.startswith("mutual_") and column.endswith("_3d"):
             a, b = column[len("mutual_"):-len("_3d")].split("_minus_")
             ax.plot(x, days[column].to_numpy(dtype=float), "^--", label=f"{a} − {b} (dynamic)")
-    values = days[[c for c in days.columns if c.endswith("_3d")]].to_numpy(dtype=float)
-    values = values[np.isfinite(values) & (values > 0)]
-    if values.size and values.max() > 10.0 * values.min():
-        ax.set_yscale("log")     # sub-mm dynamic and cm kinematic baselines in one panel
-        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
-        # minor labels at 2, 3 and 5 x 10^k only
-        ax.yaxis.set_minor_formatter(FuncFormatter(
-            lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "235" else ""))
-    else:
-        ax.set_ylim(bottom=0.0)
+    # sub-mm dynamic and cm kinematic baselines in one panel
+    _log_axis_if_wide(ax, days[[c for c in days.columns if c.endswith("_3d")]])
     ax.set_ylabel(f"3D RMS [mm]: vs {ref}" + (", ▲ between solutions"
                                                if any(c.startswith("mutual_") for c in days)
                                                else ""))
@@ -289,8 +281,22 @@ def plot_formation_summary(table, path, title: str = "") -> None:
     save_figure(fig, path)
 
 
-def plot_strategy(table, path, title: str, figure: str = "reference_3d_rms_cm"
-                  ) -> None:
+def _log_axis_if_wide(ax, values) -> None:
+    """A log y axis with plain tick labels (minor ones at 2, 3, 5 x 10^k) when the positive
+    ``values`` span more than a factor 10, else a linear axis from 0."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size and v.max() > 10.0 * v.min():
+        ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+        ax.yaxis.set_minor_formatter(FuncFormatter(
+            lambda x, _: f"{x:g}" if f"{x:.0e}"[0] in "235" else ""))
+    else:
+        ax.set_ylim(bottom=0.0)
+
+
+def plot_strategy(table, path, title: str, figure: str = "reference_3d_rms_cm",
+                  ylabel: str | None = None) -> None:
     """One figure of :func:`leopod.workflow.strategy.strategy_table` against the pulse sigma,
     a line per pulse interval (and empirical sigma).
 
@@ -304,6 +310,8 @@ def plot_strategy(table, path, title: str, figure: str = "reference_3d_rms_cm"
     title : str
     figure : str
         The row plotted (a campaign-summary figure).
+    ylabel : str, optional
+        Its description and unit (default: the row name).
     """
     sel = table.xs(figure, level="figure")
     fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -313,8 +321,9 @@ def plot_strategy(table, path, title: str, figure: str = "reference_3d_rms_cm"
         for minutes in part.columns:
             ax.plot(part.index, part[minutes], "o-", label=f"{minutes:g} min{suffix}")
     ax.set_xscale("log")
+    _log_axis_if_wide(ax, sel)
     ax.set_xlabel("pulse a-priori sigma [m/s]")
-    ax.set_ylabel(figure.replace("_", " "))
+    ax.set_ylabel(ylabel or figure)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, title="pulse interval")
     ax.set_title(title)

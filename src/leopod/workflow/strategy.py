@@ -177,6 +177,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     from leopod.plots.validation import plot_strategy
     from leopod.settings import read_yaml
     from leopod.time.calendar import parse_date_id
+    from leopod.validation.summary import column_meta
     from leopod.workflow.campaign import campaign_days, satellite_ids
     from leopod.workflow.config import validated
 
@@ -209,8 +210,10 @@ def main(argv: Sequence[str] | None = None) -> None:
         comparison = pd.read_csv(path, header=[0, 1, 2], index_col=0)
         table = strategy_table(comparison, sat, cells, solution)
         out = args.directory / f"strategy_{sat}.csv"
-        table.to_csv(out, float_format="%.4f")
-        plot_strategy(table, out.with_suffix(".png"), f"{sat} {solution}: pulse strategy")
+        table.to_csv(out, float_format="%.6g")
+        unit, text = column_meta("reference_3d_rms_cm")
+        plot_strategy(table, out.with_suffix(".png"), f"{sat} {solution}: pulse strategy",
+                      ylabel=f"{text} [{unit}]")
         with pd.option_context("display.width", 160, "display.max_rows", 500):
             print(f"\n{sat} {solution} (campaign means; columns: pulse interval [min])")
             print(table.to_string(float_format=lambda v: f"{v:.3f}"))
