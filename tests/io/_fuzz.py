@@ -394,7 +394,7 @@ def mutate(seed: Seed, index: int) -> tuple[bytes, str]:
     text = seed.text
     kinds = []
     for _ in range(rng.choice([1, 1, 1, 2, 3])):
-        text, kind = _mutate_once(rng, text)
+        text, kind = _mutate_once(rng, text or b" ")
         kinds.append(kind)
     if rng.random() < 0.08:
         text, kind = _damage_gzip(rng, text)
