@@ -397,7 +397,7 @@ def test_empty_gzip_payload_is_a_format_error(tmp_path):
     path.write_bytes(gzip.compress(b""))
     with pytest.raises(FormatError) as exc:
         read_sp3(path)
-    assert_format_error(exc, path, 1, "version")
+    assert_format_error(exc, path, None, "file")  # the shared rule of io._text.read_lines
 
 
 def test_year_outside_datetime64_range_is_an_error(tmp_path):
@@ -406,7 +406,7 @@ def test_year_outside_datetime64_range_is_an_error(tmp_path):
     k = next(i for i, x in enumerate(lines) if x.startswith("*"))
     lines[k] = lines[k][:3] + "3000" + lines[k][7:]
     path = write_lines(tmp_path, lines, "year.sp3")
-    with pytest.raises(FormatError, match="outside 1678-2261") as exc:
+    with pytest.raises(FormatError, match="outside 1900-2199") as exc:
         read_sp3(path)
     assert_format_error(exc, path, k + 1, "epoch")
 

@@ -8,8 +8,13 @@ Earth Models (icgem.gfz-potsdam.de). A time-variable coefficient at epoch t is (
     G(t) = gfct + trnd (t - t0)
            + sum_p [acos_p cos(2 pi (t - t0) / p) + asin_p sin(2 pi (t - t0) / p)]
 
-Piecewise time-variable models (``format icgem2.0`` with validity intervals t0..t1 on each
-record) are rejected with a FormatError; their static ``gfc`` records alone would be read.
+Piecewise time-variable models (``format icgem2.0``, Ince et al. 2019, with validity
+intervals t0..t1 on every ``gfct``/``trnd``/``acos``/``asin`` record, e.g. EIGEN-6S4) are
+refused with a FormatError naming the first such record: their coefficients have no single
+reference epoch, so the one-``t0`` schema below cannot hold them, and leopod's force model
+takes a static field (a file of format icgem2.0 with ``gfc`` records only is read). Bodies
+other than the Earth write ``gravity_constant`` instead of ``earth_gravity_constant`` (e.g.
+the lunar GrazLGM300c); both are read into ``gm_m3_s2``.
 
 Dataset returned by :func:`read_icgem`
 --------------------------------------
@@ -54,6 +59,7 @@ import numpy as np
 import xarray as xr
 from scipy.special import gammaln
 
+from leopod.io._fields import integers
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -65,20 +71,18 @@ from leopod.io._text import (
 __all__ = ["read_icgem"]
 
 _MANDATORY = ("product_type", "modelname", "earth_gravity_constant", "radius", "max_degree")
-_KEYWORDS = _MANDATORY + ("errors", "norm", "tide_system", "format")
+_KEYWORDS = _MANDATORY + ("errors", "norm", "tide_system", "format", "gravity_constant")
 # number of blank-separated fields of each record key (icgem1.0): without / with sigmas
 _N_FIELDS = {"gfc": (5, 7), "gfct": (8,), "trnd": (5, 7), "dot": (5, 7), "acos": (8,),
              "asin": (8,)}
 _TIME_VARIABLE = ("gfct", "trnd", "dot", "acos", "asin")
+#: Largest degree a header may declare (Earth2014 reaches 10800); arrays are sized by it.
+_MAX_DEGREE = 10_800
 
 
 def _ints(texts: list[str], line_nos: list[int], field: str, path: Path) -> np.ndarray:
-    """Convert integer texts to int64 with exact error locations."""
-    try:
-        return np.asarray(texts, dtype=str).astype(np.int64)
-    except ValueError:  # slow path: raises at the first bad value
-        return np.array([parse_int(t, path, n, field) for t, n in zip(texts, line_nos)],
-                        dtype=np.int64)
+    """Degree/order texts -> int64 in 0.._MAX_DEGREE, with exact error locations."""
+    return integers(texts, line_nos, field, path, lo=0, hi=_MAX_DEGREE)
 
 
 def _parse_header(lines: list[str], path: Path) -> tuple[dict, int]:
@@ -92,6 +96,8 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, int]:
             keys[parts[0]] = (parts[1].strip() if len(parts) > 1 else "", i + 1)
     else:
         raise FormatError(path, None, "end_of_head", "the header end ('end_of_head') is missing")
+    if "earth_gravity_constant" not in keys and "gravity_constant" in keys:
+        keys["earth_gravity_constant"] = keys["gravity_constant"]  # another body's GM
     for key in _MANDATORY:
         if key not in keys or not keys[key][0]:
             raise FormatError(path, None, key, "the mandatory header keyword is missing")
@@ -106,10 +112,12 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, int]:
         "modelname": keys["modelname"][0],
         "product_type": product,
         "gm_m3_s2": parse_float(keys["earth_gravity_constant"][0], path,
-                                keys["earth_gravity_constant"][1], "earth_gravity_constant"),
-        "radius_m": parse_float(keys["radius"][0], path, keys["radius"][1], "radius"),
+                                keys["earth_gravity_constant"][1], "earth_gravity_constant",
+                                kind="gm_m3_s2"),
+        "radius_m": parse_float(keys["radius"][0], path, keys["radius"][1], "radius",
+                                kind="radius_m"),
         "max_degree_file": parse_int(keys["max_degree"][0], path, keys["max_degree"][1],
-                                     "max_degree"),
+                                     "max_degree", lo=0, hi=_MAX_DEGREE),
         "errors": keys.get("errors", ("no", 0))[0] or "no",
         "norm": "fully_normalized",
         "norm_in_file": norm,
@@ -144,7 +152,9 @@ def _collect(lines: list[str], first: int, max_degree: int, n_file: int, file_fo
                               f"{', '.join(_N_FIELDS)})")
         if key in _TIME_VARIABLE and file_format != "icgem1.0":
             raise FormatError(path, i + 1, key, f"time-variable records of format "
-                              f"'{file_format}' (piecewise intervals) are not supported")
+                              f"'{file_format}' (piecewise intervals t0..t1 per record) are "
+                              "not supported: leopod reads static fields and icgem1.0 models "
+                              "with one reference epoch")
         if len(parts) not in allowed:
             raise FormatError(path, i + 1, key, f"{len(parts)} fields, expected "
                               f"{' or '.join(map(str, allowed))} (truncated record?)")
@@ -152,7 +162,7 @@ def _collect(lines: list[str], first: int, max_degree: int, n_file: int, file_fo
         if len(parts) != expected:
             raise FormatError(path, i + 1, key, f"{len(parts)} fields, expected {expected} as "
                               f"in the first {key} record (truncated record?)")
-        n = parse_int(parts[1], path, i + 1, "L")
+        n = parse_int(parts[1], path, i + 1, "L", lo=0, hi=n_file)
         if n == n_file and key in ("gfc", "gfct"):
             top_orders.add(parts[2])
         if n <= max_degree:
@@ -255,17 +265,19 @@ def read_icgem(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
     static_nums = line_nos["gfc"] + line_nos["gfct"]
     n, m = _degree_order(static_rows, static_nums, n_file, path)
     _check_unique(n, m, static_nums, "gfc", path)
-    coef["C"][n, m] = parse_floats([r[3] for r in static_rows], static_nums, "C", path)
-    coef["S"][n, m] = parse_floats([r[4] for r in static_rows], static_nums, "S", path)
+    coef["C"][n, m] = parse_floats([r[3] for r in static_rows], static_nums, "C", path,
+                                   kind="stokes")
+    coef["S"][n, m] = parse_floats([r[4] for r in static_rows], static_nums, "S", path,
+                                   kind="stokes")
     with_sigma = [k for k, r in enumerate(static_rows) if len(r) >= 7]
     has_sigma = bool(with_sigma)
     if has_sigma:
         rows = [static_rows[k] for k in with_sigma]
         nums = [static_nums[k] for k in with_sigma]
-        sigma["C"][n[with_sigma], m[with_sigma]] = parse_floats([r[5] for r in rows], nums,
-                                                           "sigma C", path)
-        sigma["S"][n[with_sigma], m[with_sigma]] = parse_floats([r[6] for r in rows], nums,
-                                                           "sigma S", path)
+        sigma["C"][n[with_sigma], m[with_sigma]] = parse_floats(
+            [r[5] for r in rows], nums, "sigma C", path, kind="stokes_sigma")
+        sigma["S"][n[with_sigma], m[with_sigma]] = parse_floats(
+            [r[6] for r in rows], nums, "sigma S", path, kind="stokes_sigma")
 
     scale = (_unnormalized_to_normalized(max_degree) if attrs["norm_in_file"] == "unnormalized"
              else 1.0)
@@ -298,22 +310,24 @@ def _add_time_variable(tokens: dict[str, list[list[str]]], line_nos: dict[str, l
     _check_unique(n, m, nums, "trnd", path)
     for col, name in ((3, "C"), (4, "S")):
         grid = np.zeros((size, size))
-        grid[n, m] = parse_floats([r[col] for r in rows], nums, name, path)
+        grid[n, m] = parse_floats([r[col] for r in rows], nums, name, path, kind="stokes")
         data[f"trnd_{name}"] = (("n", "m"), grid * scale, {
             "units": "year-1", "long_name": f"secular rate of {name} per year"})
     periods = parse_floats([r[7] for k in ("acos", "asin") for r in tokens[k]],
-                      line_nos["acos"] + line_nos["asin"], "period", path)
+                           line_nos["acos"] + line_nos["asin"], "period", path, lo=1e-6,
+                           hi=1e6)
     unique = np.unique(periods)[::-1]
     coords["period"] = ("period", unique, {"units": "year", "long_name": "period of the term"})
     for key in ("acos", "asin"):
         rows, nums = tokens[key], line_nos[key]
         n, m = _degree_order(rows, nums, n_file, path)
-        p = parse_floats([r[7] for r in rows], nums, "period", path)
+        p = parse_floats([r[7] for r in rows], nums, "period", path, lo=1e-6, hi=1e6)
         _check_unique(n, m, nums, key, path, extra=p)
         p_idx = np.searchsorted(-unique, -p)
         for col, name in ((3, "C"), (4, "S")):
             grid = np.zeros((unique.size, size, size))
-            grid[p_idx, n, m] = parse_floats([r[col] for r in rows], nums, name, path)
+            grid[p_idx, n, m] = parse_floats([r[col] for r in rows], nums, name, path,
+                                             kind="stokes")
             data[f"{key}_{name}"] = (("period", "n", "m"), grid * scale, {
                 "units": "1", "long_name": f"{'cosine' if key == 'acos' else 'sine'} amplitude "
                                            f"of {name}"})

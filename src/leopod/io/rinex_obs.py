@@ -48,8 +48,11 @@ Attributes
     records), ``n_cycle_slip_epochs`` (flag-6 epochs, skipped), ``filename``.
 
 Epoch flag 4 records that redefine the observation types (``# / TYPES OF OBSERV`` or
-``SYS / # / OBS TYPES``) are applied to the following epochs. Observation scale factors other
-than 1 are refused (FormatError) rather than silently applied or ignored.
+``SYS / # / OBS TYPES``) are applied to the following epochs. Observation scale factors
+(RINEX 2.11 ``OBS SCALE FACTOR``, RINEX 3 ``SYS / SCALE FACTOR``: "factor to divide stored
+observations with before use") are applied to the header's types: every value is the stored
+one divided by its factor; ``attrs["scale_factors_applied"]`` lists them (``"LA/10 S1/100"``,
+``"R L1C/1000"``, "" when none). A scale-factor record inside a flag-4 event is refused.
 """
 
 from __future__ import annotations
@@ -104,6 +107,7 @@ class _Header:
     types: dict[str, tuple[str, ...]]  # RINEX 2: one key "" for every system
     attrs: dict
     end: int  # 0-based index of the first line after END OF HEADER
+    scale: dict = None  # (system key, code) -> factor; system "" = every system (RINEX 2)
 
 
 def _text_attrs(line: str, label: str) -> dict:
@@ -130,12 +134,45 @@ def _three_floats(line: str, path, lineno: int, label: str) -> str:
     return " ".join(f"{v:.4f}" for v in values)
 
 
-def _check_scale_factor(line: str, path, lineno: int, label: str) -> None:
-    """Refuse scale factors other than 1 (the reader does not apply them)."""
-    text = line[:6] if label == "OBS SCALE FACTOR" else line[2:6]
-    if parse_int(text, path, lineno, label) != 1:
-        raise FormatError(path, lineno, label, "observation scale factors other than 1 are "
-                          "not supported")
+def _parse_scale_factors(records: list[tuple[int, str]], types: dict, path) -> dict:
+    """Observation scale factors of 'OBS SCALE FACTOR' (RINEX 2.11: I6 factor, I6 number of
+    types, 8(4X,A2) types) or 'SYS / SCALE FACTOR' (RINEX 3.04: A1 system, 1X, I4 factor, 2X,
+    I2 number of types, 12(1X,A3) types; continuation lines with the first 10 columns blank).
+
+    "Factor to divide stored observations with before use"; no types listed (0 or blank)
+    means every type of the system. Returns ``{(system key, code): factor}``.
+    """
+    groups: list[list] = []  # [system, factor, announced count, codes, line]
+    for lineno, line in records:
+        label = line[60:].strip()
+        v2 = label == "OBS SCALE FACTOR"
+        head = line[:12] if v2 else line[:10]
+        if not head.strip():
+            if not groups:
+                raise FormatError(path, lineno, label, "continuation line without a "
+                                  "preceding record giving the factor")
+            groups[-1][3].extend(line[12 if v2 else 10:60].split())
+            continue
+        system = "" if v2 else line[:1]
+        if not v2 and system not in _SAT_SYSTEMS:
+            raise FormatError(path, lineno, label, f"unknown satellite system '{system}'")
+        factor = parse_int(line[:6] if v2 else line[2:6], path, lineno, label, lo=1, hi=10**6)
+        count_text = line[6:12] if v2 else line[8:10]
+        count = parse_int(count_text, path, lineno, label, lo=0, hi=99) \
+            if count_text.strip() else 0
+        groups.append([system, factor, count, list(line[12 if v2 else 10:60].split()), lineno])
+    out = {}
+    for system, factor, count, codes, lineno in groups:
+        if len(codes) != count:
+            raise FormatError(path, lineno, records[0][1][60:].strip(), f"announces {count} "
+                              f"observation types but lists {len(codes)}")
+        known = types.get(system, ())
+        for code in codes or known:
+            if code not in known:
+                raise FormatError(path, lineno, records[0][1][60:].strip(), f"'{code}' is "
+                                  "not an observation type of the header")
+            out[(system, code)] = factor
+    return out
 
 
 def _parse_obs_types(records: list[tuple[int, str]], path) -> dict[str, tuple[str, ...]]:
@@ -212,7 +249,7 @@ def _parse_header(lines: list[str], path) -> _Header:
                                  "receiver_version", "antenna_number", "antenna_type",
                                  "approx_position_xyz_m", "antenna_delta_hen_m")}
     attrs.update(rinex_version=float(version), file_system=system)
-    type_records = []
+    type_records, scale_records = [], []
     for i in range(1, len(lines)):
         line, lineno = lines[i], i + 1
         label = line[60:].strip()
@@ -227,7 +264,7 @@ def _parse_header(lines: list[str], path) -> _Header:
         elif label == "TIME OF FIRST OBS":
             attrs.update(_time_system(line, path, lineno, label))
         elif label in _SCALE_LABELS:
-            _check_scale_factor(line, path, lineno, label)
+            scale_records.append((lineno, line))
         else:
             attrs.update(_text_attrs(line, label))
     else:
@@ -243,7 +280,10 @@ def _parse_header(lines: list[str], path) -> _Header:
                         "field is compulsory in mixed files, RINEX 3.04 Table A2): GPS "
                         "time assumed", path)
     types = _parse_obs_types(type_records, path)
-    return _Header(float(version), system, types, attrs, i + 1)
+    scale = _parse_scale_factors(scale_records, types, path)
+    scaled = {f"{k[0]}{' ' if k[0] else ''}{k[1]}": f for k, f in scale.items() if f != 1}
+    attrs["scale_factors_applied"] = " ".join(f"{k}/{f}" for k, f in scaled.items())
+    return _Header(float(version), system, types, attrs, i + 1, scale)
 
 
 # ------------------------------------------------------------------------------ data section
@@ -343,6 +383,10 @@ def _skip_event(lines, i: int, count: int, flag: int, path, types: dict, v2: boo
         raise _truncated(path, i + 1, len(lines), f"{count} special records announced")
     label = _TYPES_V2 if v2 else _TYPES_V3
     if flag == 4:
+        for k in range(i + 1, end):
+            if lines[k][60:].strip() in _SCALE_LABELS:
+                raise FormatError(path, k + 1, lines[k][60:].strip(), "scale factors "
+                                  "redefined inside the data section are not supported")
         records = [(k + 1, lines[k]) for k in range(i + 1, end) if lines[k][60:].strip() == label]
         if records:
             types.update(_parse_obs_types(records, path))
@@ -531,6 +575,23 @@ def _parse_block(texts: list[str], codes: tuple, lines0: np.ndarray, svs: list, 
     return values, indicators[0], indicators[1]
 
 
+def _apply_scale(values: np.ndarray, codes: tuple, svs: list, scale: dict, v2: bool) -> None:
+    """Divide the stored values by their scale factor (in place)."""
+    if not scale:
+        return
+    systems = np.array([sv[0] for sv in svs])
+    for j, code in enumerate(codes):
+        if v2:
+            factor = scale.get(("", code), 1)
+            if factor != 1:
+                values[:, j] /= factor
+            continue
+        for system in set(systems.tolist()):
+            factor = scale.get((system, code), 1)
+            if factor != 1:
+                values[systems == system, j] /= factor
+
+
 def _obs_attrs(code: str, v2: bool) -> dict:
     """units and long_name of an observation variable."""
     kind = code[0]
@@ -584,6 +645,7 @@ def _build_dataset(scan: _Scan, hdr: _Header, keep, path) -> xr.Dataset:
         rows = np.nonzero(group_of == g)[0]
         block_svs = [scan.rec_sv[r] for r in rows]
         v, li, ss = _parse_block(scan.texts[g], codes, rec_line[rows], block_svs, path, v2)
+        _apply_scale(v, codes, block_svs, hdr.scale, v2)
         t, s = ti[rows], si[rows]
         for j, code in enumerate(codes):
             values[code][t, s] = v[:, j]

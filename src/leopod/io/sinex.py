@@ -70,6 +70,7 @@ from leopod.io._text import (
 )
 
 __all__ = [
+    "ANY_SOLUTION",
     "read_sinex_eccentricities",
     "read_sinex_stations",
     "station_eccentricity",
@@ -78,6 +79,10 @@ __all__ = [
 
 _LOG = logging.getLogger(__name__)
 
+#: Solution number of a record whose SOLN field is "----" (SINEX 2.02 Appendix I: a field
+#: without a value is filled with "-"; IGS combinations write it in SOLUTION/EPOCHS and
+#: SITE/ECCENTRICITY, meaning the record holds for every solution of the site).
+ANY_SOLUTION = -1
 _DATE = re.compile(r"^(\d{2}):(\d{3}):(\d{5})$")
 _JULIAN_YEAR_NS = 365.25 * 86_400e9
 _STA = {"STAX": 0, "STAY": 1, "STAZ": 2}
@@ -139,16 +144,27 @@ def _blocks(path: Path, lines: list[str]) -> tuple[dict, dict]:
 
 
 def _header(path: Path, text: str) -> dict:
-    """Agency, creation and data-span epochs of the ``%=SNX`` header line."""
-    t = text.split()
-    if len(t) < 7 or t[0] != "%=SNX":
-        raise FormatError(path, 1, "%=SNX", "header line has too few fields")
-    start = _epoch(path, 1, "%=SNX data start", t[5], open_ok=True)
-    end = _epoch(path, 1, "%=SNX data end", t[6], open_ok=True)
+    """Agency, creation and data-span epochs of the ``%=SNX`` header line.
+
+    Read in the fixed columns of SINEX 2.02 (section "Header line": agency 12-14, creation
+    epoch 16-27, data agency 29-31, data start 33-44, data end 46-57), so that a blank agency
+    field (JAXA's MGEX files) does not shift the epochs; a line that does not follow the
+    columns is read split on blanks.
+    """
+    columns = (text[11:14], text[15:27], text[32:44], text[45:57])
+    if _DATE.match(columns[1].strip()) and all(text[k:k + 1] in (" ", "") for k in (10, 14)):
+        agency, created, first, last = (c.strip() for c in columns)
+    else:
+        t = text.split()
+        if len(t) < 7 or t[0] != "%=SNX":
+            raise FormatError(path, 1, "%=SNX", "header line has too few fields")
+        agency, created, first, last = t[2], t[3], t[5], t[6]
+    start = _epoch(path, 1, "%=SNX data start", first, open_ok=True)
+    end = _epoch(path, 1, "%=SNX data end", last, open_ok=True)
     return {
-        "format": f"SINEX {t[1]}",
-        "agency": t[2],
-        "creation_epoch": _iso(_epoch(path, 1, "%=SNX creation epoch", t[3], open_ok=True)),
+        "format": f"SINEX {text[6:10].strip()}",
+        "agency": agency,
+        "creation_epoch": _iso(_epoch(path, 1, "%=SNX creation epoch", created, open_ok=True)),
         "data_start": _iso(start),
         "data_end": _iso(end),
     }
@@ -191,7 +207,10 @@ def _soln_key(path: Path, ln: int, text: str, code_col: int = 1) -> tuple[str, s
     if not site:
         raise FormatError(path, ln, "CODE", "site code is blank")
     pt = _field(text, code_col + 5, code_col + 7)
-    soln = parse_int(text[code_col + 8:code_col + 12], path, ln, "SOLN")
+    soln_text = text[code_col + 8:code_col + 12].strip()
+    if soln_text and set(soln_text) == {"-"}:
+        return site, pt, ANY_SOLUTION  # SINEX 2.02 Appendix I: empty fields are "-"-filled
+    soln = parse_int(soln_text, path, ln, "SOLN", lo=0)
     return site, pt, soln
 
 
@@ -244,7 +263,7 @@ def read_sinex_stations(path: str | Path) -> xr.Dataset:
             vel[i, _VEL[name]], sigv[i, _VEL[name]] = e[name][:2]
     nat = np.datetime64("NaT", "ns")
     info = [sites.get(k[:2], ("", "", math.nan, math.nan, math.nan)) for k in keys]
-    span = [epochs.get(k, (nat, nat)) for k in keys]
+    span = [epochs.get(k) or epochs.get((k[0], k[1], ANY_SOLUTION), (nat, nat)) for k in keys]
 
     def var(values, units, title, dims=("solution",)):
         return dims, values, {"units": units, "long_name": title}
