@@ -300,7 +300,7 @@ def epoch_ns(year: int, month: int, day: int, hour: int, minute: int, seconds: f
                      "years leopod accepts (datetime64[ns] holds 1678-2261)")
     try:
         dt = _dt.datetime(year, month, day, hour, minute)
-    except ValueError as err:
+    except (ValueError, OverflowError) as err:
         raise _error(path, line, field, f"invalid date or time ({err})") from None
     top = 61.0 if leap_second else 60.0
     if not 0.0 <= seconds < top:

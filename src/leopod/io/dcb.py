@@ -148,8 +148,12 @@ def _row(line, lineno, path, sats, stations) -> None:
     """Parse one data row into ``sats`` or ``stations`` (values in ns)."""
     head = line[0:3].strip()
     name = line[6:22].strip()
-    value = parse_float(line[22:35], path, lineno, "VALUE (NS)")
-    rms = parse_float(line[35:47], path, lineno, "RMS (NS)")
+    if len(line.rstrip()) < 47:  # RMS is right-justified, its last digit in column 47
+        raise FormatError(path, lineno, "RMS (NS)", f"the row ends in column "
+                          f"{len(line.rstrip())}, before column 47 where its RMS ends (line "
+                          "cut short?)")
+    value = parse_float(line[22:35], path, lineno, "VALUE (NS)", kind="bias_ns")
+    rms = parse_float(line[35:47], path, lineno, "RMS (NS)", kind="sigma_ns")
     if not name and _SV.match(head) and not line[3:6].strip():
         if head in sats:
             raise FormatError(path, lineno, "PRN", f"satellite {head} appears twice")

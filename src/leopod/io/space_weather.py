@@ -60,6 +60,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import epoch_ns, integer, require_line_end
 from leopod.io._text import FormatError, parse_floats, read_lines
 
 __all__ = ["F107_BURST_THRESHOLD_SFU", "msis_inputs", "read_space_weather"]
@@ -121,15 +122,14 @@ def _split_rows(lines: list[str], path: Path) -> tuple[np.ndarray, list[int]]:
 
 def _dates(texts: list[str], line_nos: list[int], path: Path) -> np.ndarray:
     """Parse ISO dates, checking validity and strict increase."""
-    try:
-        dates = np.asarray(texts, dtype="datetime64[D]")
-    except ValueError:
-        for text, no in zip(texts, line_nos):
-            try:
-                np.datetime64(text, "D")
-            except ValueError:
-                raise FormatError(path, no, "DATE", f"'{text}' is not a date YYYY-MM-DD") from None
-        raise  # pragma: no cover - numpy failed on the list but on no single text
+    ns = []
+    for text, no in zip(texts, line_nos):
+        parts = text.split("-")
+        if len(parts) != 3 or [len(p) for p in parts] != [4, 2, 2]:
+            raise FormatError(path, no, "DATE", f"'{text}' is not a date YYYY-MM-DD")
+        y, m, d = (integer(p, path, no, "DATE", lo=0) for p in parts)
+        ns.append(epoch_ns(y, m, d, 0, 0, 0.0, path, no, "DATE"))
+    dates = np.array(ns, dtype="datetime64[ns]").astype("datetime64[D]")
     bad = np.flatnonzero(np.diff(dates) <= np.timedelta64(0, "D"))
     if bad.size:
         no = line_nos[bad[0] + 1]
@@ -138,19 +138,15 @@ def _dates(texts: list[str], line_nos: list[int], path: Path) -> np.ndarray:
 
 
 def _column(rows: np.ndarray, line_nos: list[int], name: str, path: Path,
-            allow_blank: bool = True) -> np.ndarray:
+            allow_blank: bool = True, lo: float = -1e6, hi: float = 1e6) -> np.ndarray:
     """One numeric column as float64 (blank → NaN if allowed), with exact error locations."""
     texts = np.char.strip(rows[:, _COL[name]])
     filled = texts != ""
     if not allow_blank and not filled.all():
         raise FormatError(path, line_nos[np.flatnonzero(~filled)[0]], name, "value is missing")
     values = np.full(len(rows), np.nan)
-    try:  # fast path; parse_floats finds the bad value and its line
-        values[filled] = texts[filled].astype(np.float64)
-    except ValueError:
-        parse_floats(list(texts[filled]), np.asarray(line_nos)[filled], name, path)
-    if not np.isfinite(values[filled]).all():
-        parse_floats(list(texts[filled]), np.asarray(line_nos)[filled], name, path)
+    values[filled] = parse_floats(list(texts[filled]), np.asarray(line_nos)[filled], name, path,
+                                  lo=lo, hi=hi)
     return values
 
 
@@ -183,7 +179,9 @@ def read_space_weather(path: str | Path) -> xr.Dataset:
         Naming the line and field of the first bad value.
     """
     path = Path(path)
-    rows, line_nos = _split_rows(read_lines(path), path)
+    lines = read_lines(path)
+    require_line_end(lines, path)
+    rows, line_nos = _split_rows(lines, path)
     dates = _dates(list(np.char.strip(rows[:, 0])), line_nos, path)
     with np.errstate(invalid="ignore"):  # NaN (blank) compare False
         kp = np.stack([_column(rows, line_nos, f"KP{k}", path) for k in range(1, 9)], axis=1)
@@ -205,10 +203,11 @@ def read_space_weather(path: str | Path) -> xr.Dataset:
                           f"'{types[i]}' is not one of {', '.join(_TYPES)}")
     types = types.astype("U3")
     bartels = {
-        name: (("date",), _column(rows, line_nos, field, path, False).astype(np.int64),
+        name: (("date",), _column(rows, line_nos, field, path, False, 0, hi).astype(np.int64),
                {"units": "1", "long_name": long_name})
-        for name, field, long_name in (("bartels_rotation", "BSRN", "Bartels solar rotation number"),
-                                       ("bartels_day", "ND", "day of the Bartels rotation"))
+        for name, field, long_name, hi in (
+            ("bartels_rotation", "BSRN", "Bartels solar rotation number", 99_999),
+            ("bartels_day", "ND", "day of the Bartels rotation", 27))
     }
     data_vars = {
         **bartels,
