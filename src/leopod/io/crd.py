@@ -392,8 +392,9 @@ def _floats(path: Path, name: str, fields: list, lines: list, col: int, *,
 
 
 def _ints(path: Path, name: str, fields: list, lines: list, col: int, *,
-          optional: bool = False, lo: int = 0, hi: int = 2**31 - 1) -> np.ndarray:
-    """Column ``col`` of the records as int64 in [lo, hi]; ``na`` (optional fields only)
+          optional: bool = False, lo: int = -1, hi: int = 2**31 - 1) -> np.ndarray:
+    """Column ``col`` of the records as int64 in [lo, hi] (-1, "not available" in files,
+    allowed); ``na`` (optional fields only)
     -> -1."""
     texts = [f[col] if col < len(f) else "na" for f in fields]
     missing = np.array([optional and s.lower() in _NA for s in texts], dtype=bool)

@@ -1,0 +1,194 @@
+"""Regression test of every reader over the valid files other projects keep as test fixtures.
+
+Authority: ``../shared/peer_fixtures/valid`` (files of georinex, gnssanalysis, Orekit, RTKLIB,
+georust/rinex, gnss_lib_py, cssrlib-data; origin, commit and licence in its MANIFEST.md),
+read from ../shared at test time and never copied here; skipped when absent. Every file is
+read, except those in :data:`REFUSED`, which break a rule of their format specification and
+are refused with a FormatError naming that rule's field (issue 24); two ANTEX files whose
+'# OF FREQUENCIES' disagrees with their antennas are read with a logged warning. Values of the files that
+leopod used to refuse are spot-checked against the file text (file and line cited).
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import pytest
+
+from leopod.io import FormatError
+from leopod.io.antex import read_antex
+from leopod.io.bias_sinex import read_bias_sinex
+from leopod.io.clock import read_rinex_clock
+from leopod.io.crd import read_crd
+from leopod.io.dcb import read_code_dcb
+from leopod.io.icgem import read_icgem
+from leopod.io.rinex_obs import read_rinex_obs
+from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
+from leopod.io.sp3 import read_sp3
+
+READERS = {
+    "obs": read_rinex_obs, "sp3": read_sp3, "clk": lambda p: read_rinex_clock(p, ("AS", "AR")),
+    "atx": read_antex, "bia": read_bias_sinex, "snx": read_sinex_stations,
+    "ecc": read_sinex_eccentricities, "crd_np": lambda p: read_crd(p, "normal_point"),
+    "crd_fr": lambda p: read_crd(p, "full_rate"), "icgem": read_icgem, "dcb": read_code_dcb,
+}
+
+#: Files refused on purpose: (folder/name) -> (line, field of the FormatError, the rule broken).
+REFUSED = {
+    "atx/igs14_small.atx.gz": (
+        679, "END OF ANTENNA", "ANTEX 1.4: every START OF ANTENNA is closed by END OF ANTENNA "
+        "(the copy was cut and pasted)"),
+    "bia/DLR0MGXFIN_20212740000_03L_01D_DSB_trunc_sat.BSX": (
+        13, None, "SINEX_BIAS 1.00 sec. 2: a line starting with '-' ends a block; a comment "
+        "line must start with '*'"),
+    "clk/USNO1.txt": (37, "record type", "RINEX clock 3.04 Table A6: a data line starts with "
+                      "AR/AS/CR/DR/MS (continuation lines of 2 values only)"),
+    "clk/com19402.clk": (331, "number of values", "RINEX clock: the count of values (I3) "
+                         "must equal the values of the line"),
+    "clk/issue845.clk": (None, "END OF HEADER", "RINEX clock: END OF HEADER is mandatory"),
+    "clk/mit19044_truncated_300.clk": (34, "number of values", "RINEX clock: the count of "
+                                       "values (I3) must equal the values of the line"),
+    "icgem/EIGEN-6S4-v2-truncated.gz": (
+        75, "gfct", "not a format fault: icgem2.0 piecewise time-variable records (t0..t1 per "
+        "record) are not supported by leopod (documented in leopod.io.icgem)"),
+    "obs/demo.10o": (13, "APPROX POSITION XYZ", "RINEX 2.11 Table A1: APPROX POSITION XYZ is "
+                     "3F14.4 (the file writes '1    176610.01' in a field)"),
+    "obs/embe083.06o": (13, "SYS / # / OBS TYPES", "RINEX 3 sec. 5.1: observation codes have "
+                        "3 characters ('C0' is not one)"),
+    "obs/rovn0010.21o": (512, "epoch record", "RINEX 2.11: an epoch record announcing 20 "
+                         "satellites must hold their 20 records (file cut short)"),
+    "sp3/GFZ0MGXRAP_20201380000_01D_05M_ORB.SP3": (
+        316, "number of epochs", "SP3-d line 1: the number of epochs (288) must be that of the "
+        "file (3: a truncated copy)"),
+    "sp3/emr08874.sp3.gz": (23, "epoch", "SP3-a: the epoch line '*  YYYY MM DD HH MM SS."
+                            "SSSSSSSS' has 31 columns"),
+    "sp3/example-a-1.sp3": (40, "satellite", "SP3: every satellite of the records is listed "
+                            "in the header (G03 is not)"),
+    "sp3/example2.sp3a": (30, "record", "SP3: a data line starts with '*', 'P', 'V', 'EP', "
+                          "'EV' or 'EOF'"),
+    "sp3/igs19362.sp3c.gz": (1, "version", "SP3: the first line starts with '#a'..'#d'"),
+    "sp3/issue895-hours-increment.sp3": (113, "epoch", "SP3: an epoch's hour is 0-23"),
+    "sp3/issue895-no-eof.sp3": (19, "header", "SP3: '%/*' is not a header line identifier "
+                                "(comment lines start with '/*')"),
+}
+
+
+def _files(shared):
+    root = shared / "peer_fixtures" / "valid"
+    if not root.is_dir():
+        pytest.skip(f"peer fixtures not found: {root}")
+    return root, sorted(f"{d.name}/{f.name}" for d in root.iterdir() if d.is_dir()
+                        for f in d.iterdir())
+
+
+@pytest.mark.shared
+def test_every_valid_peer_fixture_is_read_or_refused_for_a_stated_rule(shared, caplog):
+    root, names = _files(shared)
+    assert len(names) == 82  # MANIFEST.md: 82 valid files
+    read, refused = [], []
+    for name in names:
+        folder = name.split("/")[0]
+        with caplog.at_level(logging.ERROR):
+            try:
+                READERS[folder](root / name)
+                read.append(name)
+            except FormatError as err:
+                assert name in REFUSED, f"{name} refused: {err}"
+                line, field, _rule = REFUSED[name]
+                assert err.line == line, (name, err)
+                if field is not None:
+                    assert err.field == field, (name, err)
+                refused.append(name)
+    assert sorted(refused) == sorted(REFUSED)
+    assert len(read) == 82 - len(REFUSED)
+
+
+@pytest.mark.shared
+def test_code_2021_osb_with_wrong_record_count_is_read(shared, caplog):
+    # COD0MGXFIN_20210780000_01D_01D_OSB.BIA line 1: "%=BIA ... 6888" while the complete file
+    # (closed by %=ENDBIA) holds 6844 records; line 70:
+    # " OSB  G063 G01           C1C       2021:078:00000 2021:079:00000 ns   -1.4928  0.0064"
+    root, _ = _files(shared)
+    with caplog.at_level(logging.WARNING, logger="leopod.io.bias_sinex"):
+        ds = read_bias_sinex(root / "bia/COD0MGXFIN_20210780000_01D_01D_OSB.BIA.gz")
+    assert ds.sizes["bias"] == 6844 and ds.attrs["n_estimates"] == 6888
+    assert "6888" in caplog.text and "6844" in caplog.text
+    first = ds.isel(bias=0)
+    assert (str(first["prn"].values), str(first["obs1"].values)) == ("G01", "C1C")
+    assert first["value_s"].item() == pytest.approx(-1.4928e-9, rel=1e-12)
+    assert first["sigma_s"].item() == pytest.approx(0.0064e-9, rel=1e-12)
+    assert first["start"].values == np.datetime64("2021-03-19T00:00:00", "ns")  # 2021 day 78
+
+
+@pytest.mark.shared
+def test_sinex_with_dashed_solution_numbers(shared):
+    # igs10P1565_wocov.snx line 3077: " ABMF  A ---- P 10:002:00000 10:010:86370 ..." (SOLN
+    # "----", SINEX 2.02 Appendix I: empty fields are filled with "-"); line 3449:
+    # "     1 STAX   ABMF  A    1 10:006:43185 m    2 .29197857175080492E+7 .5945077E-2"
+    root, _ = _files(shared)
+    ds = read_sinex_stations(root / "snx/igs10P1565_wocov.snx.gz")
+    abmf = ds.isel(solution=int(np.flatnonzero(ds["site"].values == "ABMF")[0]))
+    assert abmf["pos_m"].values[0] == pytest.approx(2919785.7175080492, abs=1e-9)
+    assert abmf["sigma_pos_m"].values[0] == pytest.approx(0.5945077e-2, rel=1e-12)
+    assert abmf["valid_from"].values == np.datetime64("2010-01-02T00:00:00", "ns")
+    assert abmf["valid_to"].values == np.datetime64("2010-01-10T23:59:30", "ns")
+
+
+@pytest.mark.shared
+def test_sinex_header_with_blank_agency(shared):
+    # JAX0MGXFIN_20202440000_01D_000_SOL.SNX line 1:
+    # "%=SNX 2.02     20:246:43630     20:244:00000 20:244:86100 P   405 2 S E"
+    # (agency columns 12-14 and 29-31 blank; SINEX 2.02 header line is fixed-column); line
+    # 808: "     1 STAX   ABPO  A ---- 20:244:00000 m    1  4.09721653707627e+06 1.96429e-03"
+    root, _ = _files(shared)
+    ds = read_sinex_stations(root / "snx/JAX0MGXFIN_20202440000_01D_000_SOL.SNX.gz")
+    assert ds.attrs["agency"] == ""
+    assert ds.attrs["creation_epoch"] == "2020-09-02T12:07:10"
+    assert ds.attrs["data_start"] == "2020-08-31T00:00:00"
+    assert ds.attrs["data_end"] == "2020-08-31T23:55:00"
+    abpo = ds.isel(solution=int(np.flatnonzero(ds["site"].values == "ABPO")[0]))
+    assert abpo["pos_m"].values[0] == pytest.approx(4.09721653707627e6, abs=1e-6)
+
+
+@pytest.mark.shared
+def test_rinex2_obs_scale_factor_applied(shared):
+    # ice12720-scaled.07o lines 14-15: "    10     1    LA ... OBS SCALE FACTOR",
+    # "   100     2    S1    S2 ... OBS SCALE FACTOR" (RINEX 2.11 Table A1: "factor to divide
+    # stored observations with before use"); the unscaled twin ice12720.07o holds the same
+    # observations divided by the factors.
+    root, _ = _files(shared)
+    scaled = read_rinex_obs(root / "obs/ice12720-scaled.07o")
+    plain = read_rinex_obs(root / "obs/ice12720.07o")
+    assert scaled.attrs["scale_factors_applied"] == "LA/10 S1/100 S2/100"
+    for code in plain.data_vars:
+        if plain[code].dtype.kind == "f":
+            np.testing.assert_allclose(scaled[code].values, plain[code].values, rtol=1e-12,
+                                       equal_nan=True, err_msg=code)
+
+
+@pytest.mark.shared
+def test_rinex3_sys_scale_factor_applied(shared):
+    # bbbb0000.00o line 34: "R 1000   4 L1C S1C C1C L2C ... SYS / SCALE FACTOR"; line 68,
+    # first epoch (2018-01-29 00:00:00): "R10  19186904.493 9 102277032.32809   54.500 ..."
+    # (C1C L1C S1C ...): C1C is read as 19186904.493 / 1000, S2C (not scaled) as written.
+    # Orekit's RinexObservationParserTest reads the same 19186.904493 and S2C 49.250.
+    root, _ = _files(shared)
+    ds = read_rinex_obs(root / "obs/bbbb0000.00o")
+    r10 = ds.sel(sv="R10").isel(time=0)
+    assert r10["C1C"].item() == pytest.approx(19186.904493, abs=1e-9)
+    assert r10["L1C"].item() == pytest.approx(102277.032328, abs=1e-9)  # F14.3 + LLI 0 SSI 9
+    assert r10["S2C"].item() == pytest.approx(49.250, abs=1e-12)
+    g30 = ds.sel(sv="G30").isel(time=0)
+    assert g30["C1C"].item() == pytest.approx(20422534.056, abs=1e-6)  # GPS: no factor
+
+
+@pytest.mark.shared
+def test_icgem_gravity_constant_of_another_body(shared):
+    # GrazLGM300c.truncated lines 31-34: "gravity_constant 4.9028010560e+12", "radius
+    # 1.7380000000e+06", "max_degree 12" (lunar model: ICGEM writes gravity_constant)
+    root, _ = _files(shared)
+    ds = read_icgem(root / "icgem/GrazLGM300c.truncated")
+    assert ds.attrs["gm_m3_s2"] == 4.9028010560e12
+    assert ds.attrs["radius_m"] == 1.738e6
+    assert ds.attrs["max_degree"] == 12
