@@ -32,9 +32,9 @@ Used by ``tests/io/test_fuzz_readers.py`` (a few hundred cases per reader) and
 from __future__ import annotations
 
 import ast
-import logging
 import dataclasses
 import gzip
+import logging
 import random
 import re
 import signal

@@ -64,13 +64,13 @@ _UNIX0 = _dt.datetime(1970, 1, 1)
 #: (lunar laser ranging, GEO satellites, degree-10800 gravity models), narrow enough that an
 #: edited exponent cannot pass as a value. Sources: the formats' own field widths and the
 #: physics (an Earth-orbiting position is below 1e6 km; a clock offset of a GNSS satellite or
-#: station below 1 s; an instrumental bias below 1 ms).
+#: station below 1 s, with margin for example files; an instrumental bias below 1 ms).
 RANGES: dict[str, tuple[float, float]] = {
     "position_km": (-1.0e6, 1.0e6),
     "position_m": (-1.0e9, 1.0e9),
     "velocity_dm_s": (-1.0e6, 1.0e6),
     "velocity_m_s": (-1.0e5, 1.0e5),
-    "clock_s": (-1.0, 1.0),
+    "clock_s": (-1.0e3, 1.0e3),  # real clocks stay below 1 s; example files write 1.23 s
     "clock_us": (-1.0e6, 1.0e6),
     "bias_ns": (-1.0e6, 1.0e6),
     "bias_cycles": (-1.0e6, 1.0e6),
@@ -224,7 +224,9 @@ def numbers(texts: Sequence[str], line_nos: Sequence[int], field: str | Sequence
             values = None
     if values is not None:
         with np.errstate(invalid="ignore"):
-            ok = (values >= low) & (values <= high)
+            ok = np.isfinite(values) & (values >= low) & (values <= high)
+        if allow_blank:
+            ok |= np.char.strip(np.asarray(texts, dtype=str)) == ""
         if ok.all():
             return values
     if callable(field):

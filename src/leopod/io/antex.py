@@ -59,7 +59,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
+from leopod.io._text import (
+    FormatError,
+    fixed_float,
+    parse_floats,
+    parse_int,
+    read_lines,
+)
 
 __all__ = ["AntennaPattern", "AntexFile", "read_antex"]
 
@@ -519,7 +525,7 @@ def _parse_antenna(lines, labels, start, end, path, file_attrs) -> AntennaPatter
 
 
 def _dazi(line, path, lineno) -> float:
-    dazi = fixed_float(line, 0, 8, path, lineno, "DAZI")
+    dazi = fixed_float(line, 0, 8, path, lineno, "DAZI", kind="angle_deg")
     if dazi < 0 or dazi >= 360 or (dazi > 0 and abs(360 / dazi - round(360 / dazi)) > 1e-9):
         raise FormatError(path, lineno, "DAZI",
                           f"azimuth increment {dazi} deg must be 0 or divide 360")
@@ -574,7 +580,8 @@ def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):
                           f"expected after START OF FREQUENCY {code}")
     line = lines[k]
     pco[code] = _MM_TO_M * np.array(
-        [fixed_float(line, 10 * i, 10 * i + 10, path, k + 1, f"{code} {axis}")
+        [fixed_float(line, 10 * i, 10 * i + 10, path, k + 1, f"{code} {axis}",
+                     kind="antenna_mm")
          for i, axis in enumerate(("NORTH", "EAST", "UP"))])
     k = _next_line(labels, k, end, path, code)
     if lines[k][3:8] != "NOAZI":
@@ -613,14 +620,8 @@ def _pcv_row(line, n, path, lineno, field) -> np.ndarray:
     if len(tokens) != n:
         raise FormatError(path, lineno, field,
                           f"{len(tokens)} PCV values where ZEN1/ZEN2/DZEN gives {n}")
-    try:
-        values = np.array(tokens, dtype=float)
-    except ValueError:
-        values = None
-    if values is None or not np.all(np.isfinite(values)):
-        values = np.array([parse_float(t, path, lineno, f"{field} #{i + 1}")
-                           for i, t in enumerate(tokens)])
-    return values
+    return parse_floats(tokens, [lineno] * n, lambda i: f"{field} #{i + 1}", path,
+                        kind="antenna_mm")
 
 
 def _skip_rms(labels, k, end, path) -> int:

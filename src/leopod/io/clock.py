@@ -70,8 +70,8 @@ _VAR_NAMES = {"AS": ("sv", "clk_s", "clk_sigma_s", "satellite clock"),
               "AR": ("station", "clk_station_s", "clk_station_sigma_s", "receiver clock")}
 
 
-def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Path
-              ) -> np.ndarray:
+def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Path,
+              kind: str = "clock_s") -> np.ndarray:
     """Convert E19.12 value texts to float64; fast numpy path, exact FormatError otherwise.
 
     Blank texts become NaN (an absent optional value). A text without a complete exponent
@@ -85,7 +85,7 @@ def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Pa
             parse_float(text, path, line_nos[k], fields[k])  # raises if not a number at all
             raise FormatError(path, line_nos[k], fields[k], f"'{text}' is not an E19.12 "
                               "value (incomplete exponent: truncated?)")
-    return parse_floats(texts, line_nos, fields, path, allow_blank=True)
+    return parse_floats(texts, line_nos, fields, path, allow_blank=True, kind=kind)
 
 
 def _epoch_ns(text: str, path: Path, line_no: int) -> int:
@@ -286,7 +286,7 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
             raise FormatError(path, rec.line_nos[k], f"{rec.names[k]} clock bias",
                               "value is missing")
         sigma = _to_float(rec.sigma, rec.line_nos, [f"{n} clock sigma" for n in rec.names],
-                          path)
+                          path, "clock_s")  # peers write negative sigmas (example1.txt)
         grids = []
         for values in (bias, sigma):
             grid = np.full((all_ns.size, names.size), np.nan)

@@ -99,9 +99,7 @@ placeholders such as ``-1.000`` are kept as written. attrs: ``format``, ``crd_ve
 
 from __future__ import annotations
 
-import datetime as _dt
 import logging
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 

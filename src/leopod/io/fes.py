@@ -55,7 +55,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._fields import integer, integers, require_line_end
-from leopod.io._text import FormatError, parse_floats, parse_int, read_lines
+from leopod.io._text import FormatError, parse_floats, read_lines
 
 __all__ = ["DOODSON_ARGUMENTS", "doodson_multipliers", "read_fes_cnm"]
 

@@ -358,6 +358,9 @@ class _SatIds:
     def __call__(self, raw: str, lineno: int) -> str:
         sv = self.cache.get(raw)
         if sv is None:
+            if len(raw) != 3:
+                raise FormatError(self.path, lineno, "satellite",
+                                  f"'{raw}' is not a satellite identifier")
             system = raw[0] if raw[0] != " " or not self.v2 else "G"
             prn = raw[1:3]
             if system not in _SAT_SYSTEMS or len(raw) != 3 or not raw[2].isdigit() \
@@ -689,6 +692,22 @@ def _final_attrs(scan: _Scan, hdr: _Header, times: np.ndarray, svs: list, path) 
     return attrs
 
 
+def _check_last_line(lines, hdr: _Header, path) -> None:
+    """A file without a final line end whose last observation line ends inside an F14.3 value
+    (RINEX 2.11/3.04: values right-justified in 14 columns, then LLI and SSI) was cut inside
+    that number, which would be read with a wrong value."""
+    if getattr(lines, "final_newline", True) or len(lines) <= hdr.end:
+        return
+    last = lines[-1].rstrip()
+    v3 = hdr.version >= 3
+    if not last or (v3 and last[0] == ">"):
+        return
+    offset = 3 if v3 else 0
+    if (len(last) - offset) % _W in range(1, 14):
+        raise FormatError(path, len(lines), "observation", "the file ends inside an F14.3 "
+                          "observation value (no line end after it): cut short?")
+
+
 def read_rinex_obs(path: str | Path, systems: Iterable[str] | None = None) -> xr.Dataset:
     """Read a RINEX 2.10-2.20, 3.0x or 4.00 observation file (plain, .gz, .Z or Hatanaka).
 
@@ -722,6 +741,7 @@ def read_rinex_obs(path: str | Path, systems: Iterable[str] | None = None) -> xr
                              f"{', '.join(_SAT_SYSTEMS)})")
     lines = read_lines(path)
     hdr = _parse_header(lines, path)
+    _check_last_line(lines, hdr, path)
     scan = (_scan_v2 if hdr.version < 3 else _scan_v3)(lines, hdr, keep, path)
     ds = _build_dataset(scan, hdr, keep, path)
     log.debug("%s: %d epochs, %d satellites", path, ds.sizes["time"], ds.sizes["sv"])
