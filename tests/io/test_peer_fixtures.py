@@ -4,8 +4,11 @@ Authority: ``../shared/peer_fixtures/valid`` (files of georinex, gnssanalysis, O
 georust/rinex, gnss_lib_py, cssrlib-data; origin, commit and licence in its MANIFEST.md),
 read from ../shared at test time and never copied here; skipped when absent. Every file is
 read, except those in :data:`REFUSED`, which break a rule of their format specification and
-are refused with a FormatError naming that rule's field (issue 24); two ANTEX files whose
-'# OF FREQUENCIES' disagrees with their antennas are read with a logged warning. Values of the files that
+are refused with a FormatError naming that rule's field (issue 24). Files that break a count
+or comment rule while their values stay unambiguous are read with a logged warning (two ANTEX
+files whose '# OF FREQUENCIES' disagrees with their antennas, two RINEX clock files with more
+values than announced, an SP3 and Bias-SINEX files whose header counts disagree with a file
+complete to its EOF / %=ENDBIA, DLR's '- ' comment lines). Values of the files that
 leopod used to refuse are spot-checked against the file text (file and line cited).
 """
 
@@ -39,16 +42,9 @@ REFUSED = {
     "atx/igs14_small.atx.gz": (
         679, "END OF ANTENNA", "ANTEX 1.4: every START OF ANTENNA is closed by END OF ANTENNA "
         "(the copy was cut and pasted)"),
-    "bia/DLR0MGXFIN_20212740000_03L_01D_DSB_trunc_sat.BSX": (
-        13, None, "SINEX_BIAS 1.00 sec. 2: a line starting with '-' ends a block; a comment "
-        "line must start with '*'"),
     "clk/USNO1.txt": (37, "record type", "RINEX clock 3.04 Table A6: a data line starts with "
                       "AR/AS/CR/DR/MS (continuation lines of 2 values only)"),
-    "clk/com19402.clk": (331, "number of values", "RINEX clock: the count of values (I3) "
-                         "must equal the values of the line"),
     "clk/issue845.clk": (None, "END OF HEADER", "RINEX clock: END OF HEADER is mandatory"),
-    "clk/mit19044_truncated_300.clk": (34, "number of values", "RINEX clock: the count of "
-                                       "values (I3) must equal the values of the line"),
     "icgem/EIGEN-6S4-v2-truncated.gz": (
         75, "gfct", "not a format fault: icgem2.0 piecewise time-variable records (t0..t1 per "
         "record) are not supported by leopod (documented in leopod.io.icgem)"),
@@ -58,9 +54,6 @@ REFUSED = {
                         "3 characters ('C0' is not one)"),
     "obs/rovn0010.21o": (512, "epoch record", "RINEX 2.11: an epoch record announcing 20 "
                          "satellites must hold their 20 records (file cut short)"),
-    "sp3/GFZ0MGXRAP_20201380000_01D_05M_ORB.SP3": (
-        316, "number of epochs", "SP3-d line 1: the number of epochs (288) must be that of the "
-        "file (3: a truncated copy)"),
     "sp3/emr08874.sp3.gz": (23, "epoch", "SP3-a: the epoch line '*  YYYY MM DD HH MM SS."
                             "SSSSSSSS' has 31 columns"),
     "sp3/example-a-1.sp3": (40, "satellite", "SP3: every satellite of the records is listed "
@@ -192,3 +185,38 @@ def test_icgem_gravity_constant_of_another_body(shared):
     assert ds.attrs["gm_m3_s2"] == 4.9028010560e12
     assert ds.attrs["radius_m"] == 1.738e6
     assert ds.attrs["max_degree"] == 12
+
+
+@pytest.mark.shared
+def test_lenient_reading_of_peer_files_with_a_documented_warning(shared, caplog):
+    """Files that break a count or comment rule but whose values are unambiguous are read,
+    with a warning naming the line (issue 24: "a warning with lenient reading is kinder")."""
+    root, _ = _files(shared)
+    with caplog.at_level(logging.WARNING):
+        # com19402.clk line 331: "AS G16  2017 03 14 00 00  0.000000  2
+        # 0.288119516655E-04  0.697888811575E-10  E" (a trailing flag after the 2 values)
+        clk = read_rinex_clock(root / "clk/com19402.clk")
+        assert clk["clk_s"].sel(sv="G16").values[0] == 0.288119516655e-4
+        # mit19044_truncated_300.clk line 34: "AS G19  2016 07 07 00 00 30.000000  1
+        # -0.525123304077E-03  0.200000000000E-09": count 1, the bias is read, not the sigma
+        clk = read_rinex_clock(root / "clk/mit19044_truncated_300.clk")
+        g19 = clk.sel(sv="G19", time="2016-07-07T00:00:30")
+        assert g19["clk_s"].item() == -0.525123304077e-3
+        assert np.isnan(g19["clk_sigma_s"].item())
+        # GFZ0MGXRAP_20201380000_01D_05M_ORB.SP3: line 1 declares 288 epochs, the file holds 3
+        # and ends with EOF (line 316); line 315: "PR24  17507.081667 -15039.877151
+        # 10867.565310 ..." at the last epoch (line 219: 2020 5 17 0 10 0)
+        sp3 = read_sp3(root / "sp3/GFZ0MGXRAP_20201380000_01D_05M_ORB.SP3")
+        assert sp3.sizes["time"] == 3
+        np.testing.assert_allclose(sp3["pos_m"].sel(sv="R24").values[-1],
+                                   [17507081.667, -15039877.151, 10867565.310], atol=1e-6)
+        # DLR0MGXFIN_..._DSB_trunc_sat.BSX: "- " sentences inside +FILE/COMMENT (lines 13-24);
+        # line 52: " DSB  G063 G01           C1C  C1W  2021:274:00000 2021:275:00000 ns
+        # -1.0454      0.0117"; %=BIA announces 246696 records, the truncated copy holds 266
+        dsb = read_bias_sinex(root / "bia/DLR0MGXFIN_20212740000_03L_01D_DSB_trunc_sat.BSX")
+        assert dsb.sizes["bias"] == 266
+        assert dsb["value_s"].values[0] == pytest.approx(-1.0454e-9, rel=1e-12)
+        assert str(dsb["obs2"].values[0]) == "C1W"
+    for text in ("com19402.clk:331", "mit19044_truncated_300.clk:34", "declares 288 epochs",
+                 "DSB_trunc_sat.BSX:13", "246696"):
+        assert text in caplog.text

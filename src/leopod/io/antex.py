@@ -59,9 +59,11 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import epoch_ns
 from leopod.io._text import (
     FormatError,
     fixed_float,
+    parse_float,
     parse_floats,
     parse_int,
     read_lines,
@@ -535,7 +537,8 @@ def _dazi(line, path, lineno) -> float:
 def _zenith_grid(line, path, lineno) -> np.ndarray:
     zen1 = fixed_float(line, 0, 8, path, lineno, "ZEN1")
     zen2 = fixed_float(line, 8, 14, path, lineno, "ZEN2")
-    dzen = fixed_float(line, 14, 20, path, lineno, "DZEN")
+    # DZEN of at least 0.01 deg bounds the grid to 18 001 nodes (real files: 0.5-5 deg)
+    dzen = parse_float(line[14:20], path, lineno, "ZEN1 / ZEN2 / DZEN", lo=0.01, hi=180.0)
     if not (0 <= zen1 < zen2 <= 180) or dzen <= 0:
         raise FormatError(path, lineno, "ZEN1 / ZEN2 / DZEN",
                           f"need 0 <= ZEN1 < ZEN2 <= 180 and DZEN > 0, got {zen1} {zen2} {dzen}")
@@ -548,17 +551,12 @@ def _zenith_grid(line, path, lineno) -> np.ndarray:
 
 def _epoch(line, path, lineno, label) -> np.datetime64:
     """Decode a VALID FROM / VALID UNTIL record (5I6, F13.7) into datetime64[ns]."""
-    y, mo, d, h, mi = (parse_int(line[6 * i:6 * i + 6], path, lineno, f"{label} {name}")
+    y, mo, d, h, mi = (parse_int(line[6 * i:6 * i + 6], path, lineno, f"{label} {name}",
+                                 lo=0)
                        for i, name in enumerate(("year", "month", "day", "hour", "minute")))
     sec = fixed_float(line, 30, 43, path, lineno, f"{label} second")
-    if not (1 <= mo <= 12 and 1 <= d <= 31 and 0 <= h <= 23 and 0 <= mi <= 59
-            and 0 <= sec < 61):
-        raise FormatError(path, lineno, label, f"invalid date/time '{line[:43].strip()}'")
-    try:
-        day = np.datetime64(f"{y:04d}-{mo:02d}-{d:02d}", "ns")
-    except ValueError:
-        raise FormatError(path, lineno, label, f"invalid date '{line[:18].strip()}'") from None
-    return day + np.timedelta64(h * 3600 + mi * 60, "s") + np.timedelta64(round(sec * 1e9), "ns")
+    return np.datetime64(epoch_ns(y, mo, d, h, mi, sec, path, lineno, label,
+                                  leap_second=True), "ns")
 
 
 def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):

@@ -216,6 +216,12 @@ def _blocks(lines: list[str], path: Path) -> dict[str, tuple[int, int]]:
                                   f"block +{name} (line {first}) is not closed")
             name, first = line[1:].strip(), k + 1
         elif line.startswith("-"):
+            if name is not None and line[1:].strip() != name and name == "FILE/COMMENT":
+                # SINEX_BIAS 1.00: comment lines start with "*" or a blank; DLR's MGEX DSB
+                # files start a sentence of +FILE/COMMENT with "- ": read as comment text
+                _LOG.warning("%s:%d: line starting with '-' inside +FILE/COMMENT read as a "
+                             "comment", path, k + 1)
+                continue
             if line[1:].strip() != name:
                 raise FormatError(path, k + 1, line.strip(), "closes a block that is not open")
             blocks[name] = (first, k)

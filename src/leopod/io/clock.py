@@ -42,6 +42,7 @@ records of one clock at one epoch.
 
 from __future__ import annotations
 
+import logging
 import re
 from pathlib import Path
 
@@ -60,6 +61,8 @@ from leopod.io._text import (
 )
 
 __all__ = ["read_rinex_clock"]
+
+_LOG = logging.getLogger(__name__)
 
 _NS = 1_000_000_000
 _KINDS = ("AS", "AR")
@@ -95,7 +98,7 @@ def _epoch_ns(text: str, path: Path, line_no: int) -> int:
         raise FormatError(path, line_no, "epoch", f"'{text.strip()}' is not an epoch "
                           "(year month day hour minute second)")
     names = ("year", "month", "day", "hour", "minute")
-    ints = [parse_int(p, path, line_no, n) for p, n in zip(parts, names)]
+    ints = [parse_int(p, path, line_no, n, lo=0) for p, n in zip(parts, names)]
     seconds = parse_float(parts[5], path, line_no, "second")
     return calendar_epoch_ns(tuple(ints), seconds, path, line_no)
 
@@ -134,12 +137,13 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, int, bool]:
                                   f"clock time system ({', '.join(PRODUCT_TIME_SYSTEMS)})")
             attrs.update(time_system=code, _time_system_line=i + 1)
         elif label == "LEAP SECONDS":
-            attrs["leap_seconds"] = parse_int(content[:6], path, i + 1, "LEAP SECONDS")
+            attrs["leap_seconds"] = parse_int(content[:6], path, i + 1, "LEAP SECONDS", lo=0,
+                                              hi=99)
         elif label == "ANALYSIS CENTER":
             attrs["analysis_center"] = content[:3].strip()
             attrs["analysis_center_name"] = content[5:].strip()
         elif label == "# / TYPES OF DATA":
-            n = parse_int(content[:6], path, i + 1, "# / TYPES OF DATA")
+            n = parse_int(content[:6], path, i + 1, "# / TYPES OF DATA", lo=0, hi=99)
             types = content[6:].split()
             if len(types) != n:
                 raise FormatError(path, i + 1, "# / TYPES OF DATA", f"{n} types declared, "
@@ -192,6 +196,13 @@ def _scan(lines: list[str], first: int, wide: bool, kinds: tuple[str, ...], path
                               f"announces {n_values} values but the file ends: truncated")
         for j in range(1, n_cont + 1):
             values = values + lines[i + j].split()
+        if n_cont == 0 and len(values) > n_values:
+            # extra tokens after the announced values of a single-line record (peer files
+            # write a trailing flag "E", or a sigma after a count of 1): the announced values
+            # are unambiguous, the rest is ignored with a warning
+            _LOG.warning("%s:%d: the record announces %d values and has %d; the first %d "
+                         "are read", path, i + 1, n_values, len(values), n_values)
+            values = values[:n_values]
         if len(values) != n_values:
             raise FormatError(path, i + 1 + n_cont, "number of values", f"the record announces "
                               f"{n_values} values but has {len(values)}")

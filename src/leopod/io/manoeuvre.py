@@ -25,11 +25,13 @@ form of such a list (:mod:`leopod.io.manoeuvre_write`)::
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from leopod.io._fields import epoch_ns, require_line_end
 from leopod.io._text import FormatError, parse_float, read_lines
 
 __all__ = ["MAGIC", "Manoeuvre", "read_manoeuvres"]
@@ -66,11 +68,18 @@ class Manoeuvre:
         return np.asarray(self.acc_rtn_m_s2, dtype=float) * self.duration_s
 
 
+_ISO = re.compile(r"(\d{4})-(\d\d)-(\d\d)T(\d\d):(\d\d):(\d\d(?:\.\d{1,9})?)")
+
+
 def _epoch(text: str, path, line: int, field: str) -> np.datetime64:
-    try:
-        return np.datetime64(text, "ns")
-    except ValueError:
-        raise FormatError(path, line, field, f"not an ISO 8601 epoch: {text!r}") from None
+    """``YYYY-MM-DDThh:mm:ss[.fffffffff]`` -> datetime64[ns] (io._fields.epoch_ns rules)."""
+    m = _ISO.fullmatch(text)
+    if m is None:
+        raise FormatError(path, line, field, f"not an ISO 8601 epoch: {text!r}")
+    y, mo, d, h, mi = (int(g) for g in m.groups()[:5])
+    whole, _, frac = m.group(6).partition(".")
+    ns = epoch_ns(y, mo, d, h, mi, float(whole), path, line, field)
+    return np.datetime64(ns + int(frac.ljust(9, "0")), "ns")
 
 
 def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, str]]:
@@ -95,6 +104,7 @@ def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, 
         acceleration × duration, burns out of order or overlapping.
     """
     lines = read_lines(path)
+    require_line_end(lines, path)
     if not lines or not lines[0].startswith(MAGIC):
         raise FormatError(path, 1, "identification", f"first line must start with {MAGIC!r}")
     header: dict[str, str] = {}
@@ -116,7 +126,8 @@ def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, 
         if not end > start:
             raise FormatError(path, number, "end", f"end {parts[1]} is not after start")
         names = ("acc_R", "acc_T", "acc_N", "dv_R", "dv_T", "dv_N")
-        values = [parse_float(v, path=path, line=number, field=n)
+        values = [parse_float(v, path=path, line=number, field=n,
+                              kind="acceleration_m_s2" if n[0] == "a" else "velocity_change_m_s")
                   for v, n in zip(parts[2:], names)]
         burn = Manoeuvre(start, end, tuple(values[:3]))
         dv = np.asarray(values[3:])

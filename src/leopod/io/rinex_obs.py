@@ -60,6 +60,7 @@ from __future__ import annotations
 import datetime as _dt
 import logging
 import math
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -67,6 +68,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import YEARS
 from leopod.io._text import FormatError, fixed_float, parse_int, read_lines
 
 __all__ = ["read_rinex_obs"]
@@ -84,6 +86,10 @@ _TIME_SYSTEM_CODES = ("GPS", "GLO", "GAL", "QZS", "BDT", "IRN")
 _TYPES_V2 = "# / TYPES OF OBSERV"
 _TYPES_V3 = "SYS / # / OBS TYPES"
 _SCALE_LABELS = ("OBS SCALE FACTOR", "SYS / SCALE FACTOR")
+#: Observation codes: RINEX 2.11 Table A1 (type C/P/L/D/S, frequency 1-8; the 2.20 spaceborne
+#: extension adds frequency "A", e.g. LA, SA) and RINEX 3.04 sec. 5.1 (type C/L/D/S/X,
+#: band digit, attribute letter; "X" channel numbers).
+_OBS_CODE = {2: re.compile(r"[CPLDS][1-8A]"), 3: re.compile(r"[CLDSX][0-9][A-Z0-9]")}
 _XYZ_RECORDS = {"APPROX POSITION XYZ": "approx_position_xyz_m",
                 "ANTENNA: DELTA H/E/N": "antenna_delta_hen_m"}
 
@@ -209,7 +215,7 @@ def _parse_obs_types(records: list[tuple[int, str]], path) -> dict[str, tuple[st
         if len(codes) != count:
             raise FormatError(path, lineno, label, f"announces {count} observation types "
                               f"but lists {len(codes)}")
-        bad = [c for c in codes if len(c) != width or not c.isalnum()]
+        bad = [c for c in codes if not _OBS_CODE[width].fullmatch(c)]
         if bad:
             raise FormatError(path, lineno, label, f"'{bad[0]}' is not an observation code")
         if width == 3 and key not in _SAT_SYSTEMS:
@@ -316,8 +322,8 @@ def _epoch_time(line: str, lineno: int, path, v2: bool) -> tuple[_dt.datetime, i
     sec = fixed_float(line, *cols[5], path, lineno, "second")
     if v2:
         y += 2000 if y < 80 else 1900
-    if not 1678 <= y <= 2261:  # datetime64[ns] range: a year outside it would wrap silently
-        raise FormatError(path, lineno, "year", f"{y} is outside 1678-2261")
+    if not YEARS[0] <= y <= YEARS[1]:  # the contract's years, inside datetime64[ns]
+        raise FormatError(path, lineno, "year", f"{y} is outside {YEARS[0]}-{YEARS[1]}")
     for value, low, high, name in ((mo, 1, 12, "month"), (h, 0, 23, "hour"),
                                    (mi, 0, 59, "minute")):
         if not low <= value <= high:

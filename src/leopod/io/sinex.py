@@ -62,6 +62,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import check_count
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -151,14 +152,15 @@ def _header(path: Path, text: str) -> dict:
     field (JAXA's MGEX files) does not shift the epochs; a line that does not follow the
     columns is read split on blanks.
     """
-    columns = (text[11:14], text[15:27], text[32:44], text[45:57])
+    columns = (text[11:14], text[15:27], text[32:44], text[45:57], text[60:65])
     if _DATE.match(columns[1].strip()) and all(text[k:k + 1] in (" ", "") for k in (10, 14)):
-        agency, created, first, last = (c.strip() for c in columns)
+        agency, created, first, last, count = (c.strip() for c in columns)
     else:
         t = text.split()
         if len(t) < 7 or t[0] != "%=SNX":
             raise FormatError(path, 1, "%=SNX", "header line has too few fields")
         agency, created, first, last = t[2], t[3], t[5], t[6]
+        count = t[8] if len(t) > 8 else ""
     start = _epoch(path, 1, "%=SNX data start", first, open_ok=True)
     end = _epoch(path, 1, "%=SNX data end", last, open_ok=True)
     return {
@@ -167,6 +169,8 @@ def _header(path: Path, text: str) -> dict:
         "creation_epoch": _iso(_epoch(path, 1, "%=SNX creation epoch", created, open_ok=True)),
         "data_start": _iso(start),
         "data_end": _iso(end),
+        **({"n_estimates": parse_int(count, path, 1, "%=SNX number of estimates", lo=0)}
+           if count.isdigit() else {}),
     }
 
 
@@ -238,7 +242,11 @@ def read_sinex_stations(path: str | Path) -> xr.Dataset:
     path = Path(path)
     header, blocks = _blocks(path, read_lines(path))
     sites = _site_ids(path, _require(path, blocks, "SITE/ID"))
-    est = _estimates(path, _require(path, blocks, "SOLUTION/ESTIMATE"))
+    rows = _require(path, blocks, "SOLUTION/ESTIMATE")
+    if "n_estimates" in header:  # the file ends with %ENDSNX: complete
+        check_count(header["n_estimates"], len(rows), path, 1, "%=SNX number of estimates",
+                    "estimates", complete=True, log=_LOG)
+    est = _estimates(path, rows)
     epochs = _solution_epochs(path, blocks.get("SOLUTION/EPOCHS", []))
     keys = list(est)
     n = len(keys)
@@ -314,7 +322,7 @@ def _site_ids(path: Path, rows: list) -> dict:
             continue
         lon = _dms(path, ln, "APPROX_LON", text[44:55])
         lat = _dms(path, ln, "APPROX_LAT", text[56:67])
-        h = parse_float(text[68:75], path, ln, "APP_H", allow_blank=True)
+        h = parse_float(text[68:75], path, ln, "APP_H", allow_blank=True, lo=-1e4, hi=1e5)
         out[(site, pt)] = (_field(text, 9, 18), _field(text, 21, 43), lon, lat, h)
     return out
 
@@ -333,7 +341,7 @@ def _dms(path: Path, ln: int, field: str, text: str) -> float:
     m = _DMS.fullmatch(text)
     if m is None:
         raise FormatError(path, ln, field, f"'{text.strip()}' is not 'deg min sec'")
-    d, mi, s = (parse_float(g, path, ln, field) for g in m.groups())
+    d, mi, s = (parse_float(g, path, ln, field, lo=-360.0, hi=360.0) for g in m.groups())
     value = abs(d) + abs(mi) / 60.0 + abs(s) / 3600.0
     return -value if "-" in text else value
 
@@ -350,8 +358,10 @@ def _estimates(path: Path, rows: list) -> dict:
         expected = "m" if ptype in _STA else "m/y"
         if unit != expected:
             raise FormatError(path, ln, "UNIT", f"{ptype} in '{unit}', expected '{expected}'")
-        value = parse_float(text[47:68], path, ln, f"{ptype} ESTIMATED VALUE")
-        sigma = parse_float(text[69:80], path, ln, f"{ptype} STD_DEV", allow_blank=True)
+        kind = "position_m" if ptype in _STA else "velocity_m_s"
+        value = parse_float(text[47:68], path, ln, f"{ptype} ESTIMATED VALUE", kind=kind)
+        sigma = parse_float(text[69:80], path, ln, f"{ptype} STD_DEV", allow_blank=True,
+                            lo=0.0, hi=1e9)
         epoch = _epoch(path, ln, "REF_EPOCH", text[27:39], open_ok=False)
         entry = out.setdefault(key, {"line": ln})
         if ptype in entry:
@@ -403,7 +413,7 @@ def read_sinex_eccentricities(path: str | Path) -> xr.Dataset:
         if system not in ("UNE", "XYZ"):
             raise FormatError(path, ln, "REF SYSTEM", f"'{system}' is neither UNE nor XYZ")
         systems.append(system)
-        ecc.append([parse_float(text[a:a + 9], path, ln, f"ECCENTRICITY {c}")
+        ecc.append([parse_float(text[a:a + 9], path, ln, f"ECCENTRICITY {c}", lo=-1e4, hi=1e4)
                     for a, c in zip((45, 54, 63), "123")])
         start.append(_epoch(path, ln, "DATA_START", text[16:28], open_ok=True))
         end.append(_epoch(path, ln, "DATA_END", text[29:41], open_ok=True))

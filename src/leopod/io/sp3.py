@@ -123,12 +123,13 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         "coordinate_system": line1[46:51].strip(),
         "orbit_type": line1[52:55].strip(),
         "agency": line1[56:60].strip(),
-        "_n_epochs": parse_int(line1[32:39], path, 1, "number of epochs"),
+        "_n_epochs": parse_int(line1[32:39], path, 1, "number of epochs", lo=0),
     }
     line2 = lines[1] if len(lines) > 1 else ""
     if not line2.startswith("##"):
         raise FormatError(path, 2, "##", "the second header line must start with '##'")
-    attrs["interval_s"] = fixed_float(line2, 24, 38, path, 2, "epoch interval")
+    attrs["interval_s"] = fixed_float(line2, 24, 38, path, 2, "epoch interval",
+                                      kind="interval_s")
 
     i = 2
     plus = []
@@ -137,7 +138,8 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         i += 1
     if not plus:
         raise FormatError(path, 3, "+", "the satellite list ('+' lines) is missing")
-    n_sat = parse_int(lines[plus[0]][3:6], path, plus[0] + 1, "number of satellites")
+    n_sat = parse_int(lines[plus[0]][3:6], path, plus[0] + 1, "number of satellites", lo=1,
+                      hi=999)
     sats = []
     for k in plus:
         text = lines[k]
@@ -157,7 +159,8 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         for c in range(9, 60, 3):
             if k_sat < n_sat:
                 field = lines[i][c:c + 3]
-                exps[k_sat] = parse_int(field, path, i + 1, "accuracy") if field.strip() else 0
+                exps[k_sat] = parse_int(field, path, i + 1, "accuracy", lo=0, hi=99) \
+                    if field.strip() else 0
                 k_sat += 1
         i += 1
     with np.errstate(over="ignore"):
@@ -280,14 +283,18 @@ def _record_arrays(rec: _Records, sats: list[str], names: tuple[str, ...], path:
     """Numeric columns of P or V records: values (N, 4) and exponents (N, 4), NaN if blank."""
     values = np.empty((len(rec.texts), 4))
     exps = np.empty((len(rec.texts), 4))
+    # ranges of io._fields.RANGES in the file's units: km and µs (P), dm/s and 1e-4 µs/s (V);
+    # the clock range holds the 999999.999999 "bad or absent" marker
+    kinds = ("position_km",) * 3 + ("clock_us",) if names[0] == "x" else \
+        ("velocity_dm_s",) * 3 + ("clock_us",)
     for j, ((start, stop), name) in enumerate(zip(_REC_COLS, names)):
         values[:, j] = parse_floats([t[start:stop] for t in rec.texts], rec.line_nos,
-                                 lambda i, name=name: f"{sats[rec.sat[i]]} {name}", path,
-                                 allow_blank=(j == 3))
+                                    lambda i, name=name: f"{sats[rec.sat[i]]} {name}", path,
+                                    allow_blank=(j == 3), kind=kinds[j])
     for j, ((start, stop), name) in enumerate(zip(_EXP_COLS, names)):
         exps[:, j] = parse_floats([t[start:stop] for t in rec.texts], rec.line_nos,
-                               lambda i, name=name: f"{sats[rec.sat[i]]} {name} exponent",
-                               path, allow_blank=True)
+                                  lambda i, name=name: f"{sats[rec.sat[i]]} {name} exponent",
+                                  path, allow_blank=True, lo=0, hi=999)
     return values, exps
 
 
@@ -318,12 +325,12 @@ def _check_epochs(attrs: dict, epochs: list[int], epoch_lines: list[int], pos: _
         raise FormatError(path, epoch_lines[bad[0] + 1], "epoch",
                           "epochs are not in increasing order")
     declared = attrs["_n_epochs"]
-    if len(epochs) < declared:
+    if len(epochs) < declared and not eof:
         raise FormatError(path, n_lines, "number of epochs", f"the header declares {declared} "
                           f"epochs but the file has {len(epochs)}: the file is truncated")
-    if len(epochs) > declared:
-        logger.warning("%s: header declares %d epochs, file has %d; all are read",
-                       path, declared, len(epochs))
+    if len(epochs) != declared:  # a complete file (closed by EOF): io._fields.check_count
+        logger.warning("%s: header declares %d epochs, file has %d and ends with EOF; all "
+                       "are read", path, declared, len(epochs))
     if not eof:
         last = len(epochs) - 1
         n_pos = sum(1 for e in pos.epoch if e == last)
