@@ -37,7 +37,9 @@ Errors
 ``# / TYPES OF DATA`` or ``END OF HEADER`` record, a file that is not a clock file, a bad
 epoch, a bad or non-finite value (field ``"<name> clock bias"`` / ``"<name> clock sigma"``),
 a record whose number of values disagrees with the values present (e.g. truncated), and two
-records of one clock at one epoch.
+records of one clock at one epoch. A single-line record with more values than it announces
+(peer files write a trailing flag, or a sigma after a count of 1) is read with the announced
+values and a logged warning. Values and sigmas lie within +-1000 s (io._fields "clock_s").
 """
 
 from __future__ import annotations

@@ -107,7 +107,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
-from leopod.io._fields import epoch_ns, integers, numbers
+from leopod.io._fields import epoch_ns, integers, numbers, require_line_end
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines
 
 __all__ = ["ilrs_id_to_cospar", "read_crd"]
@@ -220,7 +220,9 @@ def read_crd(path: str | Path, record: str = "normal_point") -> xr.Dataset:
     if record not in _RECORD_OF:
         raise ValueError(f"record must be 'normal_point' or 'full_rate', not {record!r}")
     path = Path(path)
-    scan = _scan(path, read_lines(path))
+    lines = read_lines(path)
+    require_line_end(lines, path)
+    scan = _scan(path, lines)
     rid = _RECORD_OF[record]
     rows = scan.rows[rid]
     if not rows:

@@ -40,6 +40,11 @@ attrs
     ``dcb_type`` (e.g. "P1-C1"), ``title`` (first line), ``year`` and ``month`` and
     ``period_start``/``period_end`` (ISO dates, end exclusive) when the title names a month,
     ``time_system`` ("GPS", implied by the CODE products).
+
+Errors: :class:`leopod.io.FormatError` naming file, line and field for a missing block or
+column header, a row that is neither a satellite nor a station, a value outside +-1e6 ns or a
+negative RMS (reader contract, :mod:`leopod.io._fields`), and a row that ends before column 47
+where its right-justified RMS ends (a file cut inside its last number).
 """
 
 from __future__ import annotations

@@ -42,8 +42,10 @@ Attributes
 Errors
 ------
 :class:`leopod.io.FormatError` for a missing column line or unit, a record without 8 fields,
-a malformed Doodson number, a non-numeric field, an (n, m) outside 0 <= m <= n, a record given
-twice, one wave name with two Doodson numbers, and a file without records.
+a malformed Doodson number, a non-numeric field or one outside +-1e6 (in the file's unit), an
+(n, m) outside 0 <= m <= n <= 1000 (a bound that keeps a corrupt degree from sizing arrays of
+hundreds of GiB), a record given twice, one wave name with two Doodson numbers, a file without
+records, and a file whose last line has no line end (cut inside its last record).
 """
 
 from __future__ import annotations

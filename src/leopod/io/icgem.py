@@ -47,8 +47,11 @@ keyword (product_type, modelname, earth_gravity_constant, radius, max_degree), a
 record key, a record with the wrong number of fields (e.g. truncated), a non-numeric or
 non-finite value, a degree/order outside 0 <= m <= n <= max_degree, a coefficient given twice,
 records of one key with different numbers of fields, time-variable records with different
-reference epochs, and a file whose declared maximum degree lacks some orders (truncated). A
-file cut inside the last digits of a number cannot be detected in this free format.
+reference epochs, a file whose declared maximum degree lacks some orders (truncated), and a
+file whose last line has no line end (cut inside its last record: in this free format the
+cut number could not be told from a shorter one). Values follow the reader contract of
+:mod:`leopod.io._fields`: coefficients within +-10, standard deviations 0..10, degrees and
+orders 0..10800, GM and radius in physical ranges.
 """
 
 from __future__ import annotations
@@ -59,7 +62,7 @@ import numpy as np
 import xarray as xr
 from scipy.special import gammaln
 
-from leopod.io._fields import integers
+from leopod.io._fields import integers, require_line_end
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -249,6 +252,7 @@ def read_icgem(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
     """
     path = Path(path)
     lines = read_lines(path)
+    require_line_end(lines, path)
     attrs, first = _parse_header(lines, path)
     n_file = attrs["max_degree_file"]
     if max_degree is None:

@@ -49,7 +49,16 @@ absent). ``component`` is ``[x, y, z]`` or ``[u, n, e]`` when all lines share on
 ``[x|u, y|n, z|e]`` when they are mixed; ``attrs["ref_system"]`` is "XYZ", "UNE" or "mixed".
 
 attrs of both: ``format`` ("SINEX 2.02"), ``agency``, ``creation_epoch``, ``data_start``,
-``data_end`` (ISO strings, "" if open), ``time_system`` ("UTC"), ``source``.
+``data_end`` (ISO strings, "" if open), ``n_estimates`` (of the header line, when given),
+``time_system`` ("UTC"), ``source``.
+
+The ``%=SNX`` header line is read in its fixed columns (SINEX 2.02: blank agency fields, as in
+JAXA's MGEX files, do not shift the epochs). A SOLN field of dashes (``----``, SINEX 2.02
+Appendix I: a field without a value is filled with "-"; IGS combinations write it in
+SOLUTION/EPOCHS and SITE/ECCENTRICITY) is read as :data:`ANY_SOLUTION` (-1), a record that
+holds for every solution of the site. A header estimate count that disagrees with
+SOLUTION/ESTIMATE of the complete file is logged as a warning. Values follow the reader
+contract (:mod:`leopod.io._fields`): positions within 1e9 m, velocities within 1e5 m/y.
 """
 
 from __future__ import annotations

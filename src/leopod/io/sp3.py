@@ -38,8 +38,12 @@ Bad input raises :class:`leopod.io.FormatError` naming file, line and field: a m
 or second header line, a missing satellite list, an unreadable epoch (``*``) line, a bad numeric
 field of a P/V record (field ``"<sv> x|y|z|clock"``, ``"<sv> vx|vy|vz|clock rate"``), a satellite
 absent from the header list, two records of one satellite at one epoch, epochs out of order,
-fewer epochs than the header declares (a truncated file), and a file without ``EOF`` whose last
-epoch lacks some satellites. More epochs than declared is only logged as a warning.
+fewer epochs than the header declares in a file without ``EOF`` (truncated), and a file
+without ``EOF`` whose last epoch lacks some satellites. A file complete to its ``EOF`` whose
+epoch count disagrees with the header is read with a logged warning (GFZ's MGEX rapid orbits
+kept by gnss_lib_py declare 288 epochs and hold 3). Fields follow the reader contract
+(:mod:`leopod.io._fields`): positions within 1e6 km, clocks within 1e6 µs (999999.999999 is
+the "bad" marker), a satellite count of 1..999.
 """
 
 from __future__ import annotations

@@ -38,8 +38,10 @@ Attributes
 Errors
 ------
 :class:`leopod.io.FormatError` (file, line, field) for a header that is not the CelesTrak CSV
-header, a row with the wrong number of fields, an invalid or non-increasing date, a
-non-numeric value, a Kp outside 0..9, a negative ap/Ap or F10.7, and an unknown F10.7 type.
+header, a row with the wrong number of fields, an invalid, blank or non-increasing date (years
+1900-2199), a non-numeric value or one outside +-1e6, a Kp outside 0..9, a negative ap/Ap or
+F10.7, a Bartels rotation outside 0..99999 or day outside 0..27, an unknown F10.7 type, and a
+file whose last line has no line end (cut inside its last row).
 
 MSIS inputs
 -----------

@@ -40,6 +40,11 @@ attrs
     ``time_system`` (from a ``TIME SYSTEM ID`` header record if present, else "GPS", the
     RINEX clock default), ``record_type`` ("WL"), ``n_records``, ``source`` (the documents
     cited here).
+
+Errors: :class:`leopod.io.FormatError` naming file, line and field; epochs follow the reader
+contract (years 1900-2199), values lie within +-1e6 cycles with a non-negative sigma, and a
+value that is not an E19.12 number with its two-digit exponent (a line cut inside it) is
+refused.
 """
 
 from __future__ import annotations
