@@ -3,8 +3,9 @@
 Seeds are small *valid* files built at run time from the real data in ``../shared`` (a few
 records of each product, with the header counts that the excerpt changes set to the excerpt's;
 none is copied into the repository). Where ``../shared`` holds no file of a format (WL biases,
-manoeuvre lists, BLQ) the seed is written by leopod's own writer from values of a real file, or
-is the typed BLQ excerpt of ``tests/validation/test_station_displacement.py``.
+manoeuvre lists, BLQ) the seed is written by leopod's own writer (values of the GRACE-A day),
+or is the BLQ text of ``tests/validation/test_station_displacement.py`` (the Onsala service's
+layout with synthetic numbers).
 
 A *case* is one mutation of one seed, reproducible from ``(reader, index)`` alone: truncation,
 bit flips, character edits, deleted/duplicated/swapped lines, numeric fields replaced by
@@ -36,6 +37,7 @@ import contextlib
 import dataclasses
 import gzip
 import logging
+import os
 import random
 import re
 import signal
@@ -77,7 +79,15 @@ def _seed_rinex3(d: Path, tmp: Path) -> list[str]:
     src = tmp / "v2.obs"
     src.write_text("\n".join(_seed_rinex2(d)) + "\n")
     out = tmp / "v3.rnx"
-    write_rinex_obs(read_rinex_obs(src), out, version=3.04)
+    old = os.environ.get("SOURCE_DATE_EPOCH")
+    os.environ["SOURCE_DATE_EPOCH"] = "1174435200"  # the header date: 2007-03-21, reproducible
+    try:
+        write_rinex_obs(read_rinex_obs(src), out, version=3.04)
+    finally:
+        if old is None:
+            del os.environ["SOURCE_DATE_EPOCH"]
+        else:
+            os.environ["SOURCE_DATE_EPOCH"] = old
     return _text(out)
 
 
@@ -227,7 +237,7 @@ def _seed_manoeuvre(d: Path, tmp: Path) -> list[str]:
 
 
 def _seed_blq(d: Path) -> list[str]:
-    """The typed BLQ excerpt (Onsala loading service) of the station-displacement tests."""
+    """The BLQ text of the station-displacement tests (Onsala layout, synthetic numbers)."""
     src = (REPO / "tests/validation/test_station_displacement.py").read_text()
     for node in ast.parse(src).body:
         if isinstance(node, ast.Assign) and getattr(node.targets[0], "id", "") == "BLQ_TEXT":
