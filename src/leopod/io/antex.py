@@ -586,7 +586,8 @@ def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):
         raise FormatError(path, k + 1, "NOAZI", f"expected the NOAZI line of frequency {code}")
     noazi[code] = _MM_TO_M * _pcv_row(lines[k], len(zen), path, k + 1, f"{code} NOAZI")
     if n_az:
-        rows = np.empty((n_az, len(zen)))
+        n = len(zen)
+        tokens, line_nos = [], []
         for i in range(n_az):
             k = _next_line(labels, k, end, path, code)
             line = lines[k]
@@ -595,8 +596,15 @@ def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):
                 raise FormatError(path, k + 1, f"{code} azimuth",
                                   f"azimuth {az} where {i * dazi:g} was expected "
                                   f"(DAZI = {dazi:g})")
-            rows[i] = _pcv_row(line, len(zen), path, k + 1, f"{code} azimuth {az:g}")
-        grid[code] = _MM_TO_M * rows
+            row = line[8:].split()
+            if len(row) != n:
+                raise FormatError(path, k + 1, f"{code} azimuth {az:g}",
+                                  f"{len(row)} PCV values where ZEN1/ZEN2/DZEN gives {n}")
+            tokens += row
+            line_nos += [k + 1] * n
+        values = parse_floats(tokens, line_nos, lambda j: f"{code} azimuth {(j // n) * dazi:g} "
+                              f"#{j % n + 1}", path, kind="antenna_mm")
+        grid[code] = _MM_TO_M * values.reshape(n_az, n)
     k = _next_line(labels, k, end, path, code)
     if labels[k] != "END OF FREQUENCY" or lines[k][3:6] != code:
         raise FormatError(path, k + 1, "END OF FREQUENCY",

@@ -57,12 +57,13 @@ not adjusted, F10.7 is used, as the MSIS models expect the flux at the Earth's d
 from __future__ import annotations
 
 import logging
+import re
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from leopod.io._fields import epoch_ns, integer, require_line_end
+from leopod.io._fields import YEARS, epoch_ns, require_line_end
 from leopod.io._text import FormatError, parse_floats, read_lines
 
 __all__ = ["F107_BURST_THRESHOLD_SFU", "msis_inputs", "read_space_weather"]
@@ -104,6 +105,9 @@ _DAILY = (
 )
 
 
+_DATE = re.compile(r"\d{4}-\d\d-\d\d")
+
+
 def _split_rows(lines: list[str], path: Path) -> tuple[np.ndarray, list[int]]:
     """Check the header and split the data rows into fields (1-based line numbers kept)."""
     if not lines or lines[0].strip() != _HEADER:
@@ -124,14 +128,23 @@ def _split_rows(lines: list[str], path: Path) -> tuple[np.ndarray, list[int]]:
 
 def _dates(texts: list[str], line_nos: list[int], path: Path) -> np.ndarray:
     """Parse ISO dates, checking validity and strict increase."""
-    ns = []
-    for text, no in zip(texts, line_nos):
-        parts = text.split("-")
-        if len(parts) != 3 or [len(p) for p in parts] != [4, 2, 2]:
-            raise FormatError(path, no, "DATE", f"'{text}' is not a date YYYY-MM-DD")
-        y, m, d = (integer(p, path, no, "DATE", lo=0) for p in parts)
-        ns.append(epoch_ns(y, m, d, 0, 0, 0.0, path, no, "DATE"))
-    dates = np.array(ns, dtype="datetime64[ns]").astype("datetime64[D]")
+    malformed = [k for k, text in enumerate(texts) if not _DATE.fullmatch(text)]
+    if malformed:
+        k = malformed[0]
+        raise FormatError(path, line_nos[k], "DATE", f"'{texts[k]}' is not a date YYYY-MM-DD")
+    try:
+        dates = np.asarray(texts, dtype="datetime64[D]")
+    except ValueError:  # an impossible date: find it, with its line (io._fields rules)
+        for text, no in zip(texts, line_nos):
+            y, m, d = (int(p) for p in text.split("-"))
+            epoch_ns(y, m, d, 0, 0, 0.0, path, no, "DATE")
+        raise  # pragma: no cover - numpy failed on the list but on no single text
+    years = dates.astype("datetime64[Y]").astype(np.int64) + 1970
+    out = np.flatnonzero((years < YEARS[0]) | (years > YEARS[1]))
+    if out.size:
+        k = out[0]
+        raise FormatError(path, line_nos[k], "DATE", f"year {years[k]} outside "
+                          f"{YEARS[0]}-{YEARS[1]}")
     bad = np.flatnonzero(np.diff(dates) <= np.timedelta64(0, "D"))
     if bad.size:
         no = line_nos[bad[0] + 1]
