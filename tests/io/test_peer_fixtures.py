@@ -8,7 +8,10 @@ are refused with a FormatError naming that rule's field (issue 24). Files that b
 or comment rule while their values stay unambiguous are read with a logged warning (two ANTEX
 files whose '# OF FREQUENCIES' disagrees with their antennas, two RINEX clock files with more
 values than announced, an SP3 and Bias-SINEX files whose header counts disagree with a file
-complete to its EOF / %=ENDBIA, DLR's '- ' comment lines). Values of the files that
+complete to its EOF / %=ENDBIA, DLR's '- ' comment lines, ANTEX antennas closed by the next
+START OF ANTENNA, an SP3-a epoch line with 7 decimals, ILRS '%/*' SP3 comments, unannounced
+continuation lines of clock records leopod does not read, a RINEX header position out of its
+columns). Values of the files that
 leopod used to refuse are spot-checked against the file text (file and line cited).
 """
 
@@ -39,31 +42,22 @@ READERS = {
 
 #: Files refused on purpose: (folder/name) -> (line, field of the FormatError, the rule broken).
 REFUSED = {
-    "atx/igs14_small.atx.gz": (
-        679, "END OF ANTENNA", "ANTEX 1.4: every START OF ANTENNA is closed by END OF ANTENNA "
-        "(the copy was cut and pasted)"),
-    "clk/USNO1.txt": (37, "record type", "RINEX clock 3.04 Table A6: a data line starts with "
-                      "AR/AS/CR/DR/MS (continuation lines of 2 values only)"),
     "clk/issue845.clk": (None, "END OF HEADER", "RINEX clock: END OF HEADER is mandatory"),
     "icgem/EIGEN-6S4-v2-truncated.gz": (
         75, "gfct", "not a format fault: icgem2.0 piecewise time-variable records (t0..t1 per "
         "record) are not supported by leopod (documented in leopod.io.icgem)"),
-    "obs/demo.10o": (13, "APPROX POSITION XYZ", "RINEX 2.11 Table A1: APPROX POSITION XYZ is "
-                     "3F14.4 (the file writes '1    176610.01' in a field)"),
     "obs/embe083.06o": (13, "SYS / # / OBS TYPES", "RINEX 3 sec. 5.1: observation codes have "
                         "3 characters ('C0' is not one)"),
     "obs/rovn0010.21o": (512, "epoch record", "RINEX 2.11: an epoch record announcing 20 "
                          "satellites must hold their 20 records (file cut short)"),
-    "sp3/emr08874.sp3.gz": (23, "epoch", "SP3-a: the epoch line '*  YYYY MM DD HH MM SS."
-                            "SSSSSSSS' has 31 columns"),
     "sp3/example-a-1.sp3": (40, "satellite", "SP3: every satellite of the records is listed "
                             "in the header (G03 is not)"),
     "sp3/example2.sp3a": (30, "record", "SP3: a data line starts with '*', 'P', 'V', 'EP', "
                           "'EV' or 'EOF'"),
     "sp3/igs19362.sp3c.gz": (1, "version", "SP3: the first line starts with '#a'..'#d'"),
-    "sp3/issue895-hours-increment.sp3": (113, "epoch", "SP3: an epoch's hour is 0-23"),
-    "sp3/issue895-no-eof.sp3": (19, "header", "SP3: '%/*' is not a header line identifier "
-                                "(comment lines start with '/*')"),
+    "sp3/issue895-hours-increment.sp3": (113, "epoch", "SP3: an epoch's hour is 0-23 (the file "
+                                         "writes '2016  7  7 24  0' for 7 July 00:00, which "
+                                         "ISO 8601 would read as 8 July: ambiguous)"),
 }
 
 
@@ -219,4 +213,37 @@ def test_lenient_reading_of_peer_files_with_a_documented_warning(shared, caplog)
         assert str(dsb["obs2"].values[0]) == "C1W"
     for text in ("com19402.clk:331", "mit19044_truncated_300.clk:34", "declares 288 epochs",
                  "DSB_trunc_sat.BSX:13", "246696"):
+        assert text in caplog.text
+
+
+@pytest.mark.shared
+def test_more_lenient_reading_of_peer_files(shared, caplog):
+    root, _ = _files(shared)
+    with caplog.at_level(logging.WARNING):
+        # igs14_small.atx: the GALILEO-2 E04 antenna of line 512 is closed by the START OF
+        # ANTENNA of line 679; its frequencies E05 and E07 are read
+        atx = read_antex(root / "atx/igs14_small.atx.gz")
+        e04 = [a for a in atx.antennas if a.serial == "E04"]
+        assert len(atx.antennas) == 6 and e04[0].frequencies == ("E05", "E07")
+        # emr08874.sp3 line 23: "*  1997  1  9  0  0   .0000000" (30 columns, SP3-a wants 31);
+        # line 24: "P  1  15216.987064  21732.838988   1335.487660     10.539895"
+        emr = read_sp3(root / "sp3/emr08874.sp3.gz")
+        assert emr["time"].values[0] == np.datetime64("1997-01-09T00:00:00", "ns")
+        np.testing.assert_allclose(emr["pos_m"].sel(sv="G01").values[0],
+                                   [15216987.064, 21732838.988, 1335487.660], atol=1e-6)
+        # issue895-no-eof.sp3 line 19: "%/* ilrsa.orb.lageos1.220101.v70.sp3 Reference TRF:
+        # SLRF2008" (ILRS comment lines)
+        ilrs = read_sp3(root / "sp3/issue895-no-eof.sp3")
+        assert ilrs.attrs["comments"].startswith("ilrsa.orb.lageos1.220101.v70.sp3")
+        # USNO1.txt lines 36-37: "DR USNO 1994 07 14 20 59  0.000000  2 ..." followed by an
+        # unannounced continuation line; line 35: "AS G16 ... 2   -0.123456789012E+00
+        # -0.123456789012E+01"
+        usno = read_rinex_clock(root / "clk/USNO1.txt", ("AS", "AR"))
+        assert usno["clk_s"].sel(sv="G16").values[0] == -0.123456789012
+        # demo.10o line 13: "   4789028.4701    176610.0133   4195017.0310" (shifted by one
+        # column from the F14.4 fields of APPROX POSITION XYZ)
+        demo = read_rinex_obs(root / "obs/demo.10o")
+        assert demo.attrs["approx_position_xyz_m"] == "4789028.4701 176610.0133 4195017.0310"
+    for text in ("igs14_small.atx.gz:679", "issue895-no-eof.sp3:19", "USNO1.txt:37",
+                 "demo.10o:13"):
         assert text in caplog.text

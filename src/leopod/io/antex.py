@@ -410,9 +410,9 @@ def read_antex(path: str | Path) -> AntexFile:
     while k < n:
         label = labels[k]
         if label == "START OF ANTENNA":
-            end = _end_of_antenna(labels, k, path)
+            end, k_next = _end_of_antenna(labels, k, path)
             antennas.append(_parse_antenna(lines, labels, k, end, path, attrs))
-            k = end + 1
+            k = k_next
         elif label in _IGNORED and (label or not lines[k].strip()):
             k += 1
         else:
@@ -447,15 +447,21 @@ def _parse_header(lines, labels, path) -> tuple[dict, int]:
     raise FormatError(path, None, "END OF HEADER", "mandatory header record missing")
 
 
-def _end_of_antenna(labels, start, path) -> int:
-    """Index of the END OF ANTENNA closing the block opened at ``start``."""
+def _end_of_antenna(labels, start, path) -> tuple[int, int]:
+    """(index ending the block opened at ``start``, index where the next block may start).
+
+    The block ends at its END OF ANTENNA; a block that the next START OF ANTENNA opens
+    without one (a subset file cut and pasted, e.g. georust's igs14_small.atx) ends there,
+    with a logged warning: its records up to END OF FREQUENCY are complete and are checked.
+    """
     for j in range(start + 1, len(labels)):
         if labels[j] == "END OF ANTENNA":
-            return j
+            return j, j + 1
         if labels[j] == "START OF ANTENNA":
-            raise FormatError(path, j + 1, "END OF ANTENNA",
-                              f"antenna opened at line {start + 1} is not closed before "
-                              "the next START OF ANTENNA")
+            log.warning("%s:%d: antenna opened at line %d is not closed by END OF ANTENNA "
+                        "before the next START OF ANTENNA; closed there", path.name, j + 1,
+                        start + 1)
+            return j, j
     raise FormatError(path, len(labels), "END OF ANTENNA",
                       f"antenna opened at line {start + 1} is not closed (file truncated?)")
 

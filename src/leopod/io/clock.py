@@ -51,6 +51,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import is_number
 from leopod.io._text import (
     PRODUCT_TIME_SYSTEMS,
     FormatError,
@@ -215,7 +216,17 @@ def _scan(lines: list[str], first: int, wide: bool, kinds: tuple[str, ...], path
             rec.line_nos.append(i + 1)
             rec.bias.append(values[0])
             rec.sigma.append(values[1] if n_values > 1 else "")
+        record_no = i + 1
         i += 1 + n_cont
+        if kind not in _KINDS:
+            # records leopod does not read (CR, DR, MS): numeric continuation lines that the
+            # count does not announce (georust's USNO1.txt) are skipped with a warning
+            while i < n_lines and lines[i][:1] == " " and lines[i].split() and \
+                    all(is_number(t) for t in lines[i].split()):
+                _LOG.warning("%s:%d: continuation line of the %s record of line %d not "
+                             "announced by its count; skipped (record type not read)", path,
+                             i + 1, kind, record_no)
+                i += 1
     return out
 
 

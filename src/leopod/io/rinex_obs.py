@@ -68,8 +68,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._fields import YEARS
-from leopod.io._text import FormatError, fixed_float, parse_int, read_lines
+from leopod.io._fields import YEARS, is_number
+from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
 
 __all__ = ["read_rinex_obs"]
 
@@ -135,8 +135,21 @@ def _text_attrs(line: str, label: str) -> dict:
 
 
 def _three_floats(line: str, path, lineno: int, label: str) -> str:
-    """Three F14.4 fields of a header record -> "x y z" string [m]."""
-    values = [fixed_float(line, 14 * k, 14 * (k + 1), path, lineno, label) for k in range(3)]
+    """Three F14.4 fields of a header record -> "x y z" string [m].
+
+    A record whose numbers are shifted out of their columns (georinex's demo.10o) but are
+    three numbers all the same is read from its blank-separated fields with a warning: the
+    values are unambiguous and only informative (attributes)."""
+    try:
+        values = [fixed_float(line, 14 * k, 14 * (k + 1), path, lineno, label,
+                              kind="position_m") for k in range(3)]
+    except FormatError:
+        tokens = line[:60].split()
+        if len(tokens) != 3 or not all(is_number(t) for t in tokens):
+            raise
+        log.warning("%s:%d: %s not in its F14.4 columns; read from its 3 numbers", path,
+                    lineno, label)
+        values = [parse_float(t, path, lineno, label, kind="position_m") for t in tokens]
     return " ".join(f"{v:.4f}" for v in values)
 
 

@@ -193,6 +193,9 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
                                              allow_blank=True)
         elif text.startswith("/*"):
             comments.append(text[2:].strip())
+        elif text.startswith("%/*"):  # ILRS combination files (Orekit issue 895): a comment
+            logger.warning("%s:%d: '%%/*' header line read as a comment", path, i + 1)
+            comments.append(text[3:].strip())
         elif not text.startswith(("%c", "%f", "%i")) and text.strip():
             raise FormatError(path, i + 1, "header", f"unexpected header line '{text[:20]}'")
         i += 1
@@ -202,18 +205,26 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
     return attrs, sat_ids, accuracy, i
 
 
-def _parse_epoch_line(text: str, path: Path, line_no: int) -> int:
-    """Epoch of a ``*`` line in ns since 1970-01-01."""
-    if len(text.rstrip()) < 31:
+def _parse_epoch_line(text: str, path: Path, line_no: int, last: bool = True) -> int:
+    """Epoch of a ``*`` line in ns since 1970-01-01.
+
+    The line has 31 columns (seconds F11.8). A shorter line is refused as cut when it is the
+    last line of the file; inside the file (``last`` False) a seconds field that ends early
+    is read as written (EMR's SP3-a files of 1997 write ``.0000000`` ending in column 30).
+    Hour 24 is refused: Orekit's issue-895 file writes ``2016  7  7 24  0`` for 7 July 00:00,
+    which ISO 8601 would read as 8 July.
+    """
+    length = len(text.rstrip())
+    if length < 31 and (last or length < 22):
         raise FormatError(path, line_no, "epoch", "the epoch ('*') record is truncated: "
                           f"'{text.rstrip()}' (31 columns expected)")
-    parts = (parse_int(text[3:7], path, line_no, "year"),
-             parse_int(text[8:10], path, line_no, "month"),
-             parse_int(text[11:13], path, line_no, "day"),
-             parse_int(text[14:16], path, line_no, "hour"),
-             parse_int(text[17:19], path, line_no, "minute"))
+    parts = [parse_int(text[3:7], path, line_no, "year", lo=0),
+             parse_int(text[8:10], path, line_no, "month", lo=0),
+             parse_int(text[11:13], path, line_no, "day", lo=0),
+             parse_int(text[14:16], path, line_no, "hour", lo=0),
+             parse_int(text[17:19], path, line_no, "minute", lo=0)]
     seconds = fixed_float(text, 20, 31, path, line_no, "second")
-    return calendar_epoch_ns(parts, seconds, path, line_no)
+    return calendar_epoch_ns(tuple(parts), seconds, path, line_no)
 
 
 class _Records:
@@ -262,7 +273,7 @@ def _scan_data(lines: list[str], first: int, sat_index: dict[str, int], path: Pa
         text = lines[i]
         kind = text[:1]
         if kind == "*":
-            epochs.append(_parse_epoch_line(text, path, i + 1))
+            epochs.append(_parse_epoch_line(text, path, i + 1, last=i + 1 == len(lines)))
             epoch_lines.append(i + 1)
         elif kind in ("P", "V"):
             sv = _sat_id(text[1:4], path, i + 1)
