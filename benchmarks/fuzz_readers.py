@@ -11,7 +11,7 @@ The address space of the process is limited (``--memory-gb``) so that a reader a
 hundreds of GiB fails fast (counted as a crash) instead of swapping.
 
     .venv/bin/python benchmarks/fuzz_readers.py --cases 10000 [--readers sp3 clock]
-        [--json out.json]
+        [--accepted] [--json out.json]
 
 Exit status 1 if any reader crashed, hung or returned a suspect value.
 """
@@ -24,6 +24,7 @@ import resource
 import sys
 import tempfile
 import time
+from collections import Counter
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -41,6 +42,8 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=5.0, help="seconds per case")
     parser.add_argument("--memory-gb", type=float, default=6.0, help="address-space limit")
     parser.add_argument("--examples", type=int, default=3, help="failures listed per kind")
+    parser.add_argument("--accepted", action="store_true",
+                        help="count the accepted cases by mutation kind")
     parser.add_argument("--json", type=Path, help="write every non-accepted-or-refused case")
     parser.add_argument("--shared", type=Path, default=REPO.parent / "shared" / "data")
     args = parser.parse_args()
@@ -68,6 +71,10 @@ def main() -> int:
             for kind in ("crash", "hang", "suspect"):
                 for i, detail in res[kind][:args.examples]:
                     print(f"    {kind} #{i}: {detail}")
+            if args.accepted:
+                kinds = Counter(k for _, detail in res["accepted"] for k in detail.split("+"))
+                print("    accepted mutations by kind: " + ", ".join(
+                    f"{k} {n}" for k, n in kinds.most_common()))
             report[name] = {"counts": n, **{k: res[k] for k in ("crash", "hang", "suspect")}}
     if args.json:
         args.json.write_text(json.dumps(report, indent=1))

@@ -51,7 +51,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._fields import is_number
+from leopod.io._fields import RANGES, is_number
 from leopod.io._text import (
     PRODUCT_TIME_SYSTEMS,
     FormatError,
@@ -245,6 +245,22 @@ def _epochs(recs: dict[str, _Collected], path: Path) -> dict[str, np.ndarray]:
     return out
 
 
+def _check_interval(interval_s: float, recs: dict, epochs: dict, kinds, path: Path) -> None:
+    """The median epoch spacing is an epoch interval (io._fields "interval_s": up to 1e6 s,
+    11.6 days); a larger one means a date of the file is wrong (e.g. one digit of a year
+    changed): the error names the first record after the largest gap."""
+    low, high = RANGES["interval_s"]
+    if interval_s <= high:
+        return
+    ns = np.concatenate([epochs[k] for k in kinds])
+    lines = np.concatenate([np.asarray(recs[k].line_nos, dtype=np.int64) for k in kinds])
+    order = np.argsort(ns, kind="stable")
+    k = order[int(np.argmax(np.diff(ns[order]))) + 1]
+    raise FormatError(path, int(lines[k]), "epoch", f"the epochs are {interval_s:.3g} s apart "
+                      f"(median), more than an epoch interval can be ({high:g} s): a wrong "
+                      "date?")
+
+
 def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
                      gps_time: bool = False) -> xr.Dataset:
     """Read a RINEX clock file (2.00, 3.00-3.04; plain, .gz or .Z).
@@ -323,5 +339,6 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
     main = epochs["AS"] if "AS" in kinds and epochs["AS"].size else all_ns
     steps = np.diff(np.unique(main))
     attrs["interval_s"] = float(np.median(steps)) / 1e9 if steps.size else 0.0
+    _check_interval(attrs["interval_s"], recs, epochs, kinds, path)
     attrs["filename"] = path.name
     return xr.Dataset(data, coords=coords, attrs=attrs)
