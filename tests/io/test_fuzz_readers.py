@@ -12,7 +12,7 @@ from __future__ import annotations
 import _fuzz
 import pytest
 
-CASES = range(200)
+CASES = range(300)
 READERS = list(_fuzz._readers())
 
 

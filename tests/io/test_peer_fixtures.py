@@ -37,15 +37,13 @@ READERS = {
     "obs": read_rinex_obs, "sp3": read_sp3, "clk": lambda p: read_rinex_clock(p, ("AS", "AR")),
     "atx": read_antex, "bia": read_bias_sinex, "snx": read_sinex_stations,
     "ecc": read_sinex_eccentricities, "crd_np": lambda p: read_crd(p, "normal_point"),
-    "crd_fr": lambda p: read_crd(p, "full_rate"), "icgem": read_icgem, "dcb": read_code_dcb,
+    "crd_fr": lambda p: read_crd(p, "full_rate"), "dcb": read_code_dcb,
+    "icgem": lambda p: read_icgem(p, epoch="2003-07-02T12:00"),  # epoch: icgem2.0 only
 }
 
 #: Files refused on purpose: (folder/name) -> (line, field of the FormatError, the rule broken).
 REFUSED = {
     "clk/issue845.clk": (None, "END OF HEADER", "RINEX clock: END OF HEADER is mandatory"),
-    "icgem/EIGEN-6S4-v2-truncated.gz": (
-        75, "gfct", "not a format fault: icgem2.0 piecewise time-variable records (t0..t1 per "
-        "record) are not supported by leopod (documented in leopod.io.icgem)"),
     "obs/embe083.06o": (13, "SYS / # / OBS TYPES", "RINEX 3 sec. 5.1: observation codes have "
                         "3 characters ('C0' is not one)"),
     "obs/rovn0010.21o": (512, "epoch record", "RINEX 2.11: an epoch record announcing 20 "
@@ -247,3 +245,26 @@ def test_more_lenient_reading_of_peer_files(shared, caplog):
     for text in ("igs14_small.atx.gz:679", "issue895-no-eof.sp3:19", "USNO1.txt:37",
                  "demo.10o:13"):
         assert text in caplog.text
+
+
+@pytest.mark.shared
+def test_icgem2_piecewise_model_evaluated_at_an_epoch(shared):
+    # EIGEN-6S4-v2-truncated (format icgem2.0, Ince et al. 2019): C10 on the interval
+    # 20030101.0000-20040101.0000, lines 87-92: gfct 6.87432297897E-11, trnd -4.96847579522E-12,
+    # acos/asin 1.0 y 7.82241505823E-11 / -3.41050412917E-12, acos/asin 0.5 y
+    # -3.35798492155E-11 / -2.07233495045E-11
+    root, _ = _files(shared)
+    path = root / "icgem/EIGEN-6S4-v2-truncated.gz"
+    with pytest.raises(FormatError, match="need an epoch") as err:
+        read_icgem(path)
+    assert err.value.line == 75
+    ds = read_icgem(path, epoch="2003-07-02T12:00")
+    dt = 182.5 / 365.25  # years since t0 = 2003-01-01
+    w1, w2 = 2 * np.pi * dt / 1.0, 2 * np.pi * dt / 0.5
+    want = (6.87432297897e-11 - 4.96847579522e-12 * dt
+            + 7.82241505823e-11 * np.cos(w1) - 3.41050412917e-12 * np.sin(w1)
+            - 3.35798492155e-11 * np.cos(w2) - 2.07233495045e-11 * np.sin(w2))
+    assert ds["C"].values[1, 0] == pytest.approx(want, rel=1e-12)
+    assert ds["sigma_C"].values[1, 0] == 1.1030e-13  # the gfct record's
+    assert ds.attrs["epoch"].startswith("2003-07-02T12:00")
+    assert ds.attrs["evaluated_terms"] == "gfct trnd acos asin"

@@ -9,10 +9,12 @@ Earth Models (icgem.gfz-potsdam.de). A time-variable coefficient at epoch t is (
            + sum_p [acos_p cos(2 pi (t - t0) / p) + asin_p sin(2 pi (t - t0) / p)]
 
 Piecewise time-variable models (``format icgem2.0``, Ince et al. 2019, with validity
-intervals t0..t1 on every ``gfct``/``trnd``/``acos``/``asin`` record, e.g. EIGEN-6S4) are
-refused with a FormatError naming the first such record: their coefficients have no single
-reference epoch, so the one-``t0`` schema below cannot hold them, and leopod's force model
-takes a static field (a file of format icgem2.0 with ``gfc`` records only is read). Bodies
+intervals t0..t1 on every ``gfct``/``trnd``/``acos``/``asin`` record, e.g. EIGEN-6S4) have no
+single reference epoch, so the one-``t0`` schema below cannot hold them: ``read_icgem(path,
+epoch=...)`` evaluates them at an epoch and returns that static field (``attrs["epoch"]``,
+``attrs["evaluated_terms"]``); without ``epoch`` such a file is refused with a FormatError
+naming its first piecewise record. A file of format icgem2.0 with ``gfc`` records only is read
+as any static model. Bodies
 other than the Earth write ``gravity_constant`` instead of ``earth_gravity_constant`` (e.g.
 the lunar GrazLGM300c); both are read into ``gm_m3_s2``.
 
@@ -62,7 +64,7 @@ import numpy as np
 import xarray as xr
 from scipy.special import gammaln
 
-from leopod.io._fields import integers, require_line_end
+from leopod.io._fields import epoch_ns, integers, require_line_end
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -79,6 +81,11 @@ _KEYWORDS = _MANDATORY + ("errors", "norm", "tide_system", "format", "gravity_co
 _N_FIELDS = {"gfc": (5, 7), "gfct": (8,), "trnd": (5, 7), "dot": (5, 7), "acos": (8,),
              "asin": (8,)}
 _TIME_VARIABLE = ("gfct", "trnd", "dot", "acos", "asin")
+# icgem2.0 (Ince et al. 2019): every time-variable record ends with its interval t0 t1
+# (yyyymmdd.hhmm), acos/asin then with the period [year]
+_N_FIELDS_2 = {"gfct": (7, 9), "trnd": (7, 9), "dot": (7, 9), "acos": (8, 10),
+               "asin": (8, 10)}
+_YEAR_NS = 365.25 * 86_400e9
 #: Largest degree a header may declare (Earth2014 reaches 10800); arrays are sized by it.
 _MAX_DEGREE = 10_800
 
@@ -133,7 +140,8 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, int]:
 
 
 def _collect(lines: list[str], first: int, max_degree: int, n_file: int, file_format: str,
-             path: Path) -> tuple[dict[str, list[list[str]]], dict[str, list[int]]]:
+             path: Path, piecewise_ok: bool = False
+             ) -> tuple[dict[str, list[list[str]]], dict[str, list[int]]]:
     """Split the data lines by record key, keeping only degrees <= max_degree.
 
     Checks that all records of one key have the same number of fields and that the static
@@ -154,10 +162,11 @@ def _collect(lines: list[str], first: int, max_degree: int, n_file: int, file_fo
             raise FormatError(path, i + 1, "key", f"unknown record key '{key}' (expected "
                               f"{', '.join(_N_FIELDS)})")
         if key in _TIME_VARIABLE and file_format != "icgem1.0":
-            raise FormatError(path, i + 1, key, f"time-variable records of format "
-                              f"'{file_format}' (piecewise intervals t0..t1 per record) are "
-                              "not supported: leopod reads static fields and icgem1.0 models "
-                              "with one reference epoch")
+            if not piecewise_ok:
+                raise FormatError(path, i + 1, key, f"time-variable records of format "
+                                  f"'{file_format}' (piecewise intervals t0..t1 per record) "
+                                  "need an epoch: read_icgem(path, epoch=...) evaluates them")
+            allowed = _N_FIELDS_2[key]
         if len(parts) not in allowed:
             raise FormatError(path, i + 1, key, f"{len(parts)} fields, expected "
                               f"{' or '.join(map(str, allowed))} (truncated record?)")
@@ -227,7 +236,8 @@ def _reference_epoch(rows: list[list[str]], nums: list[int], path: Path) -> str:
     return f"{date[:4]}-{date[4:6]}-{date[6:]}"
 
 
-def read_icgem(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
+def read_icgem(path: str | Path, max_degree: int | None = None, *,
+               epoch=None) -> xr.Dataset:
     """Read an ICGEM gravity field model (.gfc, plain or compressed).
 
     Parameters
@@ -236,6 +246,10 @@ def read_icgem(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
         The .gfc file.
     max_degree : int, optional
         Keep only degrees 0..max_degree (default: the model's maximum degree).
+    epoch : datetime64, datetime or ISO str, optional
+        For a piecewise model (format icgem2.0 with time-variable records): the epoch at which
+        its coefficients are evaluated (:func:`_evaluate_piecewise`); the result is then a
+        static field with ``attrs["epoch"]``. Ignored for other files.
 
     Returns
     -------
@@ -259,8 +273,13 @@ def read_icgem(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
         max_degree = n_file
     if not 0 <= max_degree <= n_file:
         raise ValueError(f"max_degree {max_degree} outside 0..{n_file} (the model's degree)")
-    tokens, line_nos = _collect(lines, first, max_degree, n_file, attrs["format"], path)
+    piecewise = attrs["format"] != "icgem1.0" and epoch is not None
+    tokens, line_nos = _collect(lines, first, max_degree, n_file, attrs["format"], path,
+                                piecewise)
     tv_keys = [k for k in _TIME_VARIABLE if tokens[k]]
+    if piecewise and tv_keys:
+        return _evaluate_piecewise(tokens, line_nos, attrs, max_degree, n_file,
+                                   np.datetime64(epoch, "ns"), path)
 
     size = max_degree + 1
     coef = {name: np.zeros((size, size)) for name in ("C", "S")}
@@ -335,3 +354,79 @@ def _add_time_variable(tokens: dict[str, list[list[str]]], line_nos: dict[str, l
             data[f"{key}_{name}"] = (("period", "n", "m"), grid * scale, {
                 "units": "1", "long_name": f"{'cosine' if key == 'acos' else 'sine'} amplitude "
                                            f"of {name}"})
+
+
+def _interval_epoch(text: str, path: Path, line: int, field: str) -> int:
+    """ns since 1970 of an icgem2.0 interval bound ``yyyymmdd.hhmm`` (minute 60 is carried
+    into the hour: EIGEN-6S4 writes ``20041226.0060``)."""
+    date, _, hhmm = text.partition(".")
+    hhmm = hhmm.ljust(4, "0")
+    if len(date) != 8 or not date.isdigit() or len(hhmm) != 4 or not hhmm.isdigit():
+        raise FormatError(path, line, field, f"'{text}' is not yyyymmdd.hhmm")
+    minute = int(hhmm[2:])
+    carry = minute == 60
+    ns = epoch_ns(int(date[:4]), int(date[4:6]), int(date[6:]), int(hhmm[:2]),
+                  0 if carry else minute, 0.0, path, line, field)
+    return ns + (3_600_000_000_000 if carry else 0)
+
+
+def _evaluate_piecewise(tokens: dict, line_nos: dict, attrs: dict, max_degree: int,
+                        n_file: int, epoch: np.datetime64, path: Path) -> xr.Dataset:
+    """A piecewise (icgem2.0) model evaluated at ``epoch``, as a static field.
+
+    ICGEM format 2.0 (Ince et al. 2019, ESSD 11, 647, doi:10.5194/essd-11-647-2019; format
+    description at icgem.gfz-potsdam.de): each ``gfct``/``trnd``/``acos``/``asin`` record
+    holds on its interval t0 <= t < t1, and a coefficient is ``gfc`` (static records) plus,
+    with dt = t - t0 in years of 365.25 days,
+    ``gfct + trnd dt + sum_p [acos_p cos(2 pi dt / p) + asin_p sin(2 pi dt / p)]``.
+    Standard deviations are those of the static and ``gfct`` records.
+    """
+    t = int(np.datetime64(epoch, "ns").astype(np.int64))
+    size = max_degree + 1
+    coef = {name: np.zeros((size, size)) for name in ("C", "S")}
+    sigma = {name: np.full((size, size), np.nan) for name in ("C", "S")}
+    for key in ("gfc", "gfct", "trnd", "dot", "acos", "asin"):
+        rows, nums = tokens[key], line_nos[key]
+        if not rows:
+            continue
+        n, m = _degree_order(rows, nums, n_file, path)
+        factor = np.ones(len(rows))
+        if key != "gfc":
+            tail = 3 if key in ("acos", "asin") else 2
+            t0 = np.array([_interval_epoch(r[-tail], path, k, "t0") for r, k in zip(rows, nums)])
+            t1 = np.array([_interval_epoch(r[-tail + 1], path, k, "t1")
+                           for r, k in zip(rows, nums)])
+            active = (t0 <= t) & (t < t1)
+            dt_years = (t - t0) / _YEAR_NS
+            if key in ("acos", "asin"):
+                period = parse_floats([r[-1] for r in rows], nums, "period", path, lo=1e-6,
+                                      hi=1e6)
+                arg = 2.0 * np.pi * dt_years / period
+                factor = np.cos(arg) if key == "acos" else np.sin(arg)
+            elif key in ("trnd", "dot"):
+                factor = dt_years
+            keep = np.flatnonzero(active)
+            rows, nums = [rows[k] for k in keep], [nums[k] for k in keep]
+            n, m, factor = n[keep], m[keep], factor[keep]
+        if key in ("gfc", "gfct"):
+            _check_unique(n, m, nums, key, path)
+        for col, name in ((3, "C"), (4, "S")):
+            values = parse_floats([r[col] for r in rows], nums, name, path, kind="stokes")
+            np.add.at(coef[name], (n, m), values * factor)
+        if key in ("gfc", "gfct") and rows and len(rows[0]) >= (7 if key == "gfc" else 9):
+            for col, name in ((5, "C"), (6, "S")):
+                sigma[name][n, m] = parse_floats([r[col] for r in rows], nums, f"sigma {name}",
+                                                 path, kind="stokes_sigma")
+    scale = (_unnormalized_to_normalized(max_degree) if attrs["norm_in_file"] == "unnormalized"
+             else 1.0)
+    data = {}
+    for name in ("C", "S"):
+        data[name] = (("n", "m"), coef[name] * scale, {
+            "units": "1", "long_name": f"fully normalised {name} coefficient at the epoch"})
+        data[f"sigma_{name}"] = (("n", "m"), sigma[name] * scale, {
+            "units": "1", "long_name": f"standard deviation of {name} ({attrs['errors']})"})
+    attrs.update(time_variable_terms="", epoch=str(np.datetime64(t, "ns")),
+                 evaluated_terms=" ".join(k for k in _TIME_VARIABLE if tokens[k]),
+                 max_degree=max_degree, filename=path.name)
+    return xr.Dataset(data, coords={"n": np.arange(size), "m": np.arange(size)}, attrs=attrs)
+
