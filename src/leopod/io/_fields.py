@@ -50,8 +50,8 @@ __all__ = [
 ]
 
 #: The syntax of a number in every format we read (Fortran ``D`` exponents included).
-_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?")
-_INTEGER = re.compile(r"[+-]?\d+")
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][+-]?[0-9]+)?")
+_INTEGER = re.compile(r"[+-]?[0-9]+")  # ASCII digits: Python's \d also matches other scripts
 _ALLOWED = frozenset("0123456789+-.EeDd \t")
 
 #: Years a date field may hold (no GNSS, SLR, gravity or space-weather record predates 1900;

@@ -43,7 +43,7 @@ Errors
 ------
 :class:`leopod.io.FormatError` for a missing column line or unit, a record without 8 fields,
 a malformed Doodson number, a non-numeric field or one outside +-1e6 (in the file's unit), an
-(n, m) outside 0 <= m <= n <= 1000 (a bound that keeps a corrupt degree from sizing arrays of
+(n, m) outside 0 <= m <= n <= 400 (a bound that keeps a corrupt degree from sizing arrays of
 hundreds of GiB), a record given twice, one wave name with two Doodson numbers, a file without
 records, and a file whose last line has no line end (cut inside its last record).
 """
@@ -100,10 +100,10 @@ def _canonical(number: str) -> str:
     return match.group(1).rjust(3, "0") + "." + match.group(2)
 
 
-#: Largest degree of a record (FES2004 is complete to 100; the model family stays far below
-#: this). The coefficient arrays are (4, waves, n + 1, n + 1): a bound keeps a corrupt degree
-#: from asking for hundreds of GiB.
-_MAX_DEGREE = 1000
+#: Largest degree of a record (FES2004 is complete to 100, later FES coefficient files stay
+#: below 400). The coefficient arrays are (4, waves, n + 1, n + 1): the bound keeps a corrupt
+#: degree from asking for hundreds of GiB (at most 150 MB for 30 waves).
+_MAX_DEGREE = 400
 
 
 def _header(lines: list[str], path: Path) -> tuple[float, list[str], int]:
