@@ -22,7 +22,8 @@ layers. The verdict of a case (:func:`run_case`) is
     the reader ran longer than the time limit;
 ``suspect``
     the reader returned a value that is not finite, far outside the range of the seed's values
-    of that variable (more than 1e6 times the seed's largest magnitude, at least 1e6), a time
+    of that variable (more than 1e6 times the seed's largest magnitude, at least 1e6; for a
+    variable the seed lacks, its largest magnitude of any variable), a time
     label outside 1900-2199 or NaT in a time coordinate, or - for a file merely cut short - a
     value of a record that differs from the same record of the seed (the last number cut).
 
@@ -480,17 +481,20 @@ def _scales(result) -> dict[str, float]:
 def suspects(result, seed: Seed, scales: dict[str, float]) -> list[str]:
     """Reasons why an accepted result is suspect (empty list: nothing suspect)."""
     reasons = []
+    # a variable the seed does not have (e.g. an observation type renamed by the mutation)
+    # is compared with the largest magnitude of the seed
+    top = max(scales.values(), default=1.0)
     for name, arr in _leaves(result):
         if arr.dtype.kind == "f":
             if np.isinf(arr).any():
                 reasons.append(f"{name}: infinite value")
                 continue
-            limit = 1e6 * max(scales.get(name, 1.0), 1.0)
+            limit = 1e6 * max(scales.get(name, top), 1.0)
             with np.errstate(invalid="ignore"):
                 if (np.abs(arr) > limit).any():
                     reasons.append(f"{name}: |value| {np.nanmax(np.abs(arr)):.3g} > {limit:.3g}")
         elif arr.dtype.kind in "iu":
-            limit = 1e6 * max(scales.get(name, 1.0), 1.0)
+            limit = 1e6 * max(scales.get(name, top), 1.0)
             if (np.abs(arr.astype(float)) > limit).any():
                 reasons.append(f"{name}: |value| {np.abs(arr).max()} > {limit:.3g}")
         elif arr.dtype.kind == "M":

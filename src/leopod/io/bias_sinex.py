@@ -252,7 +252,7 @@ def _description(lines, first, stop, path) -> dict:
             continue
         keyword, value = line[1:40].strip(), line[40:].strip()
         if keyword in _INT_KEYWORDS:
-            out[keyword.lower()] = parse_int(value, path, k + 1, keyword)
+            out[keyword.lower()] = parse_int(value, path, k + 1, keyword, lo=0, hi=10**6)
         elif keyword == "TIME_SYSTEM":
             out["time_system_code"] = value
         elif keyword in _PER_SYSTEM_KEYWORDS:

@@ -87,9 +87,10 @@ _TYPES_V2 = "# / TYPES OF OBSERV"
 _TYPES_V3 = "SYS / # / OBS TYPES"
 _SCALE_LABELS = ("OBS SCALE FACTOR", "SYS / SCALE FACTOR")
 #: Observation codes: RINEX 2.11 Table A1 (type C/P/L/D/S, frequency 1-8; the 2.20 spaceborne
-#: extension adds frequency "A", e.g. LA, SA) and RINEX 3.04 sec. 5.1 (type C/L/D/S/X,
-#: band digit, attribute letter; "X" channel numbers).
-_OBS_CODE = {2: re.compile(r"[CPLDS][1-8A]"), 3: re.compile(r"[CLDSX][0-9][A-Z0-9]")}
+#: extension adds frequency "A", e.g. LA, SA) and RINEX 3.04 sec. 5.1 (type C/L/D/S, band
+#: 1-9, attribute letter; "X" channel numbers).
+_OBS_CODE = {2: re.compile(r"[CPLDS][1-8A]"),
+             3: re.compile(r"[CLDS][1-9][A-Z]|X[0-9][A-Z0-9]")}
 _XYZ_RECORDS = {"APPROX POSITION XYZ": "approx_position_xyz_m",
                 "ANTENNA: DELTA H/E/N": "antenna_delta_hen_m"}
 

@@ -54,11 +54,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import check_range
 from leopod.io._text import (
     PRODUCT_TIME_SYSTEMS,
     FormatError,
     calendar_epoch_ns,
     fixed_float,
+    parse_float,
     parse_floats,
     parse_int,
     read_lines,
@@ -163,7 +165,8 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         for c in range(9, 60, 3):
             if k_sat < n_sat:
                 field = lines[i][c:c + 3]
-                exps[k_sat] = parse_int(field, path, i + 1, "accuracy", lo=0, hi=99) \
+                # 2**29 mm = 537 km: no orbit product is announced less accurate
+                exps[k_sat] = parse_int(field, path, i + 1, "accuracy", lo=0, hi=29) \
                     if field.strip() else 0
                 k_sat += 1
         i += 1
@@ -187,10 +190,10 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
                 attrs["_time_system_line"] = i + 1
         elif text.startswith("%f") and not seen_f:
             seen_f = True
-            attrs["_base_pos"] = fixed_float(text, 3, 13, path, i + 1, "base pos/vel",
-                                             allow_blank=True)
-            attrs["_base_clk"] = fixed_float(text, 14, 26, path, i + 1, "base clk/rate",
-                                             allow_blank=True)
+            attrs["_base_pos"] = parse_float(text[3:13], path, i + 1, "base pos/vel",
+                                             allow_blank=True, lo=0.0, hi=10.0)
+            attrs["_base_clk"] = parse_float(text[14:26], path, i + 1, "base clk/rate",
+                                             allow_blank=True, lo=0.0, hi=10.0)
         elif text.startswith("/*"):
             comments.append(text[2:].strip())
         elif text.startswith("%/*"):  # ILRS combination files (Orekit issue 895): a comment
@@ -414,6 +417,10 @@ def read_sp3(path: str | Path, *, gps_time: bool = False) -> xr.Dataset:
     base_pos, base_clk = attrs.pop("_base_pos"), attrs.pop("_base_clk")
     if np.isfinite(p_exps).any() and base_pos > 0 and base_clk > 0:
         sig = np.column_stack([base_pos ** p_exps[:, :3] * 1e-3, base_clk ** p_exps[:, 3] * 1e-12])
+        # the standard deviations a base and an exponent give must be physical (io._fields)
+        check_range(sig[:, :3].ravel(), np.repeat(pos.line_nos, 3), "position std-dev "
+                    "exponent", path, lo=0.0, hi=1e6)
+        check_range(sig[:, 3], pos.line_nos, "clock std-dev exponent", path, lo=0.0, hi=1.0)
         sig = _grid(pos, sig, n_time, n_sat)
         data["pos_sigma_m"] = (("time", "sv", "xyz"), sig[:, :, :3],
                                {"units": "m", "long_name": "position standard deviation"})
