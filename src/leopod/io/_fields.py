@@ -52,7 +52,11 @@ __all__ = [
 #: The syntax of a number in every format we read (Fortran ``D`` exponents included).
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][+-]?[0-9]+)?")
 _INTEGER = re.compile(r"[+-]?[0-9]+")  # ASCII digits: Python's \d also matches other scripts
-_ALLOWED = frozenset("0123456789+-.EeDd \t")
+#: Bytes a number field may hold (NUL: the padding of numpy's fixed-width strings).
+_ALLOWED_BYTES = np.zeros(256, dtype=bool)
+_ALLOWED_BYTES[list(b"0123456789+-.EeDd \t\x00")] = True
+_EXPONENT_D = np.zeros(256, dtype=bool)
+_EXPONENT_D[list(b"Dd")] = True
 
 #: Years a date field may hold (no GNSS, SLR, gravity or space-weather record predates 1900;
 #: the upper bound keeps every epoch far inside datetime64[ns], whose last year is 2262).
@@ -212,14 +216,16 @@ def numbers(texts: Sequence[str], line_nos: Sequence[int], field: str | Sequence
     if len(texts) == 0:
         return np.empty(0)
     low, high = _limits(kind, lo, hi)
-    joined = "".join(texts)
     values = None
-    if _ALLOWED.issuperset(joined):
-        arr = np.asarray(texts, dtype=str)
-        if "D" in joined or "d" in joined:
-            arr = np.char.translate(arr, str.maketrans("Dd", "Ee"))
+    try:  # the characters of every text at once, as bytes (non-ASCII text: slow path)
+        raw = np.asarray(texts, dtype=str).astype("S")
+    except UnicodeEncodeError:
+        raw = None
+    if raw is not None and _ALLOWED_BYTES[np.frombuffer(raw.tobytes(), np.uint8)].all():
+        if (_EXPONENT_D[np.frombuffer(raw.tobytes(), np.uint8)]).any():
+            raw = np.char.translate(raw, bytes.maketrans(b"Dd", b"Ee"))
         try:
-            values = arr.astype(np.float64)
+            values = raw.astype(np.float64)
         except ValueError:
             values = None
     if values is not None:

@@ -160,7 +160,7 @@ def _column(rows: np.ndarray, line_nos: list[int], name: str, path: Path,
     if not allow_blank and not filled.all():
         raise FormatError(path, line_nos[np.flatnonzero(~filled)[0]], name, "value is missing")
     values = np.full(len(rows), np.nan)
-    values[filled] = parse_floats(list(texts[filled]), np.asarray(line_nos)[filled], name, path,
+    values[filled] = parse_floats(texts[filled], np.asarray(line_nos)[filled], name, path,
                                   lo=lo, hi=hi)
     return values
 
