@@ -168,3 +168,14 @@ def test_file_cut_inside_its_last_number_is_refused(seeds, tmp_path, reader):
     if reader.startswith("rinex"):  # the last characters are the LLI and SSI digits
         last_digit -= 2
     _refused(seed, tmp_path, text[:last_digit])  # one digit (or the exponent's) removed
+
+
+@pytest.mark.shared
+def test_sp3_cut_before_the_clock_column_without_eof_is_refused(seeds, tmp_path):
+    # issue 24: "an SP3 cut before its clock column with no EOF line is accepted"
+    seed = seeds["sp3"]
+    lines = _lines(seed)
+    last = max(k for k, line in enumerate(lines) if line.startswith("P"))
+    text = "\n".join(lines[:last] + [lines[last][:46]])
+    err = _refused(seed, tmp_path, text + "\n", last + 1)
+    assert err.field == "EOF"

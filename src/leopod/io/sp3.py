@@ -356,6 +356,13 @@ def _check_epochs(attrs: dict, epochs: list[int], epoch_lines: list[int], pos: _
         if n_pos < n_sat or (attrs["pv_flag"] == "V" and n_vel < n_sat):
             raise FormatError(path, n_lines, "EOF", "the file ends without 'EOF' and its last "
                               f"epoch is incomplete ({n_pos} of {n_sat} satellites): truncated")
+        records = pos if not vel.line_nos or pos.line_nos[-1] > vel.line_nos[-1] else vel
+        if records.line_nos and records.line_nos[-1] == n_lines and \
+                len(records.texts[-1].rstrip()) < _REC_COLS[3][1]:
+            # issue 24: a file cut before the clock column of its last record (the clock is
+            # optional) would be read with the clock missing
+            raise FormatError(path, n_lines, "EOF", "the file ends without 'EOF' inside its "
+                              "last record, before the clock column: truncated")
 
 
 def read_sp3(path: str | Path, *, gps_time: bool = False) -> xr.Dataset:
