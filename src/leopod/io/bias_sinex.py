@@ -197,7 +197,7 @@ def _first_line(line: str, path: Path) -> dict:
         "data_start": _iso(_sinex_time(parts[5], path, 1, "data start")),
         "data_end": _iso(_sinex_time(parts[6], path, 1, "data end")),
         "bias_mode_flag": parts[7],
-        "n_estimates": parse_int(parts[8], path, 1, "number of estimates"),
+        "n_estimates": parse_int(parts[8], path, 1, "number of estimates", lo=0, hi=10**7),
     }
 
 
