@@ -342,7 +342,9 @@ HOSTILE = ["-1", "0", "-0", "1_000", "1e308", "-1e308", "1E-99", "nan", "NaN", "
            "1.0e+20", "0x10", "+", "-", ".", "E", "1D+300", "٣", "2262", "1677", "65536",
            "-2147483649", "1e-320", " "]
 _NUMBER = re.compile(rb"[-+]?\d*\.?\d+(?:[EeDd][-+]?\d+)?")
-INTERESTING_BYTES = b"0123456789-+. E_\n*:%#"
+#: Bytes a character edit writes: digits, signs, separators, and Latin-1 characters that
+#: Python treats as digits or blanks ("²", "¹", "¼", NEL, no-break space)
+INTERESTING_BYTES = b"0123456789-+. E_\n*:%#\xb2\xb9\xbc\x85\xa0"
 
 
 def _lines(text: bytes) -> list[bytes]:

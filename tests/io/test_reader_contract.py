@@ -179,3 +179,28 @@ def test_sp3_cut_before_the_clock_column_without_eof_is_refused(seeds, tmp_path)
     text = "\n".join(lines[:last] + [lines[last][:46]])
     err = _refused(seed, tmp_path, text + "\n", last + 1)
     assert err.field == "EOF"
+
+
+@pytest.mark.shared
+@pytest.mark.parametrize(("reader", "prefix", "start", "stop", "new"), [
+    ("sp3", "PG01", 2, 4, "0\u00b2"),        # "²".isdigit() is True: int() raised ValueError
+    ("rinex_obs_v3", "G01", 1, 3, "\u00b2\u00b9"),
+    ("crd_np", "H3", 15, 22, "760390\u00b9"),
+])
+def test_non_ascii_digits_are_refused(seeds, tmp_path, reader, prefix, start, stop, new):
+    # the 10 000-case fuzz run found int('2²') escaping from the SP3 satellite identifier
+    seed = seeds[reader]
+    k = next(j for j, line in enumerate(_lines(seed)) if line.startswith(prefix)
+             and j > 10)
+    _refused(seed, tmp_path, _edit(seed, k, start, stop, new), k + 1)
+
+
+def test_only_cr_and_lf_end_lines(tmp_path):
+    # str.splitlines also breaks at form feed and NEL (\x85, a Latin-1 byte): line numbers
+    # must stay those of an editor
+    from leopod.io._text import read_lines
+
+    path = tmp_path / "f.txt"
+    path.write_bytes(b"a\x0cb\x85c\r\nd\re")
+    lines = read_lines(path)
+    assert list(lines) == ["a\x0cb\x85c", "d", "e"] and not lines.final_newline

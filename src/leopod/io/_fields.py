@@ -46,6 +46,8 @@ __all__ = [
     "numbers",
     "integer",
     "integers",
+    "is_digits",
+    "is_letters",
     "require_line_end",
 ]
 
@@ -116,6 +118,16 @@ def _limits(kind: str | None, lo: float | None, hi: float | None) -> tuple[float
         lo = klo if lo is None else lo
         hi = khi if hi is None else hi
     return (-math.inf if lo is None else lo, math.inf if hi is None else hi)
+
+
+def is_digits(text: str) -> bool:
+    """True if ``text`` is one or more ASCII digits (``str.isdigit`` also accepts "²")."""
+    return text.isascii() and text.isdigit()
+
+
+def is_letters(text: str) -> bool:
+    """True if ``text`` is one or more ASCII letters (``str.isalpha`` also accepts "é")."""
+    return text.isascii() and text.isalpha()
 
 
 def is_number(text: str) -> bool:

@@ -132,8 +132,8 @@ def read_lines(path: str | Path) -> Lines:
     Returns
     -------
     Lines
-        The lines, ``\\r`` and ``\\n`` stripped; ``.final_newline`` tells whether the text
-        ended with a line end.
+        The lines (ended by LF, CR LF or CR), line ends stripped; ``.final_newline`` tells
+        whether the text ended with a line end.
 
     Raises
     ------
@@ -152,8 +152,14 @@ def read_lines(path: str | Path) -> Lines:
         raise FormatError(path, None, "file", "binary content where text was expected")
     if not text.strip():
         raise FormatError(path, None, "file", "the file holds no text (empty payload)")
-    lines = Lines(text.splitlines())
-    lines.final_newline = text.endswith(("\n", "\r"))
+    if "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+    # only CR/LF end a line (str.splitlines also splits at form feeds, \x1c-\x1e and NEL
+    # \x85, which would shift every later line number away from what an editor shows)
+    lines = Lines(text.split("\n"))
+    lines.final_newline = text.endswith("\n")
+    if lines.final_newline:
+        lines.pop()
     return lines
 
 

@@ -107,7 +107,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
-from leopod.io._fields import epoch_ns, integers, numbers, require_line_end
+from leopod.io._fields import epoch_ns, integers, is_digits, numbers, require_line_end
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines
 
 __all__ = ["ilrs_id_to_cospar", "read_crd"]
@@ -180,7 +180,7 @@ def ilrs_id_to_cospar(ilrs_id: str) -> str:
         Years 57-99 are 19YY, 00-56 are 20YY; pieces 1-24 are A-Z without I and O, then AA...
     """
     s = str(ilrs_id).strip()
-    if len(s) != 7 or not s.isdigit() or int(s[5:]) == 0:
+    if len(s) != 7 or not is_digits(s) or int(s[5:]) == 0:
         return ""
     yy, launch, piece = int(s[:2]), s[2:5], int(s[5:])
     year = 1900 + yy if yy >= 57 else 2000 + yy
@@ -261,7 +261,7 @@ def _scan(path: Path, lines: list[str]) -> _Scan:
         if not tokens:
             continue
         rid = tokens[0].upper()
-        if rid == "00" or (len(rid) == 2 and rid[0] == "9" and rid[1].isdigit()):
+        if rid == "00" or (len(rid) == 2 and rid[0] == "9" and is_digits(rid[1])):
             continue
         nmin = _MIN_FIELDS.get(rid)
         if nmin is None:
@@ -329,7 +329,7 @@ def _parse_h1(path: Path, ln: int, t: list[str]) -> int:
 
 def _parse_h2(path: Path, ln: int, t: list[str]) -> dict:
     pad = t[2]
-    if not (pad.isdigit() and len(pad) <= 4):
+    if not (is_digits(pad) and len(pad) <= 4):
         raise FormatError(path, ln, "H2 CDP pad id", f"'{pad}' is not a CDP pad id (4 digits)")
     scale = parse_int(t[5], path, ln, "H2 epoch time scale", lo=0, hi=99)
     if scale not in TIME_SCALES:
@@ -343,7 +343,7 @@ def _parse_h2(path: Path, ln: int, t: list[str]) -> dict:
 
 def _parse_h3(path: Path, ln: int, t: list[str]) -> dict:
     ilrs = t[2]
-    if not (ilrs.isdigit() and len(ilrs) <= 7):
+    if not (is_digits(ilrs) and len(ilrs) <= 7):
         raise FormatError(path, ln, "H3 ILRS id", f"'{ilrs}' is not an ILRS satellite id")
     ilrs = ilrs.zfill(7)
     norad = -1 if t[4].lower() in _NA else parse_int(t[4], path, ln, "H3 NORAD id", lo=0,

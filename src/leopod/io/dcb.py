@@ -56,6 +56,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import is_letters
 from leopod.io._text import FormatError, parse_float, read_lines
 
 __all__ = ["read_code_dcb"]
@@ -163,7 +164,7 @@ def _row(line, lineno, path, sats, stations) -> None:
         if head in sats:
             raise FormatError(path, lineno, "PRN", f"satellite {head} appears twice")
         sats[head] = (value, rms)
-    elif name and len(head) == 1 and head.isalpha() and not line[1:6].strip():
+    elif name and len(head) == 1 and is_letters(head) and not line[1:6].strip():
         if (head, name) in stations:
             raise FormatError(path, lineno, "STATION NAME",
                               f"station {name} ({head}) appears twice")

@@ -64,7 +64,7 @@ import numpy as np
 import xarray as xr
 from scipy.special import gammaln
 
-from leopod.io._fields import epoch_ns, integers, require_line_end
+from leopod.io._fields import epoch_ns, integers, is_digits, require_line_end
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -231,7 +231,7 @@ def _reference_epoch(rows: list[list[str]], nums: list[int], path: Path) -> str:
             raise FormatError(path, line_no, "t0", f"reference epoch {row[7]} differs from "
                               f"{first}: one common t0 is supported")
     date, _, frac = first.partition(".")
-    if len(date) != 8 or not date.isdigit() or (frac and not set(frac) <= {"0"}):
+    if len(date) != 8 or not is_digits(date) or (frac and not set(frac) <= {"0"}):
         raise FormatError(path, nums[0], "t0", f"'{first}' is not a yyyymmdd date")
     return f"{date[:4]}-{date[4:6]}-{date[6:]}"
 
@@ -361,7 +361,7 @@ def _interval_epoch(text: str, path: Path, line: int, field: str) -> int:
     into the hour: EIGEN-6S4 writes ``20041226.0060``)."""
     date, _, hhmm = text.partition(".")
     hhmm = hhmm.ljust(4, "0")
-    if len(date) != 8 or not date.isdigit() or len(hhmm) != 4 or not hhmm.isdigit():
+    if len(date) != 8 or not is_digits(date) or len(hhmm) != 4 or not is_digits(hhmm):
         raise FormatError(path, line, field, f"'{text}' is not yyyymmdd.hhmm")
     minute = int(hhmm[2:])
     carry = minute == 60

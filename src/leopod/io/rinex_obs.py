@@ -68,7 +68,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._fields import YEARS, is_number
+from leopod.io._fields import YEARS, is_digits, is_number
 from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
 
 __all__ = ["read_rinex_obs"]
@@ -383,8 +383,8 @@ class _SatIds:
                                   f"'{raw}' is not a satellite identifier")
             system = raw[0] if raw[0] != " " or not self.v2 else "G"
             prn = raw[1:3]
-            if system not in _SAT_SYSTEMS or len(raw) != 3 or not raw[2].isdigit() \
-                    or not (raw[1].isdigit() or raw[1] == " "):
+            if system not in _SAT_SYSTEMS or len(raw) != 3 or not is_digits(raw[2]) \
+                    or not (is_digits(raw[1]) or raw[1] == " "):
                 raise FormatError(self.path, lineno, "satellite",
                                   f"'{raw}' is not a satellite identifier")
             sv = self.cache[raw] = f"{system}{int(prn):02d}"

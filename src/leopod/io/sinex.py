@@ -71,7 +71,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._fields import check_count
+from leopod.io._fields import check_count, is_digits
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -179,7 +179,7 @@ def _header(path: Path, text: str) -> dict:
         "data_start": _iso(start),
         "data_end": _iso(end),
         **({"n_estimates": parse_int(count, path, 1, "%=SNX number of estimates", lo=0)}
-           if count.isdigit() else {}),
+           if is_digits(count) else {}),
     }
 
 

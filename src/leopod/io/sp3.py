@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._fields import check_range
+from leopod.io._fields import check_range, is_digits, is_letters
 from leopod.io._text import (
     PRODUCT_TIME_SYSTEMS,
     FormatError,
@@ -87,9 +87,9 @@ def _sat_id(text: str, path: Path, line_no: int) -> str:
     """Normalise a 3-character SP3 satellite id ("G01", "G 1", SP3-a "  1") to "G01"."""
     system = text[:1]
     number = text[1:3]
-    if system == " " or system.isdigit():  # SP3-a: I3 PRN, GPS implied
+    if system == " " or is_digits(system):  # SP3-a: I3 PRN, GPS implied
         system, number = "G", text[:3]
-    if not system.isalpha() or not number.strip().isdigit():
+    if not is_letters(system) or not is_digits(number.strip()):
         raise FormatError(path, line_no, "satellite id", f"'{text}' is not a satellite id")
     return f"{system.upper()}{int(number):02d}"
 
