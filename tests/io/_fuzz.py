@@ -3,7 +3,8 @@
 Seeds are small *valid* files built at run time from the real data in ``../shared`` (a few
 records of each product, with the header counts that the excerpt changes set to the excerpt's;
 none is copied into the repository). Where ``../shared`` holds no file of a format (WL biases,
-manoeuvre lists, BLQ) the seed is written by leopod's own writer (values of the GRACE-A day),
+manoeuvre lists, leopod's attitude CSV, BLQ) the seed is written by leopod's own writer
+(values of the GRACE-A day or its star-camera quaternions),
 or is the BLQ text of ``tests/validation/test_station_displacement.py`` (the Onsala service's
 layout with synthetic numbers).
 
@@ -237,6 +238,22 @@ def _seed_manoeuvre(d: Path, tmp: Path) -> list[str]:
     return _text(out)
 
 
+def _seed_sca1b(d: Path) -> list[str]:
+    return _text(d / "grace_l1b_fixture_2003-09-14/SCA1B_2003-09-14_A_00.asc")
+
+
+def _seed_attitude_csv(d: Path, tmp: Path) -> list[str]:
+    """The first 20 GRACE-A star-camera quaternions written by leopod's attitude CSV writer."""
+    from leopod.io.attitude import read_sca1b
+    from leopod.io.attitude_write import write_attitude_csv
+
+    sca = read_sca1b(d / "grace_l1b_fixture_2003-09-14/SCA1B_2003-09-14_A_00.asc")
+    out = tmp / "att.csv"
+    write_attitude_csv(out, sca["time"].values[:20], sca["quat"].values[:20],
+                       satellite="grace-a")
+    return _text(out)
+
+
 def _seed_blq(d: Path) -> list[str]:
     """The BLQ text of the station-displacement tests (Onsala layout, synthetic numbers)."""
     src = (REPO / "tests/validation/test_station_displacement.py").read_text()
@@ -249,6 +266,7 @@ def _seed_blq(d: Path) -> list[str]:
 def _readers() -> dict[str, tuple[Callable, str, Callable]]:
     """reader name -> (read(path), seed file name, seed builder(data_dir, tmp))."""
     from leopod.io.antex import read_antex
+    from leopod.io.attitude import read_attitude_csv, read_sca1b
     from leopod.io.bias_sinex import read_bias_sinex
     from leopod.io.blq import read_blq
     from leopod.io.clock import read_rinex_clock
@@ -289,6 +307,8 @@ def _readers() -> dict[str, tuple[Callable, str, Callable]]:
         "grace_orbit_csv": (read_grace_orbit_csv, "grca_truth.csv", plain(_seed_grace_orbit)),
         "kband_range_csv": (read_kband_range_csv, "grc_kb_rng.csv", plain(_seed_kband)),
         "manoeuvre": (lambda p: read_manoeuvres(p), "manoeuvres.txt", _seed_manoeuvre),
+        "attitude_sca1b": (read_sca1b, "SCA1B_2003-09-14_A_00.asc", plain(_seed_sca1b)),
+        "attitude_csv": (read_attitude_csv, "attitude.csv", _seed_attitude_csv),
     }
 
 

@@ -76,6 +76,7 @@ def test_damaged_and_empty_gzip_are_format_errors(seeds, reader, tmp_path):
     ("crd_np", "H4", 6, 10, "1234"),
     ("grace_orbit_csv", "27/7/2010,00:00:10", 5, 9, "20100"),
     ("manoeuvre", "2007-", 0, 4, "2263"),
+    ("attitude_csv", "2003-", 0, 4, "3000"),         # numpy wrapped it to 1830-11-23
 ])
 def test_years_outside_the_contract_are_refused(seeds, tmp_path, reader, prefix, start, stop,
                                                 new):
@@ -99,6 +100,8 @@ def test_years_outside_the_contract_are_refused(seeds, tmp_path, reader, prefix,
     ("fes", " 55.565", 16, 19, "40000"),             # asked for 858 GiB
     ("fes", " 55.565", 16, 19, "9999999999"),        # bare ValueError without the file
     ("icgem", "gfc    2    0", 11, 13, "99999999999999999999"),  # icgem._ints OverflowError
+    ("attitude_sca1b", "116769605", 12, 13, "99999"),  # sca_id overflowed int16
+    ("attitude_sca1b", "116769605", 14, 32, "1e308"),
 ])
 def test_values_outside_their_physical_range_are_refused(seeds, tmp_path, reader, prefix,
                                                          start, stop, new):
@@ -204,3 +207,13 @@ def test_only_cr_and_lf_end_lines(tmp_path):
     path.write_bytes(b"a\x0cb\x85c\r\nd\re")
     lines = read_lines(path)
     assert list(lines) == ["a\x0cb\x85c", "d", "e"] and not lines.final_newline
+
+
+def test_damaged_attitude_netcdf_is_a_format_error(tmp_path):
+    from leopod.io.attitude import read_attitude_netcdf
+
+    path = tmp_path / "attitude.nc"
+    path.write_bytes(b"CDF\x01" + bytes(range(256)) * 4)
+    with pytest.raises(FormatError) as err:
+        read_attitude_netcdf(path)
+    assert err.value.field == "netCDF" and "attitude.nc" in str(err.value)

@@ -46,6 +46,7 @@ __all__ = [
     "numbers",
     "integer",
     "integers",
+    "iso_epoch_ns",
     "is_digits",
     "is_letters",
     "require_line_end",
@@ -328,6 +329,23 @@ def epoch_ns(year: int, month: int, day: int, hour: int, minute: int, seconds: f
                      f"seconds {seconds} outside [0, {top:g})")
     delta = dt - _UNIX0
     return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + round(seconds * 1e9)
+
+
+_ISO = re.compile(r"([0-9]{4})-([0-9]{2})-([0-9]{2})T([0-9]{2}):([0-9]{2}):([0-9]{2})"
+                  r"(?:\.([0-9]{1,9}))?")
+
+
+def iso_epoch_ns(text: str, path: str | Path, line: int | None, field: str) -> int:
+    """Nanoseconds since 1970 of ``YYYY-MM-DDThh:mm:ss[.fffffffff]`` (the rules of
+    :func:`epoch_ns`; numpy's own parser wraps years outside datetime64[ns] silently, e.g.
+    3000-01-01 to 1830-11-23, and reads "NaT")."""
+    m = _ISO.fullmatch(text.strip())
+    if m is None:
+        raise _error(path, line, field, f"'{text.strip()}' is not an ISO 8601 epoch "
+                     "YYYY-MM-DDThh:mm:ss[.fffffffff]")
+    y, mo, d, h, mi, sec = (int(g) for g in m.groups()[:6])
+    ns = epoch_ns(y, mo, d, h, mi, float(sec), path, line, field)
+    return ns + int((m.group(7) or "").ljust(9, "0"))
 
 
 def day_of_year_ns(year: int, doy: int, seconds: float, path: str | Path, line: int | None,

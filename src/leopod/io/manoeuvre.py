@@ -25,13 +25,12 @@ form of such a list (:mod:`leopod.io.manoeuvre_write`)::
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from leopod.io._fields import epoch_ns, require_line_end
+from leopod.io._fields import iso_epoch_ns, require_line_end
 from leopod.io._text import FormatError, parse_float, read_lines
 
 __all__ = ["MAGIC", "Manoeuvre", "read_manoeuvres"]
@@ -68,18 +67,9 @@ class Manoeuvre:
         return np.asarray(self.acc_rtn_m_s2, dtype=float) * self.duration_s
 
 
-_ISO = re.compile(r"(\d{4})-(\d\d)-(\d\d)T(\d\d):(\d\d):(\d\d(?:\.\d{1,9})?)")
-
-
 def _epoch(text: str, path, line: int, field: str) -> np.datetime64:
-    """``YYYY-MM-DDThh:mm:ss[.fffffffff]`` -> datetime64[ns] (io._fields.epoch_ns rules)."""
-    m = _ISO.fullmatch(text)
-    if m is None:
-        raise FormatError(path, line, field, f"not an ISO 8601 epoch: {text!r}")
-    y, mo, d, h, mi = (int(g) for g in m.groups()[:5])
-    whole, _, frac = m.group(6).partition(".")
-    ns = epoch_ns(y, mo, d, h, mi, float(whole), path, line, field)
-    return np.datetime64(ns + int(frac.ljust(9, "0")), "ns")
+    """``YYYY-MM-DDThh:mm:ss[.fffffffff]`` -> datetime64[ns] (io._fields.iso_epoch_ns)."""
+    return np.datetime64(iso_epoch_ns(text, path, line, field), "ns")
 
 
 def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, str]]:
