@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 import pytest
 
@@ -239,10 +241,21 @@ def test_broken_truncated_inside_antenna(shared_data, tmp_path):
 
 
 @pytest.mark.shared
-def test_broken_missing_end_of_antenna(shared_data, tmp_path):
+def test_broken_missing_end_of_antenna(shared_data, tmp_path, caplog):
+    # Issue 24: an antenna that the next START OF ANTENNA opens without END OF ANTENNA (as in
+    # georust's igs14_small.atx) ends there, with a warning; at the end of the file it is an
+    # error (truncated).
+    lines = (shared_data / "antex" / "igs14-small.atx").read_text().splitlines()
     path = _broken(shared_data, tmp_path, lambda lines: lines[:26] + lines[27:])  # drop line 27
-    err = _expect(path, 27, "END OF ANTENNA")
-    assert "line 10" in err.message
+    with caplog.at_level(logging.WARNING, logger="leopod.io.antex"):
+        atx = read_antex(path)
+    assert len(atx.antennas) == len(read_antex(shared_data / "antex" / "igs14-small.atx")
+                                    .antennas)
+    assert "broken.atx:27: antenna opened at line 10 is not closed" in caplog.text
+    last = max(k for k, line in enumerate(lines) if "END OF ANTENNA" in line)
+    path = _broken(shared_data, tmp_path, lambda lines: lines[:last])
+    err = _expect(path, last, "END OF ANTENNA")
+    assert "not closed" in err.message
 
 
 @pytest.mark.shared

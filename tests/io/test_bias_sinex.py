@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -182,14 +184,19 @@ def test_broken_truncated_mid_record(shared_data, tmp_path):
 
 
 @pytest.mark.shared
-def test_broken_short_record_and_count(shared_data, tmp_path):
+def test_broken_short_record_and_count(shared_data, tmp_path, caplog):
     def short(lines):
         lines[49] = lines[49][:80]
         return lines
     _expect(_broken(shared_data, tmp_path, short), 50, "ESTIMATED_VALUE")
-    err = _expect(_broken(shared_data, tmp_path, lambda lines: lines[:49] + lines[50:]),
-                  1, "number of estimates")
-    assert "128" in err.message and "127" in err.message
+    # Issue 24: a count that disagrees with a *complete* file (closed by %=ENDBIA) is a
+    # warning, as in real CODE 2021 OSB products ("%=BIA announces 6888 records,
+    # +BIAS/SOLUTION holds 6844"); a file that ends before %=ENDBIA is refused.
+    with caplog.at_level(logging.WARNING, logger="leopod.io.bias_sinex"):
+        ds = read_bias_sinex(_broken(shared_data, tmp_path, lambda lines: lines[:49] + lines[50:]))
+    assert ds.sizes["bias"] == 127
+    assert "128" in caplog.text and "127" in caplog.text
+    _expect(_broken(shared_data, tmp_path, lambda lines: lines[:-1]), 174, "%=ENDBIA")
 
 
 @pytest.mark.shared

@@ -202,4 +202,4 @@ def test_file_without_data(tmp_path):
     path = write_lines(tmp_path, ["", "  "], "blank.csv")
     with pytest.raises(FormatError) as excinfo:
         read_kband_range_csv(path)
-    assert_format_error(excinfo, path, None, "record")
+    assert_format_error(excinfo, path, None, "file")  # blank text: io._text.read_lines

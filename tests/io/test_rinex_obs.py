@@ -537,11 +537,12 @@ def test_rinex2_time_system_field(tmp_path, grace_a, grace_a_lines):
 
 @pytest.mark.parametrize("year", ["3000", "1600"])
 def test_v3_year_outside_datetime64_range_is_an_error(tmp_path, year):
-    """Issue 24: a year outside 1678-2261 wrapped silently in datetime64[ns]."""
+    """Issue 24: a year outside datetime64[ns] wrapped silently; the contract's years are
+    1900-2199 (leopod.io._fields.YEARS)."""
     lines = _v3_file(tmp_path).read_text().splitlines()
     lines[5] = lines[5][:2] + year + lines[5][6:]
     path = _write_lines(tmp_path, "year.rnx", lines)
-    with pytest.raises(FormatError, match="outside 1678-2261") as exc:
+    with pytest.raises(FormatError, match="outside 1900-2199") as exc:
         read_rinex_obs(path)
     _assert_error(exc, path, 6, "year")
 

@@ -262,12 +262,19 @@ def test_truncated_epoch_line(tmp_path):
     _assert_error(excinfo, path, n, "epoch")
 
 
-def test_fewer_epochs_than_declared(tmp_path):
+def test_fewer_epochs_than_declared(tmp_path, caplog):
+    # Issue 24: a header count that disagrees with a complete file (closed by EOF) is a
+    # warning, as in the GFZ MGEX rapid orbit kept by gnss_lib_py (288 declared, 3 held);
+    # without EOF the same file is refused as truncated.
     lines = _written_lines(tmp_path)
     path = _write(tmp_path, lines[:FIRST_EPOCH_LINE + 5] + ["EOF"])  # 2 of 3 epochs
+    with caplog.at_level(logging.WARNING, logger="leopod.io.sp3"):
+        assert read_sp3(path).sizes["time"] == 2
+    assert "declares 3 epochs, file has 2" in caplog.text
+    path = _write(tmp_path, lines[:FIRST_EPOCH_LINE + 5])
     with pytest.raises(FormatError, match="declares 3 epochs") as excinfo:
         read_sp3(path)
-    _assert_error(excinfo, path, FIRST_EPOCH_LINE + 6, "number of epochs")
+    _assert_error(excinfo, path, FIRST_EPOCH_LINE + 5, "number of epochs")
 
 
 def test_more_epochs_than_declared_is_a_warning(tmp_path, caplog):
@@ -397,7 +404,7 @@ def test_empty_gzip_payload_is_a_format_error(tmp_path):
     path.write_bytes(gzip.compress(b""))
     with pytest.raises(FormatError) as exc:
         read_sp3(path)
-    assert_format_error(exc, path, 1, "version")
+    assert_format_error(exc, path, None, "file")  # the shared rule of io._text.read_lines
 
 
 def test_year_outside_datetime64_range_is_an_error(tmp_path):
@@ -406,7 +413,7 @@ def test_year_outside_datetime64_range_is_an_error(tmp_path):
     k = next(i for i, x in enumerate(lines) if x.startswith("*"))
     lines[k] = lines[k][:3] + "3000" + lines[k][7:]
     path = write_lines(tmp_path, lines, "year.sp3")
-    with pytest.raises(FormatError, match="outside 1678-2261") as exc:
+    with pytest.raises(FormatError, match="outside 1900-2199") as exc:
         read_sp3(path)
     assert_format_error(exc, path, k + 1, "epoch")
 

@@ -13,15 +13,17 @@ from __future__ import annotations
 
 import datetime as _dt
 import gzip
-import math
 import os
 import zlib
 from pathlib import Path
 
 import numpy as np
 
+from leopod.io import _fields
+
 __all__ = [
     "FormatError",
+    "Lines",
     "calendar_epoch_ns",
     "creation_time",
     "fixed_float",
@@ -41,8 +43,6 @@ _GZIP_MAGIC = b"\x1f\x8b"
 _COMPRESS_MAGIC = b"\x1f\x9d"
 _CRX_MARK = b"COMPACT RINEX FORMAT"
 _UNIX0 = _dt.datetime(1970, 1, 1)
-#: Whole years that datetime64[ns] holds (1677-09-21 to 2262-04-11).
-_MIN_NS_YEAR, _MAX_NS_YEAR = 1678, 2261
 
 
 def creation_time(created: _dt.datetime | None = None) -> _dt.datetime:
@@ -114,7 +114,14 @@ def _decompress(raw: bytes, path: Path) -> bytes:
     return raw
 
 
-def read_lines(path: str | Path) -> list[str]:
+class Lines(list):
+    """The lines of a text file (a ``list`` of str) and whether the file ended with a line
+    end (``final_newline``), which tells a complete last record from one cut short."""
+
+    final_newline: bool = True
+
+
+def read_lines(path: str | Path) -> Lines:
     """Read a (possibly compressed) text file into a list of lines without line ends.
 
     Parameters
@@ -124,13 +131,15 @@ def read_lines(path: str | Path) -> list[str]:
 
     Returns
     -------
-    list of str
-        The lines, ``\\r`` and ``\\n`` stripped.
+    Lines
+        The lines (ended by LF, CR LF or CR), line ends stripped; ``.final_newline`` tells
+        whether the text ended with a line end.
 
     Raises
     ------
     FormatError
-        If the file is empty, a compression layer is corrupt, or the text is not ASCII/Latin-1.
+        If the file or its decompressed text is empty or blank, a compression layer is
+        corrupt, or the text is binary.
     FileNotFoundError
         If the file does not exist.
     """
@@ -141,14 +150,25 @@ def read_lines(path: str | Path) -> list[str]:
     text = _decompress(raw, path).decode("latin-1")
     if "\x00" in text[:4096]:
         raise FormatError(path, None, "file", "binary content where text was expected")
-    return text.splitlines()
+    if not text.strip():
+        raise FormatError(path, None, "file", "the file holds no text (empty payload)")
+    if "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+    # only CR/LF end a line (str.splitlines also splits at form feeds, \x1c-\x1e and NEL
+    # \x85, which would shift every later line number away from what an editor shows)
+    lines = Lines(text.split("\n"))
+    lines.final_newline = text.endswith("\n")
+    if lines.final_newline:
+        lines.pop()
+    return lines
 
 
-def parse_float(text: str, path: str | Path, line: int, field: str, *, allow_blank=False):
-    """Parse one numeric field, raising :class:`FormatError` with its location on failure.
+def parse_float(text: str, path: str | Path, line: int, field: str, *, allow_blank=False,
+                kind: str | None = None, lo: float | None = None, hi: float | None = None):
+    """Parse one numeric field under the reader contract (:func:`leopod.io._fields.number`).
 
-    Fortran ``D`` exponents are accepted. NaN and infinities are rejected: no format we
-    read uses them, so they always mean a corrupt file.
+    Fortran ``D`` exponents are accepted; underscores, NaN and infinities are not (no format
+    we read writes them). ``kind``/``lo``/``hi`` give the field's physical range.
 
     Parameters
     ----------
@@ -158,48 +178,38 @@ def parse_float(text: str, path: str | Path, line: int, field: str, *, allow_bla
         Location used in the error message (1-based line).
     allow_blank : bool
         If True a blank field returns ``math.nan`` instead of raising.
+    kind, lo, hi
+        Range of the field (:data:`leopod.io._fields.RANGES` key, explicit bounds).
 
     Returns
     -------
     float
     """
-    s = text.strip()
-    if not s:
-        if allow_blank:
-            return math.nan
-        raise FormatError(path, line, field, "value is missing")
-    try:
-        value = float(s.replace("D", "E").replace("d", "e"))
-    except ValueError:
-        raise FormatError(path, line, field, f"'{s}' is not a number") from None
-    if not math.isfinite(value):
-        raise FormatError(path, line, field, f"'{s}' is not a finite number")
-    return value
+    return _fields.number(text, path, line, field, kind=kind, lo=lo, hi=hi,
+                          allow_blank=allow_blank)
 
 
-def parse_int(text: str, path: str | Path, line: int, field: str) -> int:
-    """Parse one integer field, raising :class:`FormatError` with its location on failure."""
-    s = text.strip()
-    if not s:
-        raise FormatError(path, line, field, "value is missing")
-    try:
-        return int(s)
-    except ValueError:
-        raise FormatError(path, line, field, f"'{s}' is not an integer") from None
+def parse_int(text: str, path: str | Path, line: int, field: str, *, lo: int | None = None,
+              hi: int | None = None) -> int:
+    """Parse one integer field (:func:`leopod.io._fields.integer`), optionally in [lo, hi]."""
+    return _fields.integer(text, path, line, field, lo=lo, hi=hi)
 
 
 def fixed_float(line_text: str, start: int, stop: int, path, line: int, field: str,
-                *, allow_blank=False) -> float:
+                *, allow_blank=False, kind: str | None = None) -> float:
     """Parse the fixed-width field ``line_text[start:stop]`` (0-based, stop exclusive)."""
-    return parse_float(line_text[start:stop], path, line, field, allow_blank=allow_blank)
+    return parse_float(line_text[start:stop], path, line, field, allow_blank=allow_blank,
+                       kind=kind)
 
 
-def parse_floats(texts, line_nos, field, path, *, allow_blank: bool = False) -> np.ndarray:
+def parse_floats(texts, line_nos, field, path, *, allow_blank: bool = False,
+                 kind: str | None = None, lo: float | None = None,
+                 hi: float | None = None) -> np.ndarray:
     """Convert many numeric field texts to float64, fast, with exact error locations.
 
-    numpy converts the whole list at once; only when that fails (or gives NaN/inf) are the
-    texts parsed one by one with :func:`parse_float`, which raises at the first bad one.
-    Fortran ``D`` exponents are accepted.
+    :func:`leopod.io._fields.numbers`: numpy converts the whole list at once; only when that
+    fails (bad syntax, a value out of range) are the texts parsed one by one, raising at the
+    first bad one. Fortran ``D`` exponents are accepted.
 
     Parameters
     ----------
@@ -213,30 +223,15 @@ def parse_floats(texts, line_nos, field, path, *, allow_blank: bool = False) -> 
         File, for error messages.
     allow_blank : bool
         Blank fields become NaN instead of an error.
+    kind, lo, hi
+        Range of the fields.
 
     Returns
     -------
     numpy.ndarray, shape (N,)
     """
-    if len(texts) == 0:
-        return np.empty(0)
-    arr = np.asarray(texts, dtype=str)
-    for candidate in (arr, np.char.translate(arr, str.maketrans("Dd", "Ee"))):
-        try:
-            values = candidate.astype(np.float64)
-        except ValueError:
-            continue
-        if np.isfinite(values).all():
-            return values
-        break
-    if callable(field):
-        name = field
-    elif isinstance(field, str):
-        name = lambda i: field
-    else:
-        name = field.__getitem__
-    return np.array([parse_float(t, path, n, name(i), allow_blank=allow_blank)
-                     for i, (t, n) in enumerate(zip(texts, line_nos))], dtype=np.float64)
+    return _fields.numbers(texts, line_nos, field, path, kind=kind, lo=lo, hi=hi,
+                           allow_blank=allow_blank)
 
 
 def calendar_epoch_ns(ymdhm: tuple[int, int, int, int, int], seconds: float, path,
@@ -246,21 +241,11 @@ def calendar_epoch_ns(ymdhm: tuple[int, int, int, int, int], seconds: float, pat
     Raises
     ------
     FormatError
-        Naming ``epoch`` for an impossible date/time or a year outside 1678-2261 (the range
-        of datetime64[ns], beyond which the epoch would overflow or wrap), or ``second``
+        Naming ``epoch`` for an impossible date/time or a year outside 1900-2199
+        (:data:`leopod.io._fields.YEARS`, well inside datetime64[ns]), or ``second``
         outside [0, 60).
     """
-    try:
-        dt = _dt.datetime(*ymdhm)
-    except ValueError as err:
-        raise FormatError(path, line, "epoch", f"invalid date or time ({err})") from None
-    if not 0.0 <= seconds < 60.0:
-        raise FormatError(path, line, "second", f"seconds {seconds} outside [0, 60)")
-    if not _MIN_NS_YEAR <= dt.year <= _MAX_NS_YEAR:
-        raise FormatError(path, line, "epoch", f"year {dt.year} outside {_MIN_NS_YEAR}-"
-                          f"{_MAX_NS_YEAR}, the range of datetime64[ns] epochs")
-    delta = dt - _UNIX0
-    return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + round(seconds * 1e9)
+    return _fields.epoch_ns(*ymdhm, seconds, path, line)
 
 
 def write_text(path: str | Path, text: str) -> Path:

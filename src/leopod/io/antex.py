@@ -59,7 +59,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
+from leopod.io._fields import epoch_ns
+from leopod.io._text import (
+    FormatError,
+    fixed_float,
+    parse_float,
+    parse_floats,
+    parse_int,
+    read_lines,
+)
 
 __all__ = ["AntennaPattern", "AntexFile", "read_antex"]
 
@@ -402,9 +410,9 @@ def read_antex(path: str | Path) -> AntexFile:
     while k < n:
         label = labels[k]
         if label == "START OF ANTENNA":
-            end = _end_of_antenna(labels, k, path)
+            end, k_next = _end_of_antenna(labels, k, path)
             antennas.append(_parse_antenna(lines, labels, k, end, path, attrs))
-            k = end + 1
+            k = k_next
         elif label in _IGNORED and (label or not lines[k].strip()):
             k += 1
         else:
@@ -439,15 +447,21 @@ def _parse_header(lines, labels, path) -> tuple[dict, int]:
     raise FormatError(path, None, "END OF HEADER", "mandatory header record missing")
 
 
-def _end_of_antenna(labels, start, path) -> int:
-    """Index of the END OF ANTENNA closing the block opened at ``start``."""
+def _end_of_antenna(labels, start, path) -> tuple[int, int]:
+    """(index ending the block opened at ``start``, index where the next block may start).
+
+    The block ends at its END OF ANTENNA; a block that the next START OF ANTENNA opens
+    without one (a subset file cut and pasted, e.g. georust's igs14_small.atx) ends there,
+    with a logged warning: its records up to END OF FREQUENCY are complete and are checked.
+    """
     for j in range(start + 1, len(labels)):
         if labels[j] == "END OF ANTENNA":
-            return j
+            return j, j + 1
         if labels[j] == "START OF ANTENNA":
-            raise FormatError(path, j + 1, "END OF ANTENNA",
-                              f"antenna opened at line {start + 1} is not closed before "
-                              "the next START OF ANTENNA")
+            log.warning("%s:%d: antenna opened at line %d is not closed by END OF ANTENNA "
+                        "before the next START OF ANTENNA; closed there", path.name, j + 1,
+                        start + 1)
+            return j, j
     raise FormatError(path, len(labels), "END OF ANTENNA",
                       f"antenna opened at line {start + 1} is not closed (file truncated?)")
 
@@ -519,7 +533,7 @@ def _parse_antenna(lines, labels, start, end, path, file_attrs) -> AntennaPatter
 
 
 def _dazi(line, path, lineno) -> float:
-    dazi = fixed_float(line, 0, 8, path, lineno, "DAZI")
+    dazi = fixed_float(line, 0, 8, path, lineno, "DAZI", kind="angle_deg")
     if dazi < 0 or dazi >= 360 or (dazi > 0 and abs(360 / dazi - round(360 / dazi)) > 1e-9):
         raise FormatError(path, lineno, "DAZI",
                           f"azimuth increment {dazi} deg must be 0 or divide 360")
@@ -529,7 +543,8 @@ def _dazi(line, path, lineno) -> float:
 def _zenith_grid(line, path, lineno) -> np.ndarray:
     zen1 = fixed_float(line, 0, 8, path, lineno, "ZEN1")
     zen2 = fixed_float(line, 8, 14, path, lineno, "ZEN2")
-    dzen = fixed_float(line, 14, 20, path, lineno, "DZEN")
+    # DZEN of at least 0.01 deg bounds the grid to 18 001 nodes (real files: 0.5-5 deg)
+    dzen = parse_float(line[14:20], path, lineno, "ZEN1 / ZEN2 / DZEN", lo=0.01, hi=180.0)
     if not (0 <= zen1 < zen2 <= 180) or dzen <= 0:
         raise FormatError(path, lineno, "ZEN1 / ZEN2 / DZEN",
                           f"need 0 <= ZEN1 < ZEN2 <= 180 and DZEN > 0, got {zen1} {zen2} {dzen}")
@@ -542,17 +557,12 @@ def _zenith_grid(line, path, lineno) -> np.ndarray:
 
 def _epoch(line, path, lineno, label) -> np.datetime64:
     """Decode a VALID FROM / VALID UNTIL record (5I6, F13.7) into datetime64[ns]."""
-    y, mo, d, h, mi = (parse_int(line[6 * i:6 * i + 6], path, lineno, f"{label} {name}")
+    y, mo, d, h, mi = (parse_int(line[6 * i:6 * i + 6], path, lineno, f"{label} {name}",
+                                 lo=0)
                        for i, name in enumerate(("year", "month", "day", "hour", "minute")))
     sec = fixed_float(line, 30, 43, path, lineno, f"{label} second")
-    if not (1 <= mo <= 12 and 1 <= d <= 31 and 0 <= h <= 23 and 0 <= mi <= 59
-            and 0 <= sec < 61):
-        raise FormatError(path, lineno, label, f"invalid date/time '{line[:43].strip()}'")
-    try:
-        day = np.datetime64(f"{y:04d}-{mo:02d}-{d:02d}", "ns")
-    except ValueError:
-        raise FormatError(path, lineno, label, f"invalid date '{line[:18].strip()}'") from None
-    return day + np.timedelta64(h * 3600 + mi * 60, "s") + np.timedelta64(round(sec * 1e9), "ns")
+    return np.datetime64(epoch_ns(y, mo, d, h, mi, sec, path, lineno, label,
+                                  leap_second=True), "ns")
 
 
 def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):
@@ -574,14 +584,16 @@ def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):
                           f"expected after START OF FREQUENCY {code}")
     line = lines[k]
     pco[code] = _MM_TO_M * np.array(
-        [fixed_float(line, 10 * i, 10 * i + 10, path, k + 1, f"{code} {axis}")
+        [fixed_float(line, 10 * i, 10 * i + 10, path, k + 1, f"{code} {axis}",
+                     kind="antenna_mm")
          for i, axis in enumerate(("NORTH", "EAST", "UP"))])
     k = _next_line(labels, k, end, path, code)
     if lines[k][3:8] != "NOAZI":
         raise FormatError(path, k + 1, "NOAZI", f"expected the NOAZI line of frequency {code}")
     noazi[code] = _MM_TO_M * _pcv_row(lines[k], len(zen), path, k + 1, f"{code} NOAZI")
     if n_az:
-        rows = np.empty((n_az, len(zen)))
+        n = len(zen)
+        tokens, line_nos = [], []
         for i in range(n_az):
             k = _next_line(labels, k, end, path, code)
             line = lines[k]
@@ -590,8 +602,15 @@ def _parse_frequency(lines, labels, k, end, info, path, pco, noazi, grid):
                 raise FormatError(path, k + 1, f"{code} azimuth",
                                   f"azimuth {az} where {i * dazi:g} was expected "
                                   f"(DAZI = {dazi:g})")
-            rows[i] = _pcv_row(line, len(zen), path, k + 1, f"{code} azimuth {az:g}")
-        grid[code] = _MM_TO_M * rows
+            row = line[8:].split()
+            if len(row) != n:
+                raise FormatError(path, k + 1, f"{code} azimuth {az:g}",
+                                  f"{len(row)} PCV values where ZEN1/ZEN2/DZEN gives {n}")
+            tokens += row
+            line_nos += [k + 1] * n
+        values = parse_floats(tokens, line_nos, lambda j: f"{code} azimuth {(j // n) * dazi:g} "
+                              f"#{j % n + 1}", path, kind="antenna_mm")
+        grid[code] = _MM_TO_M * values.reshape(n_az, n)
     k = _next_line(labels, k, end, path, code)
     if labels[k] != "END OF FREQUENCY" or lines[k][3:6] != code:
         raise FormatError(path, k + 1, "END OF FREQUENCY",
@@ -613,14 +632,8 @@ def _pcv_row(line, n, path, lineno, field) -> np.ndarray:
     if len(tokens) != n:
         raise FormatError(path, lineno, field,
                           f"{len(tokens)} PCV values where ZEN1/ZEN2/DZEN gives {n}")
-    try:
-        values = np.array(tokens, dtype=float)
-    except ValueError:
-        values = None
-    if values is None or not np.all(np.isfinite(values)):
-        values = np.array([parse_float(t, path, lineno, f"{field} #{i + 1}")
-                           for i, t in enumerate(tokens)])
-    return values
+    return parse_floats(tokens, [lineno] * n, lambda i: f"{field} #{i + 1}", path,
+                        kind="antenna_mm")
 
 
 def _skip_rms(labels, k, end, path) -> int:

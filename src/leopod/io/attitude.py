@@ -46,6 +46,7 @@ import xarray as xr
 
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.frames.quaternion import QuaternionSeries
+from leopod.io._fields import is_digits, iso_epoch_ns, require_line_end
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines
 
 __all__ = ["CSV_MAGIC", "attitude_dataset", "attitude_series", "load_leo_attitude",
@@ -59,6 +60,7 @@ CSV_COLUMNS = ("time", "q0", "q1", "q2", "q3")
 #: GRACE Level-1 time epoch (GPS time; Case et al. 2010, sec. 1.5.2).
 GRACE_EPOCH = np.datetime64("2000-01-01T12:00:00", "ns")
 _NORM_TOL = 1e-3
+_Q_MAX = 1.0 + _NORM_TOL  # a component of a unit quaternion (io._fields contract)
 _FRAME = "inertial (GCRF/J2000) -> body"
 
 
@@ -160,11 +162,13 @@ def read_sca1b(path: str | Path) -> xr.Dataset:
             raise FormatError(path, no, "record", f"expected 9 fields (gps_time GRACE_id "
                               f"sca_id 4 quaternion components qual_rss qualflg), found "
                               f"{len(parts)}")
-        t_s.append(parse_int(parts[0], path, no, "gps_time"))
-        sca.append(parse_int(parts[2], path, no, "sca_id"))
-        quat.append([parse_float(parts[3 + j], path, no, name) for j, name in
-                     enumerate(("quatangle", "quaticoeff", "quatjcoeff", "quatkcoeff"))])
-        rss.append(parse_float(parts[7], path, no, "qual_rss"))
+        # seconds past 2000-01-01 12:00 up to the contract's last year (2199)
+        t_s.append(parse_int(parts[0], path, no, "gps_time", lo=0, hi=6_279_000_000))
+        sca.append(parse_int(parts[2], path, no, "sca_id", lo=0, hi=99))
+        quat.append([parse_float(parts[3 + j], path, no, name, lo=-_Q_MAX, hi=_Q_MAX)
+                     for j, name in enumerate(("quatangle", "quaticoeff", "quatjcoeff",
+                                               "quatkcoeff"))])
+        rss.append(parse_float(parts[7], path, no, "qual_rss", lo=0.0, hi=1e6))
         if len(parts[8]) != 8 or set(parts[8]) - {"0", "1"}:
             raise FormatError(path, no, "qualflg", f"'{parts[8]}' is not 8 bits")
         flags.append(int(parts[8], 2))
@@ -172,7 +176,8 @@ def read_sca1b(path: str | Path) -> xr.Dataset:
     if not t_s:
         raise FormatError(path, None, "record", "no data records")
     count = header.get("NUMBER OF DATA RECORDS")
-    if count is not None and count.split()[0].isdigit() and int(count.split()[0]) != len(t_s):
+    if count is not None and count.split() and is_digits(count.split()[0]) and \
+            int(count.split()[0]) != len(t_s):
         raise FormatError(path, None, "NUMBER OF DATA RECORDS",
                           f"header says {count.split()[0]}, the file has {len(t_s)} records "
                           "(truncated?)")
@@ -204,6 +209,7 @@ def read_attitude_csv(path: str | Path) -> xr.Dataset:
     """
     path = Path(path)
     lines = read_lines(path)
+    require_line_end(lines, path)
     if not lines[0].startswith(CSV_MAGIC):
         raise FormatError(path, 1, "header", f"first line is not '{CSV_MAGIC} <version>'")
     meta, t_ns, quat, line_nos, columns = {}, [], [], [], False
@@ -226,15 +232,9 @@ def read_attitude_csv(path: str | Path) -> xr.Dataset:
         if len(parts) != 5:
             raise FormatError(path, k, "record", f"expected 5 comma-separated fields, found "
                               f"{len(parts)}")
-        try:
-            t = np.datetime64(parts[0], "ns")
-        except ValueError:
-            raise FormatError(path, k, "time", f"'{parts[0]}' is not an ISO 8601 epoch") \
-                from None
-        if np.isnat(t):
-            raise FormatError(path, k, "time", f"'{parts[0]}' is not an epoch")
-        t_ns.append(t.astype(np.int64))
-        quat.append([parse_float(parts[1 + j], path, k, f"q{j}") for j in range(4)])
+        t_ns.append(iso_epoch_ns(parts[0], path, k, "time"))
+        quat.append([parse_float(parts[1 + j], path, k, f"q{j}", lo=-_Q_MAX, hi=_Q_MAX)
+                     for j in range(4)])
         line_nos.append(k)
     if meta.get("time system", "GPS") != "GPS":
         raise FormatError(path, None, "time system", f"'{meta['time system']}': only GPS time "
@@ -259,8 +259,11 @@ def read_attitude_netcdf(path: str | Path) -> xr.Dataset:
         quaternion is not of unit norm or the epochs are out of order (line: None).
     """
     path = Path(path)
-    with xr.open_dataset(path) as ds:
-        ds = ds.load()
+    try:
+        with xr.open_dataset(path) as ds:
+            ds = ds.load()
+    except (OSError, ValueError, RuntimeError, KeyError) as err:  # damaged or not netCDF
+        raise FormatError(path, None, "netCDF", f"cannot open the file ({err})") from None
     if "quat" not in ds or ds["quat"].dims != ("time", "q") or ds.sizes["q"] != 4:
         raise FormatError(path, None, "quat", "no quat (time, q=4) variable")
     if ds.attrs.get("time_system", "GPS") != "GPS":

@@ -48,17 +48,20 @@ attrs
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
+from leopod.io._fields import check_count, day_of_year_ns
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines
 from leopod.signals import frequency_hz
 
 __all__ = ["osb", "read_bias_sinex"]
 
+_LOG = logging.getLogger(__name__)
 _NS_TO_S = 1e-9
 _BIAS_TYPES = {"OSB", "DSB", "ISB"}
 _TIME_SYSTEMS = {"G": "GPS", "R": "GLONASS", "E": "GAL", "C": "BDT", "J": "QZSS"}
@@ -67,6 +70,14 @@ _PER_SYSTEM_KEYWORDS = {"SATELLITE_CLOCK_REFERENCE_OBSERVABLES",
                         "RECEIVER_CLOCK_REFERENCE_OBSERVABLES"}
 _NAT = np.datetime64("NaT", "ns")
 
+# (name, start, stop, blank allowed, lo, hi) of the numeric fields of a solution record; the
+# ranges are those of io._fields.RANGES "bias_ns"/"sigma_ns" (ns or cycles; 1e6 ns = 300 km).
+_NUMBER_FIELDS = (("ESTIMATED_VALUE", 70, 91, False, -1e6, 1e6),
+                  ("STD_DEV", 92, 103, True, 0.0, 1e6),
+                  ("ESTIMATED_SLOPE", 104, 125, True, -1e6, 1e6),
+                  ("SLOPE_STD_DEV", 126, 137, True, 0.0, 1e6))
+# 0-based columns that are blank in every solution record (between the fields).
+_SEPARATORS = (0, 5, 10, 14, 24, 29, 34, 49, 64, 69, 91, 103, 125)
 # (name, start, stop) of the text fields of a solution record.
 _TEXT_FIELDS = (("BIAS", 1, 5), ("SVN", 6, 10), ("PRN", 11, 14), ("STATION", 15, 24),
                 ("OBS1", 25, 29), ("OBS2", 30, 34))
@@ -89,9 +100,12 @@ def read_bias_sinex(path: str | Path) -> xr.Dataset:
     Raises
     ------
     FormatError
-        If the ``%=BIA`` header line or the ``+BIAS/SOLUTION`` block is missing or unclosed,
-        the number of records differs from the header's count, a field is not numeric or not
-        finite, a time is invalid, a unit is unknown, or windows and time stamps are mixed.
+        If the ``%=BIA`` header line, the ``+BIAS/SOLUTION`` block or the closing ``%=ENDBIA``
+        line is missing or a block unclosed, a field is not numeric, not finite or outside
+        its range, a time is invalid, a unit is unknown, or windows and time stamps are mixed.
+        A complete file (closed by ``%=ENDBIA``) whose record count differs from the
+        ``%=BIA`` line's is read with a logged warning: real CODE 2021 OSB products announce
+        6888 records and hold 6844.
     """
     path = Path(path)
     lines = read_lines(path)
@@ -106,10 +120,12 @@ def read_bias_sinex(path: str | Path) -> xr.Dataset:
     system = attrs.get("time_system_code", "G")
     attrs["time_system"] = _TIME_SYSTEMS.get(system, system)
     ds = _solution(lines, *blocks["BIAS/SOLUTION"], path)
-    if attrs["n_estimates"] != ds.sizes["bias"]:
-        raise FormatError(path, 1, "number of estimates",
-                          f"the %=BIA line announces {attrs['n_estimates']} bias records, "
-                          f"+BIAS/SOLUTION holds {ds.sizes['bias']} (file truncated?)")
+    complete = any(line.startswith("%=ENDBIA") for line in lines[blocks["BIAS/SOLUTION"][1]:])
+    if not complete:
+        raise FormatError(path, len(lines), "%=ENDBIA", "no %=ENDBIA line after the "
+                          "+BIAS/SOLUTION block (file truncated?)")
+    check_count(attrs["n_estimates"], ds.sizes["bias"], path, 1, "number of estimates",
+                "bias records (%=BIA line)", complete=True, log=_LOG)
     ds.attrs.update(attrs)
     return ds
 
@@ -181,7 +197,7 @@ def _first_line(line: str, path: Path) -> dict:
         "data_start": _iso(_sinex_time(parts[5], path, 1, "data start")),
         "data_end": _iso(_sinex_time(parts[6], path, 1, "data end")),
         "bias_mode_flag": parts[7],
-        "n_estimates": parse_int(parts[8], path, 1, "number of estimates"),
+        "n_estimates": parse_int(parts[8], path, 1, "number of estimates", lo=0, hi=10**7),
     }
 
 
@@ -200,6 +216,12 @@ def _blocks(lines: list[str], path: Path) -> dict[str, tuple[int, int]]:
                                   f"block +{name} (line {first}) is not closed")
             name, first = line[1:].strip(), k + 1
         elif line.startswith("-"):
+            if name is not None and line[1:].strip() != name and name == "FILE/COMMENT":
+                # SINEX_BIAS 1.00: comment lines start with "*" or a blank; DLR's MGEX DSB
+                # files start a sentence of +FILE/COMMENT with "- ": read as comment text
+                _LOG.warning("%s:%d: line starting with '-' inside +FILE/COMMENT read as a "
+                             "comment", path, k + 1)
+                continue
             if line[1:].strip() != name:
                 raise FormatError(path, k + 1, line.strip(), "closes a block that is not open")
             blocks[name] = (first, k)
@@ -230,7 +252,7 @@ def _description(lines, first, stop, path) -> dict:
             continue
         keyword, value = line[1:40].strip(), line[40:].strip()
         if keyword in _INT_KEYWORDS:
-            out[keyword.lower()] = parse_int(value, path, k + 1, keyword)
+            out[keyword.lower()] = parse_int(value, path, k + 1, keyword, lo=0, hi=10**6)
         elif keyword == "TIME_SYSTEM":
             out["time_system_code"] = value
         elif keyword in _PER_SYSTEM_KEYWORDS:
@@ -273,11 +295,9 @@ def _solution(lines, first, stop, path) -> xr.Dataset:
             ends.append(_NAT)
         unit = line[65:69].strip()
         units.append(unit)
-        raw = [_number(line, a, b, path, lineno, name, blank_ok)
-               for name, a, b, blank_ok in (("ESTIMATED_VALUE", 70, 91, False),
-                                            ("STD_DEV", 92, 103, True),
-                                            ("ESTIMATED_SLOPE", 104, 125, True),
-                                            ("SLOPE_STD_DEV", 126, 137, True))]
+        _check_separators(line, path, lineno)
+        raw = [parse_float(line[a:b], path, lineno, name, allow_blank=blank_ok, lo=lo, hi=hi)
+               for name, a, b, blank_ok, lo, hi in _NUMBER_FIELDS]
         scale = _to_seconds(unit, fields["PRN"], fields["OBS1"], path, lineno)
         values.append([v * scale for v in raw])
     if stamp_lines and window_lines:
@@ -308,8 +328,14 @@ def _solution(lines, first, stop, path) -> xr.Dataset:
     return ds
 
 
-def _number(line, a, b, path, lineno, name, blank_ok) -> float:
-    return parse_float(line[a:b], path, lineno, name, allow_blank=blank_ok)
+def _check_separators(line: str, path, lineno: int) -> None:
+    """The blank columns between the fields of a solution record (a record with shifted
+    columns would otherwise be read with a wrong value)."""
+    for col in _SEPARATORS:
+        if col < len(line) and line[col] != " ":
+            name = next((n for n, a, _ in _TEXT_FIELDS if a > col), "ESTIMATED_VALUE")
+            raise FormatError(path, lineno, name, f"column {col + 1} must be blank (fixed "
+                              "columns of the SINEX_BIAS 1.00 solution record; shifted?)")
 
 
 def _to_seconds(unit: str, prn: str, obs1: str, path, lineno) -> float:
@@ -339,12 +365,9 @@ def _sinex_time(text: str, path, lineno: int, field: str) -> np.datetime64:
     parts = text.split(":")
     if len(parts) != 3:
         raise FormatError(path, lineno, field, f"'{text}' is not YYYY:DOY:SSSSS")
-    year, doy, sec = (parse_int(p, path, lineno, field) for p in parts)
+    year, doy, sec = (parse_int(p, path, lineno, field, lo=0) for p in parts)
     if year == doy == sec == 0:
         return _NAT
     if len(parts[0]) == 2:
         year += 2000 if year < 50 else 1900
-    if not (1 <= doy <= 366 and 0 <= sec <= 86400):
-        raise FormatError(path, lineno, field, f"'{text}': day of year or second out of range")
-    return (np.datetime64(f"{year:04d}-01-01", "ns") + np.timedelta64(doy - 1, "D")
-            + np.timedelta64(sec, "s"))
+    return np.datetime64(day_of_year_ns(year, doy, sec, path, lineno, field), "ns")

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import is_number, require_line_end
 from leopod.io._text import FormatError, parse_float, read_lines
 
 __all__ = ["BLQ_COMPONENTS", "BLQ_CONSTITUENTS", "read_blq"]
@@ -29,17 +30,13 @@ BLQ_CONSTITUENTS = ("M2", "S2", "N2", "K2", "K1", "O1", "P1", "Q1", "MF", "MM", 
 #: Displacement components of the three amplitude (and phase) lines, in file order.
 BLQ_COMPONENTS = ("up", "west", "south")
 _LINES_PER_SITE = 6
+#: Physical range of the six lines (io._fields.RANGES): amplitudes [m], phase lags [deg].
+_KINDS = ("loading_amplitude_m",) * 3 + ("phase_deg",) * 3
 
 
 def _is_table_line(tokens: list[str]) -> bool:
     """True for a line of eleven numbers (a station name line never is one)."""
-    if len(tokens) != len(BLQ_CONSTITUENTS):
-        return False
-    try:
-        [float(t) for t in tokens]
-    except ValueError:
-        return False
-    return True
+    return len(tokens) == len(BLQ_CONSTITUENTS) and all(is_number(t) for t in tokens)
 
 
 def read_blq(path: str | Path) -> xr.Dataset:
@@ -62,7 +59,9 @@ def read_blq(path: str | Path) -> xr.Dataset:
         where a station name is expected, a site given twice, or no station at all.
     """
     path = Path(path)
-    rows = [(ln, text.split()) for ln, text in enumerate(read_lines(path), start=1)
+    lines = read_lines(path)
+    require_line_end(lines, path)
+    rows = [(ln, text.split()) for ln, text in enumerate(lines, start=1)
             if text.strip() and not text.lstrip().startswith("$$")]
     sites, values = [], []
     k = 0
@@ -82,7 +81,8 @@ def read_blq(path: str | Path) -> xr.Dataset:
                 raise FormatError(path, bln, name, f"{len(btok)} fields, expected "
                                   f"{len(BLQ_CONSTITUENTS)} numbers")
         sites.append(name)
-        values.append([[parse_float(t, path, bln, name) for t in btok] for bln, btok in block])
+        values.append([[parse_float(t, path, bln, name, kind=kind) for t in btok]
+                       for (bln, btok), kind in zip(block, _KINDS)])
         k += 1 + _LINES_PER_SITE
     if not sites:
         raise FormatError(path, None, "station name", "no station block in the file")

@@ -37,17 +37,21 @@ Errors
 ``# / TYPES OF DATA`` or ``END OF HEADER`` record, a file that is not a clock file, a bad
 epoch, a bad or non-finite value (field ``"<name> clock bias"`` / ``"<name> clock sigma"``),
 a record whose number of values disagrees with the values present (e.g. truncated), and two
-records of one clock at one epoch.
+records of one clock at one epoch. A single-line record with more values than it announces
+(peer files write a trailing flag, or a sigma after a count of 1) is read with the announced
+values and a logged warning. Values and sigmas lie within +-1000 s (io._fields "clock_s").
 """
 
 from __future__ import annotations
 
+import logging
 import re
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import RANGES, is_number
 from leopod.io._text import (
     PRODUCT_TIME_SYSTEMS,
     FormatError,
@@ -61,6 +65,8 @@ from leopod.io._text import (
 
 __all__ = ["read_rinex_clock"]
 
+_LOG = logging.getLogger(__name__)
+
 _NS = 1_000_000_000
 _KINDS = ("AS", "AR")
 _RECORD_TYPES = ("AR", "AS", "CR", "DR", "MS")
@@ -70,8 +76,8 @@ _VAR_NAMES = {"AS": ("sv", "clk_s", "clk_sigma_s", "satellite clock"),
               "AR": ("station", "clk_station_s", "clk_station_sigma_s", "receiver clock")}
 
 
-def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Path
-              ) -> np.ndarray:
+def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Path,
+              kind: str = "clock_s") -> np.ndarray:
     """Convert E19.12 value texts to float64; fast numpy path, exact FormatError otherwise.
 
     Blank texts become NaN (an absent optional value). A text without a complete exponent
@@ -85,7 +91,7 @@ def _to_float(texts: list[str], line_nos: list[int], fields: list[str], path: Pa
             parse_float(text, path, line_nos[k], fields[k])  # raises if not a number at all
             raise FormatError(path, line_nos[k], fields[k], f"'{text}' is not an E19.12 "
                               "value (incomplete exponent: truncated?)")
-    return parse_floats(texts, line_nos, fields, path, allow_blank=True)
+    return parse_floats(texts, line_nos, fields, path, allow_blank=True, kind=kind)
 
 
 def _epoch_ns(text: str, path: Path, line_no: int) -> int:
@@ -95,7 +101,7 @@ def _epoch_ns(text: str, path: Path, line_no: int) -> int:
         raise FormatError(path, line_no, "epoch", f"'{text.strip()}' is not an epoch "
                           "(year month day hour minute second)")
     names = ("year", "month", "day", "hour", "minute")
-    ints = [parse_int(p, path, line_no, n) for p, n in zip(parts, names)]
+    ints = [parse_int(p, path, line_no, n, lo=0) for p, n in zip(parts, names)]
     seconds = parse_float(parts[5], path, line_no, "second")
     return calendar_epoch_ns(tuple(ints), seconds, path, line_no)
 
@@ -134,12 +140,13 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, int, bool]:
                                   f"clock time system ({', '.join(PRODUCT_TIME_SYSTEMS)})")
             attrs.update(time_system=code, _time_system_line=i + 1)
         elif label == "LEAP SECONDS":
-            attrs["leap_seconds"] = parse_int(content[:6], path, i + 1, "LEAP SECONDS")
+            attrs["leap_seconds"] = parse_int(content[:6], path, i + 1, "LEAP SECONDS", lo=0,
+                                              hi=99)
         elif label == "ANALYSIS CENTER":
             attrs["analysis_center"] = content[:3].strip()
             attrs["analysis_center_name"] = content[5:].strip()
         elif label == "# / TYPES OF DATA":
-            n = parse_int(content[:6], path, i + 1, "# / TYPES OF DATA")
+            n = parse_int(content[:6], path, i + 1, "# / TYPES OF DATA", lo=0, hi=99)
             types = content[6:].split()
             if len(types) != n:
                 raise FormatError(path, i + 1, "# / TYPES OF DATA", f"{n} types declared, "
@@ -192,6 +199,13 @@ def _scan(lines: list[str], first: int, wide: bool, kinds: tuple[str, ...], path
                               f"announces {n_values} values but the file ends: truncated")
         for j in range(1, n_cont + 1):
             values = values + lines[i + j].split()
+        if n_cont == 0 and len(values) > n_values:
+            # extra tokens after the announced values of a single-line record (peer files
+            # write a trailing flag "E", or a sigma after a count of 1): the announced values
+            # are unambiguous, the rest is ignored with a warning
+            _LOG.warning("%s:%d: the record announces %d values and has %d; the first %d "
+                         "are read", path, i + 1, n_values, len(values), n_values)
+            values = values[:n_values]
         if len(values) != n_values:
             raise FormatError(path, i + 1 + n_cont, "number of values", f"the record announces "
                               f"{n_values} values but has {len(values)}")
@@ -202,7 +216,17 @@ def _scan(lines: list[str], first: int, wide: bool, kinds: tuple[str, ...], path
             rec.line_nos.append(i + 1)
             rec.bias.append(values[0])
             rec.sigma.append(values[1] if n_values > 1 else "")
+        record_no = i + 1
         i += 1 + n_cont
+        if kind not in _KINDS:
+            # records leopod does not read (CR, DR, MS): numeric continuation lines that the
+            # count does not announce (georust's USNO1.txt) are skipped with a warning
+            while i < n_lines and lines[i][:1] == " " and lines[i].split() and \
+                    all(is_number(t) for t in lines[i].split()):
+                _LOG.warning("%s:%d: continuation line of the %s record of line %d not "
+                             "announced by its count; skipped (record type not read)", path,
+                             i + 1, kind, record_no)
+                i += 1
     return out
 
 
@@ -219,6 +243,22 @@ def _epochs(recs: dict[str, _Collected], path: Path) -> dict[str, np.ndarray]:
             ns[k] = value
         out[kind] = ns
     return out
+
+
+def _check_interval(interval_s: float, recs: dict, epochs: dict, kinds, path: Path) -> None:
+    """The median epoch spacing is an epoch interval (io._fields "interval_s": up to 1e6 s,
+    11.6 days); a larger one means a date of the file is wrong (e.g. one digit of a year
+    changed): the error names the first record after the largest gap."""
+    low, high = RANGES["interval_s"]
+    if interval_s <= high:
+        return
+    ns = np.concatenate([epochs[k] for k in kinds])
+    lines = np.concatenate([np.asarray(recs[k].line_nos, dtype=np.int64) for k in kinds])
+    order = np.argsort(ns, kind="stable")
+    k = order[int(np.argmax(np.diff(ns[order]))) + 1]
+    raise FormatError(path, int(lines[k]), "epoch", f"the epochs are {interval_s:.3g} s apart "
+                      f"(median), more than an epoch interval can be ({high:g} s): a wrong "
+                      "date?")
 
 
 def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
@@ -286,7 +326,7 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
             raise FormatError(path, rec.line_nos[k], f"{rec.names[k]} clock bias",
                               "value is missing")
         sigma = _to_float(rec.sigma, rec.line_nos, [f"{n} clock sigma" for n in rec.names],
-                          path)
+                          path, "clock_s")  # peers write negative sigmas (example1.txt)
         grids = []
         for values in (bias, sigma):
             grid = np.full((all_ns.size, names.size), np.nan)
@@ -299,5 +339,6 @@ def read_rinex_clock(path: str | Path, kinds: tuple[str, ...] = ("AS",), *,
     main = epochs["AS"] if "AS" in kinds and epochs["AS"].size else all_ns
     steps = np.diff(np.unique(main))
     attrs["interval_s"] = float(np.median(steps)) / 1e9 if steps.size else 0.0
+    _check_interval(attrs["interval_s"], recs, epochs, kinds, path)
     attrs["filename"] = path.name
     return xr.Dataset(data, coords=coords, attrs=attrs)

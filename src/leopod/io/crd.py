@@ -99,9 +99,7 @@ placeholders such as ``-1.000`` are kept as written. attrs: ``format``, ``crd_ve
 
 from __future__ import annotations
 
-import datetime as _dt
 import logging
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -109,6 +107,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.constants import C_LIGHT_M_S
+from leopod.io._fields import epoch_ns, integers, is_digits, numbers, require_line_end
 from leopod.io._text import FormatError, parse_float, parse_int, read_lines
 
 __all__ = ["ilrs_id_to_cospar", "read_crd"]
@@ -181,7 +180,7 @@ def ilrs_id_to_cospar(ilrs_id: str) -> str:
         Years 57-99 are 19YY, 00-56 are 20YY; pieces 1-24 are A-Z without I and O, then AA...
     """
     s = str(ilrs_id).strip()
-    if len(s) != 7 or not s.isdigit() or int(s[5:]) == 0:
+    if len(s) != 7 or not is_digits(s) or int(s[5:]) == 0:
         return ""
     yy, launch, piece = int(s[:2]), s[2:5], int(s[5:])
     year = 1900 + yy if yy >= 57 else 2000 + yy
@@ -221,7 +220,9 @@ def read_crd(path: str | Path, record: str = "normal_point") -> xr.Dataset:
     if record not in _RECORD_OF:
         raise ValueError(f"record must be 'normal_point' or 'full_rate', not {record!r}")
     path = Path(path)
-    scan = _scan(path, read_lines(path))
+    lines = read_lines(path)
+    require_line_end(lines, path)
+    scan = _scan(path, lines)
     rid = _RECORD_OF[record]
     rows = scan.rows[rid]
     if not rows:
@@ -231,7 +232,7 @@ def read_crd(path: str | Path, record: str = "normal_point") -> xr.Dataset:
     lines = [r[1] for r in rows]
     fields = [r[2] for r in rows]
     time_ns = _epochs(path, rid, sessions, sidx, lines, fields)
-    tof = _floats(path, f"{rid} time of flight", fields, lines, 2)
+    tof = _floats(path, f"{rid} time of flight", fields, lines, 2, kind="time_of_flight_s")
     data = _range_columns(path, rid, fields, lines)
     syscfg = np.array([f[3] for f in fields], dtype=str)
     met = _meteo(path, scan, sessions, sidx, time_ns)
@@ -260,7 +261,7 @@ def _scan(path: Path, lines: list[str]) -> _Scan:
         if not tokens:
             continue
         rid = tokens[0].upper()
-        if rid == "00" or (len(rid) == 2 and rid[0] == "9" and rid[1].isdigit()):
+        if rid == "00" or (len(rid) == 2 and rid[0] == "9" and is_digits(rid[1])):
             continue
         nmin = _MIN_FIELDS.get(rid)
         if nmin is None:
@@ -319,7 +320,7 @@ def _check_closed(path: Path, session: _Session | None) -> None:
 def _parse_h1(path: Path, ln: int, t: list[str]) -> int:
     if t[1].upper() != "CRD":
         raise FormatError(path, ln, "H1", f"format literal is '{t[1]}', expected 'CRD'")
-    version = parse_int(t[2], path, ln, "H1 format version")
+    version = parse_int(t[2], path, ln, "H1 format version", lo=0, hi=99)
     if version not in (1, 2):
         raise FormatError(path, ln, "H1 format version", f"CRD version {version} not supported "
                           "(1 or 2)")
@@ -328,39 +329,39 @@ def _parse_h1(path: Path, ln: int, t: list[str]) -> int:
 
 def _parse_h2(path: Path, ln: int, t: list[str]) -> dict:
     pad = t[2]
-    if not (pad.isdigit() and len(pad) <= 4):
+    if not (is_digits(pad) and len(pad) <= 4):
         raise FormatError(path, ln, "H2 CDP pad id", f"'{pad}' is not a CDP pad id (4 digits)")
-    scale = parse_int(t[5], path, ln, "H2 epoch time scale")
+    scale = parse_int(t[5], path, ln, "H2 epoch time scale", lo=0, hi=99)
     if scale not in TIME_SCALES:
         raise FormatError(path, ln, "H2 epoch time scale", f"time scale code {scale} is not one "
                           f"of {sorted(TIME_SCALES)}")
     return {"name": t[1], "pad": pad.zfill(4),
-            "system": parse_int(t[3], path, ln, "H2 CDP system number"),
-            "occupancy": parse_int(t[4], path, ln, "H2 CDP occupancy number"),
+            "system": parse_int(t[3], path, ln, "H2 CDP system number", lo=0, hi=99),
+            "occupancy": parse_int(t[4], path, ln, "H2 CDP occupancy number", lo=0, hi=99),
             "time_scale": scale}
 
 
 def _parse_h3(path: Path, ln: int, t: list[str]) -> dict:
     ilrs = t[2]
-    if not (ilrs.isdigit() and len(ilrs) <= 7):
+    if not (is_digits(ilrs) and len(ilrs) <= 7):
         raise FormatError(path, ln, "H3 ILRS id", f"'{ilrs}' is not an ILRS satellite id")
     ilrs = ilrs.zfill(7)
-    norad = -1 if t[4].lower() in _NA else parse_int(t[4], path, ln, "H3 NORAD id")
+    norad = -1 if t[4].lower() in _NA else parse_int(t[4], path, ln, "H3 NORAD id", lo=0,
+                                                     hi=2**31 - 1)
     return {"name": t[1], "ilrs": ilrs, "cospar": ilrs_id_to_cospar(ilrs), "norad": norad}
 
 
 def _parse_h4(path: Path, ln: int, t: list[str], index: int, station: dict,
               target: dict) -> _Session:
-    ints = [parse_int(v, path, ln, f"H4 field {k}") for k, v in enumerate(t[1:8], start=1)]
-    try:
-        start = _dt.datetime(*ints[1:7])
-    except ValueError as err:
-        raise FormatError(path, ln, "H4 start", f"invalid start epoch ({err})") from None
-    start_ns = int(np.datetime64(start, "ns").astype(np.int64))
+    ints = [parse_int(v, path, ln, f"H4 field {k}", lo=0, hi=9999)
+            for k, v in enumerate(t[1:8], start=1)]
+    if ints[0] > 2:
+        raise FormatError(path, ln, "H4 field 1", f"data type {ints[0]} is not 0, 1 or 2")
+    start_ns = epoch_ns(*ints[1:6], float(ints[6]), path, ln, "H4 start")
     names = ("data release", "refraction applied", "CoM applied", "amplitude corr applied",
              "station delay applied", "spacecraft delay applied", "range type",
              "data quality alert")
-    flags = [parse_int(v, path, ln, f"H4 {n}") for n, v in zip(names, t[14:22])]
+    flags = [parse_int(v, path, ln, f"H4 {n}", lo=0, hi=99) for n, v in zip(names, t[14:22])]
     return _Session(index=index, line=ln, station=station, target=target,
                     data_type=ints[0], start_ns=start_ns,
                     day_ns=start_ns - start_ns % _DAY_NS, release=flags[0],
@@ -368,8 +369,8 @@ def _parse_h4(path: Path, ln: int, t: list[str], index: int, station: dict,
 
 
 def _parse_c0(path: Path, ln: int, t: list[str]) -> tuple[str, float]:
-    parse_int(t[1], path, ln, "C0 detail type")
-    wl = parse_float(t[2], path, ln, "C0 transmit wavelength")
+    parse_int(t[1], path, ln, "C0 detail type", lo=0, hi=9)
+    wl = parse_float(t[2], path, ln, "C0 transmit wavelength", lo=0.0, hi=1e5)
     if wl <= 0:
         raise FormatError(path, ln, "C0 transmit wavelength", f"{wl} nm is not positive")
     return t[3], wl
@@ -377,38 +378,38 @@ def _parse_c0(path: Path, ln: int, t: list[str]) -> tuple[str, float]:
 
 # -------------------------------------------------------------------- vectorised columns
 def _floats(path: Path, name: str, fields: list, lines: list, col: int, *,
-            optional: bool = False) -> np.ndarray:
-    """Column ``col`` of the records as float64; ``na`` (optional fields only) -> NaN."""
+            optional: bool = False, kind: str | None = None, lo: float | None = None,
+            hi: float | None = None) -> np.ndarray:
+    """Column ``col`` of the records as float64 in its range (io._fields); ``na`` (optional
+    fields only) -> NaN."""
     texts = [f[col] if col < len(f) else "na" for f in fields]
     missing = np.array([optional and s.lower() in _NA for s in texts], dtype=bool)
-    try:
-        values = np.array(["nan" if m else s for s, m in zip(texts, missing)], dtype=float)
-        good = bool(np.isfinite(values[~missing]).all())
-    except ValueError:
-        good = False
-    if not good:  # slow path: find the offending line (or accept Fortran D exponents)
-        values = np.array([math.nan if m else parse_float(s, path, ln, name)
-                           for s, m, ln in zip(texts, missing, lines)], dtype=float)
+    values = np.full(len(texts), np.nan)
+    keep = np.flatnonzero(~missing)
+    values[keep] = numbers([texts[k] for k in keep], [lines[k] for k in keep], name, path,
+                           kind=kind, lo=lo, hi=hi)
     return values
 
 
 def _ints(path: Path, name: str, fields: list, lines: list, col: int, *,
-          optional: bool = False) -> np.ndarray:
-    """Column ``col`` of the records as int64; ``na`` (optional fields only) -> -1."""
+          optional: bool = False, lo: int = -1, hi: int = 2**31 - 1) -> np.ndarray:
+    """Column ``col`` of the records as int64 in [lo, hi] (-1, "not available" in files,
+    allowed); ``na`` (optional fields only)
+    -> -1."""
     texts = [f[col] if col < len(f) else "na" for f in fields]
-    clean = ["-1" if optional and s.lower() in _NA else s for s in texts]
-    try:
-        return np.array(clean, dtype=np.int64)
-    except (ValueError, OverflowError):
-        return np.array([parse_int(s, path, ln, name) for s, ln in zip(clean, lines)],
-                        dtype=np.int64)
+    missing = np.array([optional and s.lower() in _NA for s in texts], dtype=bool)
+    values = np.full(len(texts), -1, dtype=np.int64)
+    keep = np.flatnonzero(~missing)
+    values[keep] = integers([texts[k] for k in keep], [lines[k] for k in keep], name, path,
+                            lo=lo, hi=hi)
+    return values
 
 
 def _epochs(path: Path, rid: str, sessions: list, sidx: np.ndarray, lines: list,
             fields: list) -> np.ndarray:
     """Epochs [ns since 1970] of records ``rid`` from their seconds of day and session."""
     name = f"{rid} seconds of day"
-    sod = _floats(path, name, fields, lines, 1)
+    sod = _floats(path, name, fields, lines, 1, kind="seconds_of_day")
     bad = np.flatnonzero((sod < 0) | (sod >= 86_401))
     if bad.size:
         k = bad[0]
@@ -427,25 +428,35 @@ def _range_columns(path: Path, rid: str, fields: list, lines: list) -> dict:
     f, i = _floats, _ints
     if rid == "11":
         return {
-            "epoch_event": i(path, "11 epoch event", fields, lines, 4),
-            "np_window_s": f(path, "11 window length", fields, lines, 5, optional=True),
+            "epoch_event": i(path, "11 epoch event", fields, lines, 4, hi=9),
+            "np_window_s": f(path, "11 window length", fields, lines, 5, optional=True,
+                             kind="interval_s"),
             "n_raw": i(path, "11 number of raw ranges", fields, lines, 6, optional=True),
-            "bin_rms_s": f(path, "11 bin RMS", fields, lines, 7, optional=True) * 1e-12,
-            "bin_skew": f(path, "11 bin skew", fields, lines, 8, optional=True),
-            "bin_kurtosis": f(path, "11 bin kurtosis", fields, lines, 9, optional=True),
+            "bin_rms_s": f(path, "11 bin RMS", fields, lines, 7, optional=True,
+                           kind="statistic") * 1e-12,
+            "bin_skew": f(path, "11 bin skew", fields, lines, 8, optional=True,
+                          kind="statistic"),
+            "bin_kurtosis": f(path, "11 bin kurtosis", fields, lines, 9, optional=True,
+                              kind="statistic"),
             "bin_peak_minus_mean_s": f(path, "11 bin peak-mean", fields, lines, 10,
-                                       optional=True) * 1e-12,
-            "return_rate_pct": f(path, "11 return rate", fields, lines, 11, optional=True),
-            "detector_channel": i(path, "11 detector channel", fields, lines, 12, optional=True),
-            "snr": f(path, "11 signal to noise", fields, lines, 13, optional=True),
+                                       optional=True, kind="statistic") * 1e-12,
+            "return_rate_pct": f(path, "11 return rate", fields, lines, 11, optional=True,
+                                 kind="statistic"),
+            "detector_channel": i(path, "11 detector channel", fields, lines, 12, optional=True,
+                                  hi=999),
+            "snr": f(path, "11 signal to noise", fields, lines, 13, optional=True,
+                     kind="statistic"),
         }
     return {
-        "epoch_event": i(path, "10 epoch event", fields, lines, 4),
-        "filter_flag": i(path, "10 filter flag", fields, lines, 5),
-        "detector_channel": i(path, "10 detector channel", fields, lines, 6, optional=True),
-        "stop_number": i(path, "10 stop number", fields, lines, 7, optional=True),
-        "receive_amplitude": i(path, "10 receive amplitude", fields, lines, 8, optional=True),
-        "transmit_amplitude": i(path, "10 transmit amplitude", fields, lines, 9, optional=True),
+        "epoch_event": i(path, "10 epoch event", fields, lines, 4, hi=9),
+        "filter_flag": i(path, "10 filter flag", fields, lines, 5, hi=9),
+        "detector_channel": i(path, "10 detector channel", fields, lines, 6, optional=True,
+                              hi=999),
+        "stop_number": i(path, "10 stop number", fields, lines, 7, optional=True, hi=999),
+        "receive_amplitude": i(path, "10 receive amplitude", fields, lines, 8, optional=True,
+                               hi=999_999),
+        "transmit_amplitude": i(path, "10 transmit amplitude", fields, lines, 9, optional=True,
+                                hi=999_999),
     }
 
 
@@ -458,9 +469,9 @@ def _meteo(path: Path, scan: _Scan, sessions: list, sidx: np.ndarray,
     fields = [r[2] for r in rows]
     mt = _epochs(path, "20", sessions, msidx, lines, fields)
     names = {"pressure_hpa": 2, "temperature_k": 3, "humidity_pct": 4}
-    cols = {k: _floats(path, f"20 {k.split('_')[0]}", fields, lines, c, optional=True)
+    cols = {k: _floats(path, f"20 {k.split('_')[0]}", fields, lines, c, optional=True, kind=k)
             for k, c in names.items()}
-    _ints(path, "20 origin of values", fields, lines, 5)  # checked, not returned
+    _ints(path, "20 origin of values", fields, lines, 5, hi=9)  # checked, not returned
     out = {k: np.full(time_ns.shape, np.nan) for k in names}
     for s in np.unique(sidx):
         here = sidx == s

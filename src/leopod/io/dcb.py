@@ -40,6 +40,11 @@ attrs
     ``dcb_type`` (e.g. "P1-C1"), ``title`` (first line), ``year`` and ``month`` and
     ``period_start``/``period_end`` (ISO dates, end exclusive) when the title names a month,
     ``time_system`` ("GPS", implied by the CODE products).
+
+Errors: :class:`leopod.io.FormatError` naming file, line and field for a missing block or
+column header, a row that is neither a satellite nor a station, a value outside +-1e6 ns or a
+negative RMS (reader contract, :mod:`leopod.io._fields`), and a row that ends before column 47
+where its right-justified RMS ends (a file cut inside its last number).
 """
 
 from __future__ import annotations
@@ -51,6 +56,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import is_letters
 from leopod.io._text import FormatError, parse_float, read_lines
 
 __all__ = ["read_code_dcb"]
@@ -148,13 +154,17 @@ def _row(line, lineno, path, sats, stations) -> None:
     """Parse one data row into ``sats`` or ``stations`` (values in ns)."""
     head = line[0:3].strip()
     name = line[6:22].strip()
-    value = parse_float(line[22:35], path, lineno, "VALUE (NS)")
-    rms = parse_float(line[35:47], path, lineno, "RMS (NS)")
+    if len(line.rstrip()) < 47:  # RMS is right-justified, its last digit in column 47
+        raise FormatError(path, lineno, "RMS (NS)", f"the row ends in column "
+                          f"{len(line.rstrip())}, before column 47 where its RMS ends (line "
+                          "cut short?)")
+    value = parse_float(line[22:35], path, lineno, "VALUE (NS)", kind="bias_ns")
+    rms = parse_float(line[35:47], path, lineno, "RMS (NS)", kind="sigma_ns")
     if not name and _SV.match(head) and not line[3:6].strip():
         if head in sats:
             raise FormatError(path, lineno, "PRN", f"satellite {head} appears twice")
         sats[head] = (value, rms)
-    elif name and len(head) == 1 and head.isalpha() and not line[1:6].strip():
+    elif name and len(head) == 1 and is_letters(head) and not line[1:6].strip():
         if (head, name) in stations:
             raise FormatError(path, lineno, "STATION NAME",
                               f"station {name} ({head}) appears twice")

@@ -42,8 +42,10 @@ Attributes
 Errors
 ------
 :class:`leopod.io.FormatError` for a missing column line or unit, a record without 8 fields,
-a malformed Doodson number, a non-numeric field, an (n, m) outside 0 <= m <= n, a record given
-twice, one wave name with two Doodson numbers, and a file without records.
+a malformed Doodson number, a non-numeric field or one outside +-1e6 (in the file's unit), an
+(n, m) outside 0 <= m <= n <= 400 (a bound that keeps a corrupt degree from sizing arrays of
+hundreds of GiB), a record given twice, one wave name with two Doodson numbers, a file without
+records, and a file whose last line has no line end (cut inside its last record).
 """
 
 from __future__ import annotations
@@ -54,7 +56,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, parse_floats, parse_int, read_lines
+from leopod.io._fields import integer, integers, require_line_end
+from leopod.io._text import FormatError, parse_floats, read_lines
 
 __all__ = ["DOODSON_ARGUMENTS", "doodson_multipliers", "read_fes_cnm"]
 
@@ -97,6 +100,12 @@ def _canonical(number: str) -> str:
     return match.group(1).rjust(3, "0") + "." + match.group(2)
 
 
+#: Largest degree of a record (FES2004 is complete to 100, later FES coefficient files stay
+#: below 400). The coefficient arrays are (4, waves, n + 1, n + 1): the bound keeps a corrupt
+#: degree from asking for hundreds of GiB (at most 150 MB for 30 waves).
+_MAX_DEGREE = 400
+
+
 def _header(lines: list[str], path: Path) -> tuple[float, list[str], int]:
     """Unit, header lines and index of the first record."""
     for i, text in enumerate(lines):
@@ -109,7 +118,8 @@ def _header(lines: list[str], path: Path) -> tuple[float, list[str], int]:
     for text in header:
         match = _UNIT.search(text)
         if match:
-            return 10.0 ** int(match.group(1)), header, i + 1
+            exponent = integer(match.group(1), path, None, "unit", lo=-30, hi=0)
+            return 10.0 ** exponent, header, i + 1
     raise FormatError(path, None, "unit", "no header line states the unit ('unit = 10^-11')")
 
 
@@ -153,14 +163,8 @@ def _waves(rows, line_nos, path: Path) -> tuple[list[str], dict[str, str], np.nd
 
 def _degree_order(rows, line_nos, path: Path) -> tuple[np.ndarray, np.ndarray]:
     """Degree and order of each record, checked for 0 <= m <= n."""
-    try:
-        nm = np.array([fields[2:4] for fields in rows]).astype(int)
-    except ValueError:  # find the bad field, with its line
-        for fields, line in zip(rows, line_nos):
-            parse_int(fields[2], path, line, "l")
-            parse_int(fields[3], path, line, "m")
-        raise
-    n, m = nm[:, 0], nm[:, 1]
+    n = integers([fields[2] for fields in rows], line_nos, "l", path, lo=0, hi=_MAX_DEGREE)
+    m = integers([fields[3] for fields in rows], line_nos, "m", path, lo=0, hi=_MAX_DEGREE)
     bad = np.flatnonzero((m < 0) | (m > n))
     if bad.size:
         k = bad[0]
@@ -200,6 +204,7 @@ def read_fes_cnm(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
     """
     path = Path(path)
     lines = read_lines(path)
+    require_line_end(lines, path)
     unit, header, first = _header(lines, path)
     rows, line_nos = _records(lines, first, path)
     names, doodson, wave = _waves(rows, line_nos, path)
@@ -207,7 +212,8 @@ def read_fes_cnm(path: str | Path, max_degree: int | None = None) -> xr.Dataset:
     _check_unique(wave, n, m, line_nos, path)
     labels = ("DelC+", "DelS+", "DelC-", "DelS-")
     values = np.column_stack([
-        parse_floats([fields[4 + j] for fields in rows], line_nos, labels[j], path)
+        parse_floats([fields[4 + j] for fields in rows], line_nos, labels[j], path,
+                     kind="tide_stokes_1e-11")
         for j in range(4)]) * unit
     n_file = int(n.max())
     n_max = n_file if max_degree is None else int(max_degree)

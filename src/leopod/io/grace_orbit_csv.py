@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import integer, number, require_line_end
 from leopod.io._text import FormatError, calendar_epoch_ns, parse_floats, read_lines
 from leopod.io.netcdf import atomic_path
 
@@ -51,6 +52,10 @@ _KM_TO_M = 1000.0
 _DM_S_TO_M_S = 0.1
 _ORBIT_FIELDS = ("x", "y", "z", "vx", "vy", "vz")
 _RANGE_FIELDS = ("range",)
+#: Physical range of each field (io._fields.RANGES) in the file's units (km, dm/s, m).
+_KINDS = {"x": "position_km", "y": "position_km", "z": "position_km",
+          "vx": "velocity_dm_s", "vy": "velocity_dm_s", "vz": "velocity_dm_s",
+          "range": "range_m"}
 
 
 def _epoch_ns(date: str, clock: str, path: Path, line: int) -> int:
@@ -60,12 +65,8 @@ def _epoch_ns(date: str, clock: str, path: Path, line: int) -> int:
     if len(day) != 3 or len(hms) != 3:
         raise FormatError(path, line, "epoch", f"expected d/m/yyyy,hh:mm:ss, got "
                           f"'{date},{clock}'")
-    try:
-        d, m, y, hh, mm = int(day[0]), int(day[1]), int(day[2]), int(hms[0]), int(hms[1])
-        sec = float(hms[2])
-    except ValueError:
-        raise FormatError(path, line, "epoch", f"'{date},{clock}' is not a date and time") \
-            from None
+    d, m, y, hh, mm = (integer(t, path, line, "epoch") for t in (*day, *hms[:2]))
+    sec = number(hms[2], path, line, "epoch", lo=0.0, hi=60.0)
     return calendar_epoch_ns((y, m, d, hh, mm), sec, path, line)
 
 
@@ -73,6 +74,7 @@ def _read_table(path: str | Path, fields: tuple[str, ...]) -> tuple[np.ndarray, 
     """Epochs (datetime64[ns], (n,)) and values ((n, len(fields))) of a CSV of this family."""
     path = Path(path)
     lines = read_lines(path)
+    require_line_end(lines, path)
     n_col = 2 + len(fields)
     epochs, texts, line_nos = [], [], []
     for k, text in enumerate(lines, start=1):
@@ -93,7 +95,8 @@ def _read_table(path: str | Path, fields: tuple[str, ...]) -> tuple[np.ndarray, 
         raise FormatError(path, line_nos[bad[0] + 1], "epoch",
                           "epochs are not strictly increasing")
     cols = np.array(texts, dtype=object)
-    values = np.column_stack([parse_floats(list(cols[:, j]), line_nos, name, path)
+    values = np.column_stack([parse_floats(list(cols[:, j]), line_nos, name, path,
+                                           kind=_KINDS[name])
                               for j, name in enumerate(fields)])
     return t.astype("datetime64[ns]"), values
 

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from leopod.io._fields import iso_epoch_ns, require_line_end
 from leopod.io._text import FormatError, parse_float, read_lines
 
 __all__ = ["MAGIC", "Manoeuvre", "read_manoeuvres"]
@@ -67,10 +68,8 @@ class Manoeuvre:
 
 
 def _epoch(text: str, path, line: int, field: str) -> np.datetime64:
-    try:
-        return np.datetime64(text, "ns")
-    except ValueError:
-        raise FormatError(path, line, field, f"not an ISO 8601 epoch: {text!r}") from None
+    """``YYYY-MM-DDThh:mm:ss[.fffffffff]`` -> datetime64[ns] (io._fields.iso_epoch_ns)."""
+    return np.datetime64(iso_epoch_ns(text, path, line, field), "ns")
 
 
 def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, str]]:
@@ -95,6 +94,7 @@ def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, 
         acceleration × duration, burns out of order or overlapping.
     """
     lines = read_lines(path)
+    require_line_end(lines, path)
     if not lines or not lines[0].startswith(MAGIC):
         raise FormatError(path, 1, "identification", f"first line must start with {MAGIC!r}")
     header: dict[str, str] = {}
@@ -116,7 +116,8 @@ def read_manoeuvres(path: str | Path) -> tuple[tuple[Manoeuvre, ...], dict[str, 
         if not end > start:
             raise FormatError(path, number, "end", f"end {parts[1]} is not after start")
         names = ("acc_R", "acc_T", "acc_N", "dv_R", "dv_T", "dv_N")
-        values = [parse_float(v, path=path, line=number, field=n)
+        values = [parse_float(v, path=path, line=number, field=n,
+                              kind="acceleration_m_s2" if n[0] == "a" else "velocity_change_m_s")
                   for v, n in zip(parts[2:], names)]
         burn = Manoeuvre(start, end, tuple(values[:3]))
         dv = np.asarray(values[3:])

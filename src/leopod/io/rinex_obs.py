@@ -48,8 +48,11 @@ Attributes
     records), ``n_cycle_slip_epochs`` (flag-6 epochs, skipped), ``filename``.
 
 Epoch flag 4 records that redefine the observation types (``# / TYPES OF OBSERV`` or
-``SYS / # / OBS TYPES``) are applied to the following epochs. Observation scale factors other
-than 1 are refused (FormatError) rather than silently applied or ignored.
+``SYS / # / OBS TYPES``) are applied to the following epochs. Observation scale factors
+(RINEX 2.11 ``OBS SCALE FACTOR``, RINEX 3 ``SYS / SCALE FACTOR``: "factor to divide stored
+observations with before use") are applied to the header's types: every value is the stored
+one divided by its factor; ``attrs["scale_factors_applied"]`` lists them (``"LA/10 S1/100"``,
+``"R L1C/1000"``, "" when none). A scale-factor record inside a flag-4 event is refused.
 """
 
 from __future__ import annotations
@@ -57,6 +60,7 @@ from __future__ import annotations
 import datetime as _dt
 import logging
 import math
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -64,7 +68,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, fixed_float, parse_int, read_lines
+from leopod.io._fields import YEARS, is_digits, is_number
+from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
 
 __all__ = ["read_rinex_obs"]
 
@@ -81,6 +86,11 @@ _TIME_SYSTEM_CODES = ("GPS", "GLO", "GAL", "QZS", "BDT", "IRN")
 _TYPES_V2 = "# / TYPES OF OBSERV"
 _TYPES_V3 = "SYS / # / OBS TYPES"
 _SCALE_LABELS = ("OBS SCALE FACTOR", "SYS / SCALE FACTOR")
+#: Observation codes: RINEX 2.11 Table A1 (type C/P/L/D/S, frequency 1-8; the 2.20 spaceborne
+#: extension adds frequency "A", e.g. LA, SA) and RINEX 3.04 sec. 5.1 (type C/L/D/S, band
+#: 1-9, attribute letter; "X" channel numbers).
+_OBS_CODE = {2: re.compile(r"[CPLDS][1-8A]"),
+             3: re.compile(r"[CLDS][1-9][A-Z]|X[0-9][A-Z0-9]")}
 _XYZ_RECORDS = {"APPROX POSITION XYZ": "approx_position_xyz_m",
                 "ANTENNA: DELTA H/E/N": "antenna_delta_hen_m"}
 
@@ -104,6 +114,7 @@ class _Header:
     types: dict[str, tuple[str, ...]]  # RINEX 2: one key "" for every system
     attrs: dict
     end: int  # 0-based index of the first line after END OF HEADER
+    scale: dict = None  # (system key, code) -> factor; system "" = every system (RINEX 2)
 
 
 def _text_attrs(line: str, label: str) -> dict:
@@ -125,17 +136,63 @@ def _text_attrs(line: str, label: str) -> dict:
 
 
 def _three_floats(line: str, path, lineno: int, label: str) -> str:
-    """Three F14.4 fields of a header record -> "x y z" string [m]."""
-    values = [fixed_float(line, 14 * k, 14 * (k + 1), path, lineno, label) for k in range(3)]
+    """Three F14.4 fields of a header record -> "x y z" string [m].
+
+    A record whose numbers are shifted out of their columns (georinex's demo.10o) but are
+    three numbers all the same is read from its blank-separated fields with a warning: the
+    values are unambiguous and only informative (attributes)."""
+    try:
+        values = [fixed_float(line, 14 * k, 14 * (k + 1), path, lineno, label,
+                              kind="position_m") for k in range(3)]
+    except FormatError:
+        tokens = line[:60].split()
+        if len(tokens) != 3 or not all(is_number(t) for t in tokens):
+            raise
+        log.warning("%s:%d: %s not in its F14.4 columns; read from its 3 numbers", path,
+                    lineno, label)
+        values = [parse_float(t, path, lineno, label, kind="position_m") for t in tokens]
     return " ".join(f"{v:.4f}" for v in values)
 
 
-def _check_scale_factor(line: str, path, lineno: int, label: str) -> None:
-    """Refuse scale factors other than 1 (the reader does not apply them)."""
-    text = line[:6] if label == "OBS SCALE FACTOR" else line[2:6]
-    if parse_int(text, path, lineno, label) != 1:
-        raise FormatError(path, lineno, label, "observation scale factors other than 1 are "
-                          "not supported")
+def _parse_scale_factors(records: list[tuple[int, str]], types: dict, path) -> dict:
+    """Observation scale factors of 'OBS SCALE FACTOR' (RINEX 2.11: I6 factor, I6 number of
+    types, 8(4X,A2) types) or 'SYS / SCALE FACTOR' (RINEX 3.04: A1 system, 1X, I4 factor, 2X,
+    I2 number of types, 12(1X,A3) types; continuation lines with the first 10 columns blank).
+
+    "Factor to divide stored observations with before use"; no types listed (0 or blank)
+    means every type of the system. Returns ``{(system key, code): factor}``.
+    """
+    groups: list[list] = []  # [system, factor, announced count, codes, line]
+    for lineno, line in records:
+        label = line[60:].strip()
+        v2 = label == "OBS SCALE FACTOR"
+        head = line[:12] if v2 else line[:10]
+        if not head.strip():
+            if not groups:
+                raise FormatError(path, lineno, label, "continuation line without a "
+                                  "preceding record giving the factor")
+            groups[-1][3].extend(line[12 if v2 else 10:60].split())
+            continue
+        system = "" if v2 else line[:1]
+        if not v2 and system not in _SAT_SYSTEMS:
+            raise FormatError(path, lineno, label, f"unknown satellite system '{system}'")
+        factor = parse_int(line[:6] if v2 else line[2:6], path, lineno, label, lo=1, hi=10**6)
+        count_text = line[6:12] if v2 else line[8:10]
+        count = parse_int(count_text, path, lineno, label, lo=0, hi=99) \
+            if count_text.strip() else 0
+        groups.append([system, factor, count, list(line[12 if v2 else 10:60].split()), lineno])
+    out = {}
+    for system, factor, count, codes, lineno in groups:
+        if len(codes) != count:
+            raise FormatError(path, lineno, records[0][1][60:].strip(), f"announces {count} "
+                              f"observation types but lists {len(codes)}")
+        known = types.get(system, ())
+        for code in codes or known:
+            if code not in known:
+                raise FormatError(path, lineno, records[0][1][60:].strip(), f"'{code}' is "
+                                  "not an observation type of the header")
+            out[(system, code)] = factor
+    return out
 
 
 def _parse_obs_types(records: list[tuple[int, str]], path) -> dict[str, tuple[str, ...]]:
@@ -172,7 +229,7 @@ def _parse_obs_types(records: list[tuple[int, str]], path) -> dict[str, tuple[st
         if len(codes) != count:
             raise FormatError(path, lineno, label, f"announces {count} observation types "
                               f"but lists {len(codes)}")
-        bad = [c for c in codes if len(c) != width or not c.isalnum()]
+        bad = [c for c in codes if not _OBS_CODE[width].fullmatch(c)]
         if bad:
             raise FormatError(path, lineno, label, f"'{bad[0]}' is not an observation code")
         if width == 3 and key not in _SAT_SYSTEMS:
@@ -212,7 +269,7 @@ def _parse_header(lines: list[str], path) -> _Header:
                                  "receiver_version", "antenna_number", "antenna_type",
                                  "approx_position_xyz_m", "antenna_delta_hen_m")}
     attrs.update(rinex_version=float(version), file_system=system)
-    type_records = []
+    type_records, scale_records = [], []
     for i in range(1, len(lines)):
         line, lineno = lines[i], i + 1
         label = line[60:].strip()
@@ -227,7 +284,7 @@ def _parse_header(lines: list[str], path) -> _Header:
         elif label == "TIME OF FIRST OBS":
             attrs.update(_time_system(line, path, lineno, label))
         elif label in _SCALE_LABELS:
-            _check_scale_factor(line, path, lineno, label)
+            scale_records.append((lineno, line))
         else:
             attrs.update(_text_attrs(line, label))
     else:
@@ -243,7 +300,10 @@ def _parse_header(lines: list[str], path) -> _Header:
                         "field is compulsory in mixed files, RINEX 3.04 Table A2): GPS "
                         "time assumed", path)
     types = _parse_obs_types(type_records, path)
-    return _Header(float(version), system, types, attrs, i + 1)
+    scale = _parse_scale_factors(scale_records, types, path)
+    scaled = {f"{k[0]}{' ' if k[0] else ''}{k[1]}": f for k, f in scale.items() if f != 1}
+    attrs["scale_factors_applied"] = " ".join(f"{k}/{f}" for k, f in scaled.items())
+    return _Header(float(version), system, types, attrs, i + 1, scale)
 
 
 # ------------------------------------------------------------------------------ data section
@@ -276,8 +336,8 @@ def _epoch_time(line: str, lineno: int, path, v2: bool) -> tuple[_dt.datetime, i
     sec = fixed_float(line, *cols[5], path, lineno, "second")
     if v2:
         y += 2000 if y < 80 else 1900
-    if not 1678 <= y <= 2261:  # datetime64[ns] range: a year outside it would wrap silently
-        raise FormatError(path, lineno, "year", f"{y} is outside 1678-2261")
+    if not YEARS[0] <= y <= YEARS[1]:  # the contract's years, inside datetime64[ns]
+        raise FormatError(path, lineno, "year", f"{y} is outside {YEARS[0]}-{YEARS[1]}")
     for value, low, high, name in ((mo, 1, 12, "month"), (h, 0, 23, "hour"),
                                    (mi, 0, 59, "minute")):
         if not low <= value <= high:
@@ -318,10 +378,13 @@ class _SatIds:
     def __call__(self, raw: str, lineno: int) -> str:
         sv = self.cache.get(raw)
         if sv is None:
+            if len(raw) != 3:
+                raise FormatError(self.path, lineno, "satellite",
+                                  f"'{raw}' is not a satellite identifier")
             system = raw[0] if raw[0] != " " or not self.v2 else "G"
             prn = raw[1:3]
-            if system not in _SAT_SYSTEMS or len(raw) != 3 or not raw[2].isdigit() \
-                    or not (raw[1].isdigit() or raw[1] == " "):
+            if system not in _SAT_SYSTEMS or len(raw) != 3 or not is_digits(raw[2]) \
+                    or not (is_digits(raw[1]) or raw[1] == " "):
                 raise FormatError(self.path, lineno, "satellite",
                                   f"'{raw}' is not a satellite identifier")
             sv = self.cache[raw] = f"{system}{int(prn):02d}"
@@ -343,6 +406,10 @@ def _skip_event(lines, i: int, count: int, flag: int, path, types: dict, v2: boo
         raise _truncated(path, i + 1, len(lines), f"{count} special records announced")
     label = _TYPES_V2 if v2 else _TYPES_V3
     if flag == 4:
+        for k in range(i + 1, end):
+            if lines[k][60:].strip() in _SCALE_LABELS:
+                raise FormatError(path, k + 1, lines[k][60:].strip(), "scale factors "
+                                  "redefined inside the data section are not supported")
         records = [(k + 1, lines[k]) for k in range(i + 1, end) if lines[k][60:].strip() == label]
         if records:
             types.update(_parse_obs_types(records, path))
@@ -531,6 +598,23 @@ def _parse_block(texts: list[str], codes: tuple, lines0: np.ndarray, svs: list, 
     return values, indicators[0], indicators[1]
 
 
+def _apply_scale(values: np.ndarray, codes: tuple, svs: list, scale: dict, v2: bool) -> None:
+    """Divide the stored values by their scale factor (in place)."""
+    if not scale:
+        return
+    systems = np.array([sv[0] for sv in svs])
+    for j, code in enumerate(codes):
+        if v2:
+            factor = scale.get(("", code), 1)
+            if factor != 1:
+                values[:, j] /= factor
+            continue
+        for system in set(systems.tolist()):
+            factor = scale.get((system, code), 1)
+            if factor != 1:
+                values[systems == system, j] /= factor
+
+
 def _obs_attrs(code: str, v2: bool) -> dict:
     """units and long_name of an observation variable."""
     kind = code[0]
@@ -584,6 +668,7 @@ def _build_dataset(scan: _Scan, hdr: _Header, keep, path) -> xr.Dataset:
         rows = np.nonzero(group_of == g)[0]
         block_svs = [scan.rec_sv[r] for r in rows]
         v, li, ss = _parse_block(scan.texts[g], codes, rec_line[rows], block_svs, path, v2)
+        _apply_scale(v, codes, block_svs, hdr.scale, v2)
         t, s = ti[rows], si[rows]
         for j, code in enumerate(codes):
             values[code][t, s] = v[:, j]
@@ -627,6 +712,22 @@ def _final_attrs(scan: _Scan, hdr: _Header, times: np.ndarray, svs: list, path) 
     return attrs
 
 
+def _check_last_line(lines, hdr: _Header, path) -> None:
+    """A file without a final line end whose last observation line ends inside an F14.3 value
+    (RINEX 2.11/3.04: values right-justified in 14 columns, then LLI and SSI) was cut inside
+    that number, which would be read with a wrong value."""
+    if getattr(lines, "final_newline", True) or len(lines) <= hdr.end:
+        return
+    last = lines[-1].rstrip()
+    v3 = hdr.version >= 3
+    if not last or (v3 and last[0] == ">"):
+        return
+    offset = 3 if v3 else 0
+    if (len(last) - offset) % _W in range(1, 14):
+        raise FormatError(path, len(lines), "observation", "the file ends inside an F14.3 "
+                          "observation value (no line end after it): cut short?")
+
+
 def read_rinex_obs(path: str | Path, systems: Iterable[str] | None = None) -> xr.Dataset:
     """Read a RINEX 2.10-2.20, 3.0x or 4.00 observation file (plain, .gz, .Z or Hatanaka).
 
@@ -660,6 +761,7 @@ def read_rinex_obs(path: str | Path, systems: Iterable[str] | None = None) -> xr
                              f"{', '.join(_SAT_SYSTEMS)})")
     lines = read_lines(path)
     hdr = _parse_header(lines, path)
+    _check_last_line(lines, hdr, path)
     scan = (_scan_v2 if hdr.version < 3 else _scan_v3)(lines, hdr, keep, path)
     ds = _build_dataset(scan, hdr, keep, path)
     log.debug("%s: %d epochs, %d satellites", path, ds.sizes["time"], ds.sizes["sv"])

@@ -49,7 +49,16 @@ absent). ``component`` is ``[x, y, z]`` or ``[u, n, e]`` when all lines share on
 ``[x|u, y|n, z|e]`` when they are mixed; ``attrs["ref_system"]`` is "XYZ", "UNE" or "mixed".
 
 attrs of both: ``format`` ("SINEX 2.02"), ``agency``, ``creation_epoch``, ``data_start``,
-``data_end`` (ISO strings, "" if open), ``time_system`` ("UTC"), ``source``.
+``data_end`` (ISO strings, "" if open), ``n_estimates`` (of the header line, when given),
+``time_system`` ("UTC"), ``source``.
+
+The ``%=SNX`` header line is read in its fixed columns (SINEX 2.02: blank agency fields, as in
+JAXA's MGEX files, do not shift the epochs). A SOLN field of dashes (``----``, SINEX 2.02
+Appendix I: a field without a value is filled with "-"; IGS combinations write it in
+SOLUTION/EPOCHS and SITE/ECCENTRICITY) is read as :data:`ANY_SOLUTION` (-1), a record that
+holds for every solution of the site. A header estimate count that disagrees with
+SOLUTION/ESTIMATE of the complete file is logged as a warning. Values follow the reader
+contract (:mod:`leopod.io._fields`): positions within 1e9 m, velocities within 1e5 m/y.
 """
 
 from __future__ import annotations
@@ -62,6 +71,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import check_count, is_digits
 from leopod.io._text import (
     FormatError,
     parse_float,
@@ -70,6 +80,7 @@ from leopod.io._text import (
 )
 
 __all__ = [
+    "ANY_SOLUTION",
     "read_sinex_eccentricities",
     "read_sinex_stations",
     "station_eccentricity",
@@ -78,6 +89,10 @@ __all__ = [
 
 _LOG = logging.getLogger(__name__)
 
+#: Solution number of a record whose SOLN field is "----" (SINEX 2.02 Appendix I: a field
+#: without a value is filled with "-"; IGS combinations write it in SOLUTION/EPOCHS and
+#: SITE/ECCENTRICITY, meaning the record holds for every solution of the site).
+ANY_SOLUTION = -1
 _DATE = re.compile(r"^(\d{2}):(\d{3}):(\d{5})$")
 _JULIAN_YEAR_NS = 365.25 * 86_400e9
 _STA = {"STAX": 0, "STAY": 1, "STAZ": 2}
@@ -139,18 +154,32 @@ def _blocks(path: Path, lines: list[str]) -> tuple[dict, dict]:
 
 
 def _header(path: Path, text: str) -> dict:
-    """Agency, creation and data-span epochs of the ``%=SNX`` header line."""
-    t = text.split()
-    if len(t) < 7 or t[0] != "%=SNX":
-        raise FormatError(path, 1, "%=SNX", "header line has too few fields")
-    start = _epoch(path, 1, "%=SNX data start", t[5], open_ok=True)
-    end = _epoch(path, 1, "%=SNX data end", t[6], open_ok=True)
+    """Agency, creation and data-span epochs of the ``%=SNX`` header line.
+
+    Read in the fixed columns of SINEX 2.02 (section "Header line": agency 12-14, creation
+    epoch 16-27, data agency 29-31, data start 33-44, data end 46-57), so that a blank agency
+    field (JAXA's MGEX files) does not shift the epochs; a line that does not follow the
+    columns is read split on blanks.
+    """
+    columns = (text[11:14], text[15:27], text[32:44], text[45:57], text[60:65])
+    if _DATE.match(columns[1].strip()) and all(text[k:k + 1] in (" ", "") for k in (10, 14)):
+        agency, created, first, last, count = (c.strip() for c in columns)
+    else:
+        t = text.split()
+        if len(t) < 7 or t[0] != "%=SNX":
+            raise FormatError(path, 1, "%=SNX", "header line has too few fields")
+        agency, created, first, last = t[2], t[3], t[5], t[6]
+        count = t[8] if len(t) > 8 else ""
+    start = _epoch(path, 1, "%=SNX data start", first, open_ok=True)
+    end = _epoch(path, 1, "%=SNX data end", last, open_ok=True)
     return {
-        "format": f"SINEX {t[1]}",
-        "agency": t[2],
-        "creation_epoch": _iso(_epoch(path, 1, "%=SNX creation epoch", t[3], open_ok=True)),
+        "format": f"SINEX {text[6:10].strip()}",
+        "agency": agency,
+        "creation_epoch": _iso(_epoch(path, 1, "%=SNX creation epoch", created, open_ok=True)),
         "data_start": _iso(start),
         "data_end": _iso(end),
+        **({"n_estimates": parse_int(count, path, 1, "%=SNX number of estimates", lo=0)}
+           if is_digits(count) else {}),
     }
 
 
@@ -191,7 +220,10 @@ def _soln_key(path: Path, ln: int, text: str, code_col: int = 1) -> tuple[str, s
     if not site:
         raise FormatError(path, ln, "CODE", "site code is blank")
     pt = _field(text, code_col + 5, code_col + 7)
-    soln = parse_int(text[code_col + 8:code_col + 12], path, ln, "SOLN")
+    soln_text = text[code_col + 8:code_col + 12].strip()
+    if soln_text and set(soln_text) == {"-"}:
+        return site, pt, ANY_SOLUTION  # SINEX 2.02 Appendix I: empty fields are "-"-filled
+    soln = parse_int(soln_text, path, ln, "SOLN", lo=0)
     return site, pt, soln
 
 
@@ -219,7 +251,11 @@ def read_sinex_stations(path: str | Path) -> xr.Dataset:
     path = Path(path)
     header, blocks = _blocks(path, read_lines(path))
     sites = _site_ids(path, _require(path, blocks, "SITE/ID"))
-    est = _estimates(path, _require(path, blocks, "SOLUTION/ESTIMATE"))
+    rows = _require(path, blocks, "SOLUTION/ESTIMATE")
+    if "n_estimates" in header:  # the file ends with %ENDSNX: complete
+        check_count(header["n_estimates"], len(rows), path, 1, "%=SNX number of estimates",
+                    "estimates", complete=True, log=_LOG)
+    est = _estimates(path, rows)
     epochs = _solution_epochs(path, blocks.get("SOLUTION/EPOCHS", []))
     keys = list(est)
     n = len(keys)
@@ -244,7 +280,7 @@ def read_sinex_stations(path: str | Path) -> xr.Dataset:
             vel[i, _VEL[name]], sigv[i, _VEL[name]] = e[name][:2]
     nat = np.datetime64("NaT", "ns")
     info = [sites.get(k[:2], ("", "", math.nan, math.nan, math.nan)) for k in keys]
-    span = [epochs.get(k, (nat, nat)) for k in keys]
+    span = [epochs.get(k) or epochs.get((k[0], k[1], ANY_SOLUTION), (nat, nat)) for k in keys]
 
     def var(values, units, title, dims=("solution",)):
         return dims, values, {"units": units, "long_name": title}
@@ -295,7 +331,7 @@ def _site_ids(path: Path, rows: list) -> dict:
             continue
         lon = _dms(path, ln, "APPROX_LON", text[44:55])
         lat = _dms(path, ln, "APPROX_LAT", text[56:67])
-        h = parse_float(text[68:75], path, ln, "APP_H", allow_blank=True)
+        h = parse_float(text[68:75], path, ln, "APP_H", allow_blank=True, lo=-1e4, hi=1e5)
         out[(site, pt)] = (_field(text, 9, 18), _field(text, 21, 43), lon, lat, h)
     return out
 
@@ -314,7 +350,7 @@ def _dms(path: Path, ln: int, field: str, text: str) -> float:
     m = _DMS.fullmatch(text)
     if m is None:
         raise FormatError(path, ln, field, f"'{text.strip()}' is not 'deg min sec'")
-    d, mi, s = (parse_float(g, path, ln, field) for g in m.groups())
+    d, mi, s = (parse_float(g, path, ln, field, lo=-360.0, hi=360.0) for g in m.groups())
     value = abs(d) + abs(mi) / 60.0 + abs(s) / 3600.0
     return -value if "-" in text else value
 
@@ -331,8 +367,10 @@ def _estimates(path: Path, rows: list) -> dict:
         expected = "m" if ptype in _STA else "m/y"
         if unit != expected:
             raise FormatError(path, ln, "UNIT", f"{ptype} in '{unit}', expected '{expected}'")
-        value = parse_float(text[47:68], path, ln, f"{ptype} ESTIMATED VALUE")
-        sigma = parse_float(text[69:80], path, ln, f"{ptype} STD_DEV", allow_blank=True)
+        kind = "position_m" if ptype in _STA else "velocity_m_s"
+        value = parse_float(text[47:68], path, ln, f"{ptype} ESTIMATED VALUE", kind=kind)
+        sigma = parse_float(text[69:80], path, ln, f"{ptype} STD_DEV", allow_blank=True,
+                            lo=0.0, hi=1e9)
         epoch = _epoch(path, ln, "REF_EPOCH", text[27:39], open_ok=False)
         entry = out.setdefault(key, {"line": ln})
         if ptype in entry:
@@ -384,7 +422,7 @@ def read_sinex_eccentricities(path: str | Path) -> xr.Dataset:
         if system not in ("UNE", "XYZ"):
             raise FormatError(path, ln, "REF SYSTEM", f"'{system}' is neither UNE nor XYZ")
         systems.append(system)
-        ecc.append([parse_float(text[a:a + 9], path, ln, f"ECCENTRICITY {c}")
+        ecc.append([parse_float(text[a:a + 9], path, ln, f"ECCENTRICITY {c}", lo=-1e4, hi=1e4)
                     for a, c in zip((45, 54, 63), "123")])
         start.append(_epoch(path, ln, "DATA_START", text[16:28], open_ok=True))
         end.append(_epoch(path, ln, "DATA_END", text[29:41], open_ok=True))

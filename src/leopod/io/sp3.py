@@ -38,8 +38,12 @@ Bad input raises :class:`leopod.io.FormatError` naming file, line and field: a m
 or second header line, a missing satellite list, an unreadable epoch (``*``) line, a bad numeric
 field of a P/V record (field ``"<sv> x|y|z|clock"``, ``"<sv> vx|vy|vz|clock rate"``), a satellite
 absent from the header list, two records of one satellite at one epoch, epochs out of order,
-fewer epochs than the header declares (a truncated file), and a file without ``EOF`` whose last
-epoch lacks some satellites. More epochs than declared is only logged as a warning.
+fewer epochs than the header declares in a file without ``EOF`` (truncated), and a file
+without ``EOF`` whose last epoch lacks some satellites. A file complete to its ``EOF`` whose
+epoch count disagrees with the header is read with a logged warning (GFZ's MGEX rapid orbits
+kept by gnss_lib_py declare 288 epochs and hold 3). Fields follow the reader contract
+(:mod:`leopod.io._fields`): positions within 1e6 km, clocks within 1e6 µs (999999.999999 is
+the "bad" marker), a satellite count of 1..999.
 """
 
 from __future__ import annotations
@@ -50,11 +54,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import check_range, is_digits, is_letters
 from leopod.io._text import (
     PRODUCT_TIME_SYSTEMS,
     FormatError,
     calendar_epoch_ns,
     fixed_float,
+    parse_float,
     parse_floats,
     parse_int,
     read_lines,
@@ -81,9 +87,9 @@ def _sat_id(text: str, path: Path, line_no: int) -> str:
     """Normalise a 3-character SP3 satellite id ("G01", "G 1", SP3-a "  1") to "G01"."""
     system = text[:1]
     number = text[1:3]
-    if system == " " or system.isdigit():  # SP3-a: I3 PRN, GPS implied
+    if system == " " or is_digits(system):  # SP3-a: I3 PRN, GPS implied
         system, number = "G", text[:3]
-    if not system.isalpha() or not number.strip().isdigit():
+    if not is_letters(system) or not is_digits(number.strip()):
         raise FormatError(path, line_no, "satellite id", f"'{text}' is not a satellite id")
     return f"{system.upper()}{int(number):02d}"
 
@@ -123,12 +129,13 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         "coordinate_system": line1[46:51].strip(),
         "orbit_type": line1[52:55].strip(),
         "agency": line1[56:60].strip(),
-        "_n_epochs": parse_int(line1[32:39], path, 1, "number of epochs"),
+        "_n_epochs": parse_int(line1[32:39], path, 1, "number of epochs", lo=0),
     }
     line2 = lines[1] if len(lines) > 1 else ""
     if not line2.startswith("##"):
         raise FormatError(path, 2, "##", "the second header line must start with '##'")
-    attrs["interval_s"] = fixed_float(line2, 24, 38, path, 2, "epoch interval")
+    attrs["interval_s"] = fixed_float(line2, 24, 38, path, 2, "epoch interval",
+                                      kind="interval_s")
 
     i = 2
     plus = []
@@ -137,7 +144,8 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         i += 1
     if not plus:
         raise FormatError(path, 3, "+", "the satellite list ('+' lines) is missing")
-    n_sat = parse_int(lines[plus[0]][3:6], path, plus[0] + 1, "number of satellites")
+    n_sat = parse_int(lines[plus[0]][3:6], path, plus[0] + 1, "number of satellites", lo=1,
+                      hi=999)
     sats = []
     for k in plus:
         text = lines[k]
@@ -157,7 +165,9 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
         for c in range(9, 60, 3):
             if k_sat < n_sat:
                 field = lines[i][c:c + 3]
-                exps[k_sat] = parse_int(field, path, i + 1, "accuracy") if field.strip() else 0
+                # 2**29 mm = 537 km: no orbit product is announced less accurate
+                exps[k_sat] = parse_int(field, path, i + 1, "accuracy", lo=0, hi=29) \
+                    if field.strip() else 0
                 k_sat += 1
         i += 1
     with np.errstate(over="ignore"):
@@ -180,12 +190,15 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
                 attrs["_time_system_line"] = i + 1
         elif text.startswith("%f") and not seen_f:
             seen_f = True
-            attrs["_base_pos"] = fixed_float(text, 3, 13, path, i + 1, "base pos/vel",
-                                             allow_blank=True)
-            attrs["_base_clk"] = fixed_float(text, 14, 26, path, i + 1, "base clk/rate",
-                                             allow_blank=True)
+            attrs["_base_pos"] = parse_float(text[3:13], path, i + 1, "base pos/vel",
+                                             allow_blank=True, lo=0.0, hi=10.0)
+            attrs["_base_clk"] = parse_float(text[14:26], path, i + 1, "base clk/rate",
+                                             allow_blank=True, lo=0.0, hi=10.0)
         elif text.startswith("/*"):
             comments.append(text[2:].strip())
+        elif text.startswith("%/*"):  # ILRS combination files (Orekit issue 895): a comment
+            logger.warning("%s:%d: '%%/*' header line read as a comment", path, i + 1)
+            comments.append(text[3:].strip())
         elif not text.startswith(("%c", "%f", "%i")) and text.strip():
             raise FormatError(path, i + 1, "header", f"unexpected header line '{text[:20]}'")
         i += 1
@@ -195,18 +208,26 @@ def _parse_header(lines: list[str], path: Path) -> tuple[dict, list[str], np.nda
     return attrs, sat_ids, accuracy, i
 
 
-def _parse_epoch_line(text: str, path: Path, line_no: int) -> int:
-    """Epoch of a ``*`` line in ns since 1970-01-01."""
-    if len(text.rstrip()) < 31:
+def _parse_epoch_line(text: str, path: Path, line_no: int, last: bool = True) -> int:
+    """Epoch of a ``*`` line in ns since 1970-01-01.
+
+    The line has 31 columns (seconds F11.8). A shorter line is refused as cut when it is the
+    last line of the file; inside the file (``last`` False) a seconds field that ends early
+    is read as written (EMR's SP3-a files of 1997 write ``.0000000`` ending in column 30).
+    Hour 24 is refused: Orekit's issue-895 file writes ``2016  7  7 24  0`` for 7 July 00:00,
+    which ISO 8601 would read as 8 July.
+    """
+    length = len(text.rstrip())
+    if length < 31 and (last or length < 22):
         raise FormatError(path, line_no, "epoch", "the epoch ('*') record is truncated: "
                           f"'{text.rstrip()}' (31 columns expected)")
-    parts = (parse_int(text[3:7], path, line_no, "year"),
-             parse_int(text[8:10], path, line_no, "month"),
-             parse_int(text[11:13], path, line_no, "day"),
-             parse_int(text[14:16], path, line_no, "hour"),
-             parse_int(text[17:19], path, line_no, "minute"))
+    parts = [parse_int(text[3:7], path, line_no, "year", lo=0),
+             parse_int(text[8:10], path, line_no, "month", lo=0),
+             parse_int(text[11:13], path, line_no, "day", lo=0),
+             parse_int(text[14:16], path, line_no, "hour", lo=0),
+             parse_int(text[17:19], path, line_no, "minute", lo=0)]
     seconds = fixed_float(text, 20, 31, path, line_no, "second")
-    return calendar_epoch_ns(parts, seconds, path, line_no)
+    return calendar_epoch_ns(tuple(parts), seconds, path, line_no)
 
 
 class _Records:
@@ -255,7 +276,7 @@ def _scan_data(lines: list[str], first: int, sat_index: dict[str, int], path: Pa
         text = lines[i]
         kind = text[:1]
         if kind == "*":
-            epochs.append(_parse_epoch_line(text, path, i + 1))
+            epochs.append(_parse_epoch_line(text, path, i + 1, last=i + 1 == len(lines)))
             epoch_lines.append(i + 1)
         elif kind in ("P", "V"):
             sv = _sat_id(text[1:4], path, i + 1)
@@ -280,14 +301,18 @@ def _record_arrays(rec: _Records, sats: list[str], names: tuple[str, ...], path:
     """Numeric columns of P or V records: values (N, 4) and exponents (N, 4), NaN if blank."""
     values = np.empty((len(rec.texts), 4))
     exps = np.empty((len(rec.texts), 4))
+    # ranges of io._fields.RANGES in the file's units: km and µs (P), dm/s and 1e-4 µs/s (V);
+    # the clock range holds the 999999.999999 "bad or absent" marker
+    kinds = ("position_km",) * 3 + ("clock_us",) if names[0] == "x" else \
+        ("velocity_dm_s",) * 3 + ("clock_us",)
     for j, ((start, stop), name) in enumerate(zip(_REC_COLS, names)):
         values[:, j] = parse_floats([t[start:stop] for t in rec.texts], rec.line_nos,
-                                 lambda i, name=name: f"{sats[rec.sat[i]]} {name}", path,
-                                 allow_blank=(j == 3))
+                                    lambda i, name=name: f"{sats[rec.sat[i]]} {name}", path,
+                                    allow_blank=(j == 3), kind=kinds[j])
     for j, ((start, stop), name) in enumerate(zip(_EXP_COLS, names)):
         exps[:, j] = parse_floats([t[start:stop] for t in rec.texts], rec.line_nos,
-                               lambda i, name=name: f"{sats[rec.sat[i]]} {name} exponent",
-                               path, allow_blank=True)
+                                  lambda i, name=name: f"{sats[rec.sat[i]]} {name} exponent",
+                                  path, allow_blank=True, lo=0, hi=999)
     return values, exps
 
 
@@ -318,12 +343,12 @@ def _check_epochs(attrs: dict, epochs: list[int], epoch_lines: list[int], pos: _
         raise FormatError(path, epoch_lines[bad[0] + 1], "epoch",
                           "epochs are not in increasing order")
     declared = attrs["_n_epochs"]
-    if len(epochs) < declared:
+    if len(epochs) < declared and not eof:
         raise FormatError(path, n_lines, "number of epochs", f"the header declares {declared} "
                           f"epochs but the file has {len(epochs)}: the file is truncated")
-    if len(epochs) > declared:
-        logger.warning("%s: header declares %d epochs, file has %d; all are read",
-                       path, declared, len(epochs))
+    if len(epochs) != declared:  # a complete file (closed by EOF): io._fields.check_count
+        logger.warning("%s: header declares %d epochs, file has %d and ends with EOF; all "
+                       "are read", path, declared, len(epochs))
     if not eof:
         last = len(epochs) - 1
         n_pos = sum(1 for e in pos.epoch if e == last)
@@ -331,6 +356,13 @@ def _check_epochs(attrs: dict, epochs: list[int], epoch_lines: list[int], pos: _
         if n_pos < n_sat or (attrs["pv_flag"] == "V" and n_vel < n_sat):
             raise FormatError(path, n_lines, "EOF", "the file ends without 'EOF' and its last "
                               f"epoch is incomplete ({n_pos} of {n_sat} satellites): truncated")
+        records = pos if not vel.line_nos or pos.line_nos[-1] > vel.line_nos[-1] else vel
+        if records.line_nos and records.line_nos[-1] == n_lines and \
+                len(records.texts[-1].rstrip()) < _REC_COLS[3][1]:
+            # issue 24: a file cut before the clock column of its last record (the clock is
+            # optional) would be read with the clock missing
+            raise FormatError(path, n_lines, "EOF", "the file ends without 'EOF' inside its "
+                              "last record, before the clock column: truncated")
 
 
 def read_sp3(path: str | Path, *, gps_time: bool = False) -> xr.Dataset:
@@ -392,6 +424,10 @@ def read_sp3(path: str | Path, *, gps_time: bool = False) -> xr.Dataset:
     base_pos, base_clk = attrs.pop("_base_pos"), attrs.pop("_base_clk")
     if np.isfinite(p_exps).any() and base_pos > 0 and base_clk > 0:
         sig = np.column_stack([base_pos ** p_exps[:, :3] * 1e-3, base_clk ** p_exps[:, 3] * 1e-12])
+        # the standard deviations a base and an exponent give must be physical (io._fields)
+        check_range(sig[:, :3].ravel(), np.repeat(pos.line_nos, 3), "position std-dev "
+                    "exponent", path, lo=0.0, hi=1e6)
+        check_range(sig[:, 3], pos.line_nos, "clock std-dev exponent", path, lo=0.0, hi=1.0)
         sig = _grid(pos, sig, n_time, n_sat)
         data["pos_sigma_m"] = (("time", "sv", "xyz"), sig[:, :, :3],
                                {"units": "m", "long_name": "position standard deviation"})

@@ -38,8 +38,10 @@ Attributes
 Errors
 ------
 :class:`leopod.io.FormatError` (file, line, field) for a header that is not the CelesTrak CSV
-header, a row with the wrong number of fields, an invalid or non-increasing date, a
-non-numeric value, a Kp outside 0..9, a negative ap/Ap or F10.7, and an unknown F10.7 type.
+header, a row with the wrong number of fields, an invalid, blank or non-increasing date (years
+1900-2199), a non-numeric value or one outside +-1e6, a Kp outside 0..9, a negative ap/Ap or
+F10.7, a Bartels rotation outside 0..99999 or day outside 0..27, an unknown F10.7 type, and a
+file whose last line has no line end (cut inside its last row).
 
 MSIS inputs
 -----------
@@ -55,11 +57,13 @@ not adjusted, F10.7 is used, as the MSIS models expect the flux at the Earth's d
 from __future__ import annotations
 
 import logging
+import re
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import YEARS, epoch_ns, require_line_end
 from leopod.io._text import FormatError, parse_floats, read_lines
 
 __all__ = ["F107_BURST_THRESHOLD_SFU", "msis_inputs", "read_space_weather"]
@@ -101,6 +105,9 @@ _DAILY = (
 )
 
 
+_DATE = re.compile(r"\d{4}-\d\d-\d\d")
+
+
 def _split_rows(lines: list[str], path: Path) -> tuple[np.ndarray, list[int]]:
     """Check the header and split the data rows into fields (1-based line numbers kept)."""
     if not lines or lines[0].strip() != _HEADER:
@@ -121,15 +128,23 @@ def _split_rows(lines: list[str], path: Path) -> tuple[np.ndarray, list[int]]:
 
 def _dates(texts: list[str], line_nos: list[int], path: Path) -> np.ndarray:
     """Parse ISO dates, checking validity and strict increase."""
+    malformed = [k for k, text in enumerate(texts) if not _DATE.fullmatch(text)]
+    if malformed:
+        k = malformed[0]
+        raise FormatError(path, line_nos[k], "DATE", f"'{texts[k]}' is not a date YYYY-MM-DD")
     try:
         dates = np.asarray(texts, dtype="datetime64[D]")
-    except ValueError:
+    except ValueError:  # an impossible date: find it, with its line (io._fields rules)
         for text, no in zip(texts, line_nos):
-            try:
-                np.datetime64(text, "D")
-            except ValueError:
-                raise FormatError(path, no, "DATE", f"'{text}' is not a date YYYY-MM-DD") from None
+            y, m, d = (int(p) for p in text.split("-"))
+            epoch_ns(y, m, d, 0, 0, 0.0, path, no, "DATE")
         raise  # pragma: no cover - numpy failed on the list but on no single text
+    years = dates.astype("datetime64[Y]").astype(np.int64) + 1970
+    out = np.flatnonzero((years < YEARS[0]) | (years > YEARS[1]))
+    if out.size:
+        k = out[0]
+        raise FormatError(path, line_nos[k], "DATE", f"year {years[k]} outside "
+                          f"{YEARS[0]}-{YEARS[1]}")
     bad = np.flatnonzero(np.diff(dates) <= np.timedelta64(0, "D"))
     if bad.size:
         no = line_nos[bad[0] + 1]
@@ -138,19 +153,15 @@ def _dates(texts: list[str], line_nos: list[int], path: Path) -> np.ndarray:
 
 
 def _column(rows: np.ndarray, line_nos: list[int], name: str, path: Path,
-            allow_blank: bool = True) -> np.ndarray:
+            allow_blank: bool = True, lo: float = -1e6, hi: float = 1e6) -> np.ndarray:
     """One numeric column as float64 (blank → NaN if allowed), with exact error locations."""
     texts = np.char.strip(rows[:, _COL[name]])
     filled = texts != ""
     if not allow_blank and not filled.all():
         raise FormatError(path, line_nos[np.flatnonzero(~filled)[0]], name, "value is missing")
     values = np.full(len(rows), np.nan)
-    try:  # fast path; parse_floats finds the bad value and its line
-        values[filled] = texts[filled].astype(np.float64)
-    except ValueError:
-        parse_floats(list(texts[filled]), np.asarray(line_nos)[filled], name, path)
-    if not np.isfinite(values[filled]).all():
-        parse_floats(list(texts[filled]), np.asarray(line_nos)[filled], name, path)
+    values[filled] = parse_floats(texts[filled], np.asarray(line_nos)[filled], name, path,
+                                  lo=lo, hi=hi)
     return values
 
 
@@ -183,7 +194,9 @@ def read_space_weather(path: str | Path) -> xr.Dataset:
         Naming the line and field of the first bad value.
     """
     path = Path(path)
-    rows, line_nos = _split_rows(read_lines(path), path)
+    lines = read_lines(path)
+    require_line_end(lines, path)
+    rows, line_nos = _split_rows(lines, path)
     dates = _dates(list(np.char.strip(rows[:, 0])), line_nos, path)
     with np.errstate(invalid="ignore"):  # NaN (blank) compare False
         kp = np.stack([_column(rows, line_nos, f"KP{k}", path) for k in range(1, 9)], axis=1)
@@ -205,10 +218,11 @@ def read_space_weather(path: str | Path) -> xr.Dataset:
                           f"'{types[i]}' is not one of {', '.join(_TYPES)}")
     types = types.astype("U3")
     bartels = {
-        name: (("date",), _column(rows, line_nos, field, path, False).astype(np.int64),
+        name: (("date",), _column(rows, line_nos, field, path, False, 0, hi).astype(np.int64),
                {"units": "1", "long_name": long_name})
-        for name, field, long_name in (("bartels_rotation", "BSRN", "Bartels solar rotation number"),
-                                       ("bartels_day", "ND", "day of the Bartels rotation"))
+        for name, field, long_name, hi in (
+            ("bartels_rotation", "BSRN", "Bartels solar rotation number", 99_999),
+            ("bartels_day", "ND", "day of the Bartels rotation", 27))
     }
     data_vars = {
         **bartels,

@@ -40,6 +40,11 @@ attrs
     ``time_system`` (from a ``TIME SYSTEM ID`` header record if present, else "GPS", the
     RINEX clock default), ``record_type`` ("WL"), ``n_records``, ``source`` (the documents
     cited here).
+
+Errors: :class:`leopod.io.FormatError` naming file, line and field; epochs follow the reader
+contract (years 1900-2199), values lie within +-1e6 cycles with a non-negative sigma, and a
+value that is not an E19.12 number with its two-digit exponent (a line cut inside it) is
+refused.
 """
 
 from __future__ import annotations
@@ -50,11 +55,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.io._fields import epoch_ns, is_number
 from leopod.io._text import FormatError, fixed_float, parse_float, parse_int, read_lines
 
 __all__ = ["read_wl_bias"]
 
 _SV = re.compile(r"^[A-Z]\d\d$")
+_E_FORMAT = re.compile(r"[+-]?\d*\.\d+[EeDd][+-]\d\d\d?")
 _SOURCE = ("CNES/CLS GRG products (igsac-cnes.cls.fr); RINEX CLOCK 3.02 data record layout; "
            "WL record columns as read by YuanxinPan/clkcomb grg2snx.cpp")
 
@@ -121,20 +128,13 @@ def _record(line: str, lineno: int, path) -> tuple[np.datetime64, str, float, fl
     if not _SV.match(sv):
         raise FormatError(path, lineno, "WL satellite", f"'{sv}' is not a satellite sNN")
     year, month, day, hour, minute = (
-        parse_int(line[a:b], path, lineno, f"WL {name}")
+        parse_int(line[a:b], path, lineno, f"WL {name}", lo=0)
         for name, a, b in (("year", 8, 12), ("month", 12, 15), ("day", 15, 18),
                            ("hour", 18, 21), ("minute", 21, 24)))
     sec = fixed_float(line, 24, 34, path, lineno, "WL second")
-    if not (1 <= month <= 12 and 1 <= day <= 31 and 0 <= hour <= 23 and 0 <= minute <= 59
-            and 0 <= sec < 61):
-        raise FormatError(path, lineno, "WL epoch", f"invalid epoch '{line[8:34].strip()}'")
-    try:
-        t = np.datetime64(f"{year:04d}-{month:02d}-{day:02d}", "ns")
-    except ValueError:
-        raise FormatError(path, lineno, "WL epoch", f"invalid date '{line[8:18]}'") from None
-    t = t + np.timedelta64(hour * 3600 + minute * 60, "s") + np.timedelta64(round(sec * 1e9),
-                                                                              "ns")
-    n = parse_int(line[34:37], path, lineno, "WL number of values")
+    t = np.datetime64(epoch_ns(year, month, day, hour, minute, sec, path, lineno, "WL epoch",
+                               leap_second=True), "ns")
+    n = parse_int(line[34:37], path, lineno, "WL number of values", lo=0, hi=99)
     text = line[37:].rstrip()
     if text.endswith("COMMENT"):  # header comment label (column 61, or 66 in RINEX clock 3.04)
         text = text[:-len("COMMENT")]
@@ -142,7 +142,14 @@ def _record(line: str, lineno: int, path) -> tuple[np.datetime64, str, float, fl
     if n < 1 or not tokens:
         raise FormatError(path, lineno, "WL value", f"record announces {n} values and gives "
                           f"{len(tokens)}")
-    value = parse_float(tokens[0], path, lineno, "WL value")
-    sigma = parse_float(tokens[1], path, lineno, "WL sigma") if n >= 2 and len(tokens) > 1 \
-        else np.nan
+    # the values are E19.12 (RINEX clock data record): mantissa and a two-digit exponent, so a
+    # line cut inside its last number lacks the exponent's digits
+    for k, name in ((0, "WL value"), (1, "WL sigma")):
+        if k < len(tokens) and (k == 0 or n >= 2) and is_number(tokens[k]) and \
+                not _E_FORMAT.fullmatch(tokens[k]):
+            raise FormatError(path, lineno, name, f"'{tokens[k]}' is not an E19.12 number "
+                              "(mantissa and exponent): line cut short?")
+    value = parse_float(tokens[0], path, lineno, "WL value", kind="bias_cycles")
+    sigma = parse_float(tokens[1], path, lineno, "WL sigma", lo=0.0, hi=1e6) \
+        if n >= 2 and len(tokens) > 1 else np.nan
     return t, sv, value, sigma
