@@ -184,7 +184,7 @@ def test_bad_config_stops_before_any_job(tmp_path, key, value, named):
     proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(cfg)])
     assert proc.returncode != 0
     err = proc.stdout + proc.stderr
-    assert "Error validating config" in err and named in err
+    assert "does not conform to the schema" in err and named in err
     assert not (tmp_path / "results").exists()
 
 
@@ -193,7 +193,12 @@ def test_unknown_config_key_is_named(tmp_path):
     cfg["quality"]["slip_gf_treshold_m"] = 0.05
     (tmp_path / "bad.yaml").write_text(yaml.safe_dump(cfg))
     proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(tmp_path / "bad.yaml")])
-    assert proc.returncode != 0 and "slip_gf_treshold_m" in proc.stdout + proc.stderr
+    err = proc.stdout + proc.stderr
+    assert proc.returncode != 0
+    assert ("quality.slip_gf_treshold_m: unknown key; did you mean 'slip_gf_threshold_m'"
+            in err)
+    # one line per problem instead of a dump of the schema section (issue 23)
+    assert len(err.splitlines()) < 20
 
 
 @pytest.mark.slow

@@ -12,13 +12,20 @@ partial section completed as the campaign validation completes it, e.g.
 from __future__ import annotations
 
 import copy
+import datetime as dt
+import difflib
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from leopod.settings import SCHEMA, fill_defaults, read_yaml, schema_defaults
 
-__all__ = ["SCHEMA", "load_campaign", "section_defaults", "validated", "with_defaults"]
+__all__ = ["SCHEMA", "campaign_problems", "load_campaign", "section_defaults", "validated",
+           "with_defaults"]
+
+#: Longest message of one problem (a schema message can quote a whole section).
+_MAX_MESSAGE = 240
 
 def validated(config: Mapping[str, Any], schema: str | Path = SCHEMA) -> dict:
     """A copy of ``config`` checked against the schema, with every default filled in.
@@ -26,13 +33,92 @@ def validated(config: Mapping[str, Any], schema: str | Path = SCHEMA) -> dict:
     Raises
     ------
     snakemake.exceptions.WorkflowError
-        Naming the offending key and value when the configuration does not conform.
+        Listing every problem in one line each (:func:`campaign_problems`: the key, what was
+        expected, a did-you-mean for a misspelt key) when the configuration does not conform.
     """
+    from snakemake.exceptions import WorkflowError
     from snakemake.utils import validate
 
+    problems = campaign_problems(config, schema)
+    if problems:
+        raise WorkflowError("the campaign configuration does not conform to the schema "
+                         f"({Path(schema).name}):\n" + "\n".join(f"  - {p}" for p in problems))
     out = copy.deepcopy(dict(config))
     validate(out, str(schema), set_default=True)
     return out
+
+
+def campaign_problems(config: Mapping[str, Any], schema: str | Path = SCHEMA) -> list[str]:
+    """Every place where ``config`` breaks the schema, one short line each: the key path, what
+    was expected and, for an unknown key, the closest known keys of its section.
+
+    Parameters
+    ----------
+    config : mapping
+        The campaign as given (before defaults).
+    schema : str or Path
+        The campaign schema (JSON Schema 2020-12 in YAML).
+
+    Returns
+    -------
+    list of str
+        Empty when the campaign conforms.
+    """
+    import jsonschema
+
+    document = read_yaml(schema)
+    validator = jsonschema.Draft202012Validator(document)
+    problems = []
+    for error in sorted(validator.iter_errors(dict(config)),
+                        key=lambda e: [str(p) for p in e.absolute_path]):
+        problems.extend(_describe(error))
+    return list(dict.fromkeys(problems))
+
+
+def _where(path) -> str:
+    return ".".join(str(p) for p in path) or "the campaign"
+
+
+def _describe(error) -> list[str]:
+    """One line per problem of a jsonschema error (unknown keys one line each)."""
+    where = _where(error.absolute_path)
+    if error.validator == "additionalProperties" and isinstance(error.instance, Mapping):
+        known = list((error.schema.get("properties") or {}))
+        patterns = list((error.schema.get("patternProperties") or {}))
+        out = []
+        for key in error.instance:
+            if key in known or any(re.search(p, str(key)) for p in patterns):
+                continue
+            close = difflib.get_close_matches(str(key), known, n=2, cutoff=0.6)
+            hint = (f"did you mean {' or '.join(repr(c) for c in close)}?" if close
+                    else f"known keys: {', '.join(known)}" if known else "no keys allowed")
+            prefix = "" if where == "the campaign" else f"{where}."
+            out.append(f"{prefix}{key}: unknown key; {hint}")
+        return out
+    if error.validator in ("oneOf", "anyOf") and error.context:
+        # the alternative whose type the value has (else jsonschema's most relevant one)
+        import jsonschema
+
+        typed = [e for e in error.context if e.validator != "type"] or error.context
+        return _describe(jsonschema.exceptions.best_match(typed))
+    if error.validator == "required":
+        return [f"{where}: {error.message}"]
+    if (error.validator == "type" and isinstance(error.instance, dt.date)
+            and "string" in str(error.validator_value)):
+        return [f"{where}: a date must be quoted in YAML, e.g. \"{error.instance.isoformat()}\""]
+    if error.validator in ("type", "enum", "minimum", "maximum", "exclusiveMinimum",
+                           "exclusiveMaximum", "pattern", "minItems", "maxItems", "const"):
+        expected = {"type": "of type", "enum": "one of", "minimum": ">=", "maximum": "<=",
+                    "exclusiveMinimum": ">", "exclusiveMaximum": "<", "pattern": "matching",
+                    "minItems": "at least this many items:", "maxItems":
+                    "at most this many items:", "const": "equal to"}[error.validator]
+        return [f"{where}: {_short(repr(error.instance))} is not {expected} "
+                f"{_short(repr(error.validator_value))}"]
+    return [f"{where}: {_short(error.message)}"]
+
+
+def _short(text: str) -> str:
+    return text if len(text) <= _MAX_MESSAGE else text[:_MAX_MESSAGE - 1] + "…"
 
 
 def load_campaign(*paths: str | Path, schema: str | Path = SCHEMA) -> dict:
