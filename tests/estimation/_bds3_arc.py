@@ -20,6 +20,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
+from _simulated_arc import simulated_gnss_world
 
 from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
@@ -38,12 +39,7 @@ from leopod.io.rinex_obs import read_rinex_obs
 from leopod.io.sp3 import read_sp3
 from leopod.signals import signal_settings
 from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
-from leopod.simulate.campaign import (
-    simulate_gnss_products,
-    simulate_leo_day,
-    simulate_truth,
-    simulate_world_truth,
-)
+from leopod.simulate.campaign import simulate_leo_day
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.config import load_campaign, with_defaults
 from leopod.workflow.settings import pod_settings
@@ -67,12 +63,7 @@ def simulate_day(folder: Path, clock_reference: tuple[str, str]) -> SimpleNamesp
     sim = SimulationSettings.from_config(with_defaults("simulate", section))
     pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
     attitude = LeoAttitude.of(cfg["satellites"][SAT])
-    truth = simulate_truth(sim, SAT, day, day)
-    biases = simulate_world_truth(sim, [SAT], day, day, biases_path=folder / "b.nc",
-                                  stations_path=folder / "s.snx")
-    simulate_gnss_products(day, sim, day, day, biases, orbit=folder / "g.sp3",
-                           clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
-                           wl_bias=folder / "g.wsb", osb=folder / "g.bia")
+    truth, biases = simulated_gnss_world(folder, sim, day, SAT)
     simulate_leo_day(day, SAT, sim, day, day, truth, biases, pco, rinex3=folder / "o.rnx",
                      truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc",
                      leo_attitude=attitude)

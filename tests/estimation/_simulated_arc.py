@@ -41,13 +41,15 @@ DAY, SAT = "2019-001", "hy2b-sim"
 T0 = np.datetime64("2019-01-01T00:00", "ns")
 
 
-def simulated_gnss_world(folder: Path, sim: SimulationSettings):
-    """Truth orbit of :data:`SAT` and the world's biases of :data:`DAY`, with the GNSS products
-    written to ``folder`` (``g.sp3``, ``g.clk``, ``g_int.clk``, ``g.wsb``, ``g.bia``)."""
-    truth = simulate_truth(sim, SAT, DAY, DAY)
-    biases = simulate_world_truth(sim, [SAT], DAY, DAY, biases_path=folder / "b.nc",
+def simulated_gnss_world(folder: Path, sim: SimulationSettings, day: str = DAY,
+                         sat: str = SAT):
+    """Truth orbit of ``sat`` and the world's biases of a one-day campaign ``day``, with the
+    day's GNSS products written to ``folder`` (``g.sp3``, ``g.clk``, ``g_int.clk``, ``g.wsb``,
+    ``g.bia``)."""
+    truth = simulate_truth(sim, sat, day, day)
+    biases = simulate_world_truth(sim, [sat], day, day, biases_path=folder / "b.nc",
                                   stations_path=folder / "s.snx")
-    simulate_gnss_products(DAY, sim, DAY, DAY, biases, orbit=folder / "g.sp3",
+    simulate_gnss_products(day, sim, day, day, biases, orbit=folder / "g.sp3",
                            clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
                            wl_bias=folder / "g.wsb", osb=folder / "g.bia")
     return truth, biases
