@@ -21,8 +21,8 @@ from typing import Any
 
 from leopod.settings import SCHEMA, fill_defaults, read_yaml, schema_defaults
 
-__all__ = ["SCHEMA", "campaign_problems", "load_campaign", "section_defaults", "validated",
-           "with_defaults"]
+__all__ = ["SCHEMA", "campaign_problems", "load_campaign", "read_campaign", "section_defaults",
+           "validated", "with_defaults"]
 
 #: Longest message of one problem (a schema message can quote a whole section).
 _MAX_MESSAGE = 240
@@ -123,10 +123,15 @@ def _short(text: str) -> str:
 
 def load_campaign(*paths: str | Path, schema: str | Path = SCHEMA) -> dict:
     """Campaign files merged in order (as ``snakemake --configfile a b``) and validated."""
+    return validated(read_campaign(*paths), schema)
+
+
+def read_campaign(*paths: str | Path) -> dict:
+    """Campaign files merged in order (as ``snakemake --configfile a b``), not validated."""
     config: dict = {}
     for path in paths:
         _merge(config, read_yaml(path) or {})
-    return validated(config, schema)
+    return config
 
 
 def _merge(base: dict, overlay: Mapping) -> None:

@@ -1,0 +1,157 @@
+"""The ``leopod`` command: check a campaign, run it, build its report (over Snakemake).
+
+::
+
+    leopod check CAMPAIGN [--directory D]     the campaign against the schema (one line per
+                                              problem, did-you-mean for misspelt keys) and the
+                                              input files it names, per entry and day
+    leopod run CAMPAIGN [--directory D] [--cores N] [--profile P] [-- SNAKEMAKE OPTIONS]
+                                              (e.g. ``-- -n`` for a dry run)
+    leopod report CAMPAIGN [--directory D]    results/report.html of a finished run
+
+``CAMPAIGN`` is one or more campaign files, merged in order (as Snakemake's ``--configfile``).
+Relative input paths of a campaign are relative to the working directory ``D`` (default: the
+current directory), as for Snakemake. ``check`` exits with 2 when the campaign does not conform
+to the schema, 1 when input files are missing, 0 otherwise; it reports inputs that the workflow
+writes itself (simulated data, downloads) as such.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+__all__ = ["main", "missing_inputs"]
+
+#: The checkout holding the Snakefile (leopod runs from its checkout).
+REPO = Path(__file__).resolve().parents[2]
+
+
+def missing_inputs(config: dict, directory: Path) -> tuple[dict[str, list[str]], dict[str, str]]:
+    """Input files a validated campaign names that do not exist.
+
+    Parameters
+    ----------
+    config : dict
+        The validated campaign.
+    directory : Path
+        Working directory (relative paths are relative to it).
+
+    Returns
+    -------
+    missing : dict
+        ``{config entry: [missing file, ...]}`` for the entries named by path (per campaign
+        day for daily templates), only entries with missing files.
+    produced : dict
+        ``{config entry: "simulated" | "downloaded"}`` of the inputs the workflow writes.
+    """
+    from leopod.workflow.campaign import (
+        campaign_days,
+        expand_template,
+        input_references,
+        is_daily_template,
+    )
+    from leopod.workflow.downloads import PREFIX
+
+    days = campaign_days(config)
+    missing: dict[str, list[str]] = {}
+    produced: dict[str, str] = {}
+    for entry, container, key in input_references(config):
+        template = container.get(key)
+        if not template:
+            continue
+        if template.startswith(PREFIX):
+            produced[entry] = "downloaded"
+            continue
+        if template.startswith("resources/simulate/"):
+            produced[entry] = "simulated"
+            continue
+        sat = entry.split(".")[1] if entry.startswith("satellites.") else None
+        files = ([expand_template(template, day, sat) for day in days]
+                 if is_daily_template(template)
+                 else [template.replace("{sat}", sat) if sat else template])
+        gone = [f for f in dict.fromkeys(files) if not (directory / f).is_file()]
+        if gone:
+            missing[entry] = gone
+    return missing, produced
+
+
+def _check(args) -> int:
+    from leopod.workflow.config import campaign_problems, read_campaign, validated
+
+    raw = read_campaign(*args.campaign)
+    problems = campaign_problems(raw)
+    if problems:
+        print(f"{len(problems)} problem(s) in the campaign:")
+        for p in problems:
+            print(f"  - {p}")
+        return 2
+    config = validated(raw)
+    directory = args.directory.resolve()
+    missing, produced = missing_inputs(config, directory)
+    print(f"campaign {config['campaign']}: {config['start_date']} to {config['end_date']}, "
+          f"satellites {', '.join(config['satellites'])}: conforms to the schema")
+    for entry, kind in produced.items():
+        print(f"  {entry}: {kind} by the workflow")
+    if not missing:
+        print(f"  every input file named by path exists (below {directory})")
+        return 0
+    for entry, files in missing.items():
+        shown = ", ".join(files[:3]) + (f" and {len(files) - 3} more" if len(files) > 3 else "")
+        print(f"  {entry}: {len(files)} file(s) missing: {shown}")
+    print("days whose files are missing fail alone in a run; the others go on")
+    return 1
+
+
+def _snakemake(args, extra: Sequence[str]) -> list[str]:
+    cmd = [str(Path(sys.executable).with_name("snakemake")), "--snakefile",
+           str(REPO / "Snakefile"), "--directory", str(args.directory.resolve())]
+    return cmd + [*extra, "--configfile", *[str(p.resolve()) for p in args.campaign]]
+
+
+def _run(args) -> int:
+    extra = ["--cores", str(args.cores)]
+    if args.profile:
+        extra += ["--profile", str(REPO / "profiles" / args.profile)
+                  if (REPO / "profiles" / args.profile).is_dir() else args.profile]
+    cmd = _snakemake(args, [*extra, *args.snakemake])
+    print(" ".join(cmd), flush=True)
+    return subprocess.run(cmd).returncode
+
+
+def _report(args) -> int:
+    out = args.directory.resolve() / "results" / "report.html"
+    cmd = _snakemake(args, ["--report", str(out)])
+    print(" ".join(cmd), flush=True)
+    return subprocess.run(cmd).returncode
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``leopod`` command (module docstring); returns the exit status."""
+    parser = argparse.ArgumentParser(prog="leopod", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    for name, text in (("check", "check a campaign and its input files"),
+                       ("run", "run a campaign (Snakemake)"),
+                       ("report", "build results/report.html of a run")):
+        p = sub.add_parser(name, help=text, description=text)
+        p.add_argument("campaign", type=Path, nargs="+", help="campaign file(s), merged in order")
+        p.add_argument("--directory", "-d", type=Path, default=Path.cwd(),
+                       help="working directory (default: the current one)")
+        if name == "run":
+            p.add_argument("--cores", "-c", type=int, default=2)
+            p.add_argument("--profile", default=None,
+                           help="Snakemake profile: a folder of the checkout's profiles/ "
+                                "(e.g. slurm) or a path")
+    argv = list(sys.argv[1:] if argv is None else argv)
+    # everything after the first "--" goes to Snakemake as it is
+    extra = argv[argv.index("--") + 1:] if "--" in argv else []
+    args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
+    args.snakemake = extra
+    return {"check": _check, "run": _run, "report": _report}[args.command](args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
