@@ -15,6 +15,7 @@ from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
+from leopod.time.calendar import parse_date_id
 from leopod.workflow.boundary import attitude_files, leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
@@ -45,7 +46,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     write_arc(fixed.arc, **{k: outputs[k] for k in ARC_PRODUCTS}, step="fixed_pod",
               kind="ambiguity-fixed", title=title, sp3_id=sp3_id,
               inputs=[inputs["table"], inputs["float_orbit"], inputs["float_parameters"],
-                      *data.files])
+                      *data.files], day=parse_date_id(date))
     plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in ARC_FIGURES},
              title=title, solution="ambiguity-fixed", reference="float POD orbit")
 

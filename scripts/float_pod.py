@@ -11,6 +11,7 @@ from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
 from leopod.signals import SystemSignals
+from leopod.time.calendar import parse_date_id
 from leopod.workflow.boundary import attitude_files, leo_antenna_of, plain
 from leopod.workflow.log import configure_logging
 from leopod.workflow.settings import pod_settings
@@ -33,7 +34,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
                        code_correction=code_correction, yaw_flips=yaw_flips, attitude=attitude)
     log_arc(solution, f"float POD {date}")
     write_arc(solution, **{k: outputs[k] for k in ARC_PRODUCTS}, step="float_pod",
-              kind="float", title=title, sp3_id=sp3_id, inputs=data.files)
+              kind="float", title=title, sp3_id=sp3_id, inputs=data.files,
+              day=parse_date_id(date))
     plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in ARC_FIGURES},
              title=title, solution="float", reference="a-priori (code-only) orbit")
 

@@ -817,7 +817,9 @@ def pod_outputs(step, category):
     base = f"results/{step}/{{sat}}/{{date}}"
     return {
         "orbit": f"{base}_orbit.nc",
+        # SP3-d of the day (00:00 to before 24:00: daily files concatenate) and of the arc
         "sp3": f"{base}.sp3",
+        "sp3_arc": f"{base}_arc.sp3",
         "residuals": f"{base}_residuals.nc",
         "parameters": f"{base}_parameters.nc",
         "ambiguities": f"{base}_ambiguities.nc",

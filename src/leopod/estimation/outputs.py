@@ -4,7 +4,8 @@ Schemas (all written with :func:`leopod.io.netcdf.write_netcdf`):
 
 orbit (dims ``time``, ``xyz``, ``rtn``)
     ``pos_itrf_m``, ``vel_itrf_m_s``, ``pos_gcrf_m``, ``vel_gcrf_m_s`` (time, xyz) centre of
-    mass; ``sigma_rtn_m`` (time, rtn) formal sigmas (σ0-scaled); ``apriori_diff_rtn_m``
+    mass; ``sigma_rtn_m`` (time, rtn) and ``sigma_itrf_m`` (time, xyz) formal sigmas
+    (σ0-scaled; the ITRF ones give the SP3 accuracy exponents); ``apriori_diff_rtn_m``
     (time, rtn) a-priori minus estimated orbit (NaN where no a-priori).
 residuals (dims ``time``, ``sv``)
     ``code_residual_m``, ``phase_residual_m`` (NaN where not used), ``el_deg``, ``az_deg``
@@ -30,7 +31,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.estimation.float_pod import PodObservations, PodResult, PodStart
-from leopod.frames.earth_rotation import gcrf_to_itrf, itrf_to_gcrf
+from leopod.frames.earth_rotation import gcrf_from_itrf_matrices, gcrf_to_itrf, itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
 from leopod.time.calendar import from_seconds, seconds_since
 
@@ -68,6 +69,10 @@ def orbit_dataset(result: PodResult, times: np.ndarray, *, eop=None,
     rtn = rtn_matrix(states[:, :3], states[:, 3:])
     cov_rtn = np.einsum("mij,mjk,mlk->mil", rtn, cov, rtn)
     sigma = np.sqrt(np.maximum(np.diagonal(cov_rtn, axis1=1, axis2=2), 0.0))
+    # r_itrf = Rᵀ r_gcrf: C_itrf = Rᵀ C R
+    rot, _ = gcrf_from_itrf_matrices(times, eop)
+    cov_itrf = np.einsum("mji,mjk,mkl->mil", rot, cov, rot)
+    sigma_itrf = np.sqrt(np.maximum(np.diagonal(cov_itrf, axis1=1, axis2=2), 0.0))
     pos_itrf, vel_itrf = gcrf_to_itrf(times, states[:, :3], states[:, 3:], eop=eop)
     diff = np.full((times.size, 3), np.nan)
     if apriori_itrf_m is not None:
@@ -90,6 +95,9 @@ def orbit_dataset(result: PodResult, times: np.ndarray, *, eop=None,
             "sigma_rtn_m": (("time", "rtn"), sigma,
                             {"units": "m", "long_name": "formal standard deviation of the "
                              "position (a-posteriori, sigma0-scaled)"}),
+            "sigma_itrf_m": (("time", "xyz"), sigma_itrf,
+                             {"units": "m", "long_name": "formal standard deviation of the "
+                              "position per ITRF axis (a-posteriori, sigma0-scaled)", **frame}),
             "apriori_diff_rtn_m": (("time", "rtn"), diff,
                                    {"units": "m", "long_name": "a-priori minus estimated "
                                     "position in radial, along-track, cross-track"}),
@@ -271,11 +279,29 @@ def output_epochs(t_start, t_end, step_s: float) -> np.ndarray:
     return from_seconds(np.arange(s0, s1 + 1e-6, step_s), day)
 
 
-def sp3_dataset(orbit: xr.Dataset, sat_id: str) -> xr.Dataset:
-    """The ITRF orbit in the :func:`leopod.io.sp3_write.write_sp3` schema (one satellite)."""
-    pos = orbit.pos_itrf_m.values[:, None, :]
-    vel = orbit.vel_itrf_m_s.values[:, None, :]
-    return xr.Dataset({"pos_m": (("time", "sv", "xyz"), pos),
-                       "vel_m_s": (("time", "sv", "xyz"), vel)},
+def sp3_dataset(orbit: xr.Dataset, sat_id: str, day=None) -> xr.Dataset:
+    """The ITRF orbit in the :func:`leopod.io.sp3_write.write_sp3` schema (one satellite),
+    with the formal ITRF sigmas (``sigma_itrf_m``, when the orbit has them) as the record
+    accuracies.
+
+    Parameters
+    ----------
+    orbit : xarray.Dataset
+        Output of :func:`orbit_dataset`.
+    sat_id : str
+        Satellite id of the SP3 records (3 characters).
+    day : datetime64, optional
+        Keep only the epochs of this day, 00:00 to before 24:00 (a daily product that files of
+        consecutive days concatenate without duplicate epochs); None: the whole arc.
+    """
+    if day is not None:
+        start = np.datetime64(day, "D").astype("datetime64[ns]")
+        t = orbit.time.values
+        orbit = orbit.isel(time=(t >= start) & (t < start + np.timedelta64(1, "D")))
+    variables = {"pos_m": (("time", "sv", "xyz"), orbit.pos_itrf_m.values[:, None, :]),
+                 "vel_m_s": (("time", "sv", "xyz"), orbit.vel_itrf_m_s.values[:, None, :])}
+    if "sigma_itrf_m" in orbit:
+        variables["pos_sigma_m"] = (("time", "sv", "xyz"), orbit.sigma_itrf_m.values[:, None, :])
+    return xr.Dataset(variables,
                       coords={"time": orbit.time.values, "sv": [sat_id], "xyz": _XYZ},
                       attrs={"time_system": "GPS"})

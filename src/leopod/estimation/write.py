@@ -7,6 +7,7 @@ import textwrap
 
 import numpy as np
 
+from leopod import __version__
 from leopod.estimation.arc import ArcOutputs
 from leopod.estimation.outputs import sp3_dataset
 from leopod.io.netcdf import write_netcdf
@@ -15,7 +16,7 @@ from leopod.io.sp3_write import write_sp3
 __all__ = ["ARC_PRODUCTS", "log_arc", "write_arc"]
 
 #: The files :func:`write_arc` writes (its path arguments).
-ARC_PRODUCTS = ("orbit", "sp3", "residuals", "parameters", "ambiguities")
+ARC_PRODUCTS = ("orbit", "sp3", "sp3_arc", "residuals", "parameters", "ambiguities")
 
 log = logging.getLogger(__name__)
 
@@ -39,15 +40,15 @@ def log_arc(arc: ArcOutputs, label: str) -> None:
             log.info("parameter %-16s %+.6e +- %.2e", name, value, sigma)
 
 
-def write_arc(arc: ArcOutputs, *, orbit, sp3, residuals, parameters, ambiguities, step: str,
-              kind: str, title: str, sp3_id: str, inputs) -> None:
+def write_arc(arc: ArcOutputs, *, orbit, sp3, sp3_arc, residuals, parameters, ambiguities,
+              step: str, kind: str, title: str, sp3_id: str, inputs, day) -> None:
     """Write orbit (netCDF + SP3), residuals, parameters and ambiguities of a solution.
 
     Parameters
     ----------
     arc : ArcOutputs
-    orbit, sp3, residuals, parameters, ambiguities : str or Path
-        Output paths.
+    orbit, sp3, sp3_arc, residuals, parameters, ambiguities : str or Path
+        Output paths (``sp3``: the day, 00:00 to before 24:00; ``sp3_arc``: the whole arc).
     step : str
         Processing step written into the metadata (rule name).
     kind : str
@@ -58,6 +59,8 @@ def write_arc(arc: ArcOutputs, *, orbit, sp3, residuals, parameters, ambiguities
         Satellite id in the SP3 file.
     inputs : list of str
         Input files (provenance).
+    day : datetime64 or str
+        The day of the arc (its daily SP3).
     """
     common = {"step": step, "inputs": inputs, "time_system": "GPS"}
     write_netcdf(arc.orbit, orbit, reference_frame="ITRF and GCRF",
@@ -68,6 +71,10 @@ def write_arc(arc: ArcOutputs, *, orbit, sp3, residuals, parameters, ambiguities
                  **common)
     write_netcdf(arc.ambiguities, ambiguities, title=f"{kind} ambiguities {title}",
                  **common)
-    write_sp3(sp3_dataset(arc.orbit, sp3_id), sp3, orbit_type="FIT",
-              comments=tuple(textwrap.wrap(f"leopod {kind} reduced-dynamic orbit {title}",
-                                           77)))
+    t = arc.orbit.time.values
+    for path, span, selected in ((sp3, "the day", day), (sp3_arc, "the whole arc", None)):
+        text = (f"leopod {__version__}, {kind} reduced-dynamic orbit of {title}; this file: "
+                f"{span} (arc {str(t[0])[:19]} to {str(t[-1])[:19]} GPS); record accuracies: "
+                "formal sigmas")
+        write_sp3(sp3_dataset(arc.orbit, sp3_id, day=selected), path, orbit_type="FIT",
+                  comments=tuple(textwrap.wrap(text, 77)))

@@ -1,0 +1,48 @@
+"""The POD's SP3 products (leopod.estimation.outputs.sp3_dataset with io.sp3_write).
+
+Authorities: the SP3-d specification (Hilla 2016: record accuracy exponents σ = base**n mm,
+base 1.25 in the %f line), and the daily-product convention of IGS/ILRS orbit files (a daily
+file holds 00:00 to before 24:00, so consecutive days concatenate without duplicate epochs).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from leopod.estimation.outputs import sp3_dataset
+from leopod.io.sp3 import read_sp3
+from leopod.io.sp3_write import write_sp3
+
+
+def _arc_orbit(sigma_m: float) -> xr.Dataset:
+    # a 30-h arc at 30 s centred on 2019-01-02, as the POD writes it
+    t = np.arange(np.datetime64("2019-01-01T21:00", "ns"), np.datetime64("2019-01-03T03:00:01"),
+                  np.timedelta64(30, "s"))
+    pos = np.column_stack([7.0e6 + np.arange(t.size), np.zeros(t.size), np.zeros(t.size)])
+    vel = np.tile([0.0, 7.5e3, 0.0], (t.size, 1))
+    return xr.Dataset({"pos_itrf_m": (("time", "xyz"), pos),
+                       "vel_itrf_m_s": (("time", "xyz"), vel),
+                       "sigma_itrf_m": (("time", "xyz"), np.full((t.size, 3), sigma_m))},
+                      coords={"time": t, "xyz": ["x", "y", "z"]})
+
+
+def test_the_daily_file_holds_its_day_and_the_arc_file_the_arc(tmp_path):
+    orbit = _arc_orbit(0.01)
+    write_sp3(sp3_dataset(orbit, "L01", day=np.datetime64("2019-01-02")), tmp_path / "d.sp3")
+    write_sp3(sp3_dataset(orbit, "L01"), tmp_path / "a.sp3")
+    day, arc = read_sp3(tmp_path / "d.sp3"), read_sp3(tmp_path / "a.sp3")
+    assert day.time.values[0] == np.datetime64("2019-01-02T00:00", "ns")
+    assert day.time.values[-1] == np.datetime64("2019-01-02T23:59:30", "ns")
+    assert day.sizes["time"] == 2880
+    assert arc.sizes["time"] == orbit.sizes["time"] == 3601
+    # the records of the day are those of the arc
+    np.testing.assert_array_equal(day.pos_m.values, arc.pos_m.sel(time=day.time).values)
+
+
+def test_record_accuracies_come_from_the_formal_sigmas(tmp_path):
+    # 10 mm: n = round(log(10) / log(1.25)) = 10, read back as 1.25**10 mm = 9.31 mm
+    write_sp3(sp3_dataset(_arc_orbit(0.010), "L01", day=np.datetime64("2019-01-02")),
+              tmp_path / "d.sp3")
+    sig = read_sp3(tmp_path / "d.sp3").pos_sigma_m.values
+    np.testing.assert_allclose(sig, 1.25**10 * 1e-3, rtol=1e-12)
