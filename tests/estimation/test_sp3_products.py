@@ -46,3 +46,18 @@ def test_record_accuracies_come_from_the_formal_sigmas(tmp_path):
               tmp_path / "d.sp3")
     sig = read_sp3(tmp_path / "d.sp3").pos_sigma_m.values
     np.testing.assert_allclose(sig, 1.25**10 * 1e-3, rtol=1e-12)
+
+
+def test_output_epochs_start_on_the_first_grid_epoch_of_the_data():
+    # analytic: data from 00:00:30 on a 10-s grid start at 00:00:30 (in float seconds
+    # 00:00:30 is 30.000000000000004 s after midnight, which started the GRACE-A 2007-080
+    # SP3 at 00:00:40); data from 00:00:31 start at the next grid epoch
+    from leopod.estimation.outputs import output_epochs
+
+    day = np.datetime64("2007-03-21T00:00", "ns")
+    end = np.datetime64("2007-03-21T23:59:30", "ns")
+    t = output_epochs(day + np.timedelta64(30, "s"), end, 10.0)
+    assert t[0] == day + np.timedelta64(30, "s") and t[-1] == end and t.size == 8635
+    t = output_epochs(day + np.timedelta64(31, "s"), end, 30.0)
+    assert t[0] == day + np.timedelta64(60, "s")
+    assert np.all(np.diff(t) == np.timedelta64(30, "s"))

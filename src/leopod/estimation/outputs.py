@@ -33,7 +33,7 @@ import xarray as xr
 from leopod.estimation.float_pod import PodObservations, PodResult, PodStart
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices, gcrf_to_itrf, itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
-from leopod.time.calendar import from_seconds, seconds_since
+from leopod.time.calendar import seconds_since
 
 __all__ = ["ambiguity_dataset", "orbit_dataset", "output_epochs", "parameter_dataset",
            "pod_start", "residual_dataset", "sp3_dataset"]
@@ -271,12 +271,18 @@ def pod_start(parameters: xr.Dataset, ambiguities: xr.Dataset, residuals: xr.Dat
 
 
 def output_epochs(t_start, t_end, step_s: float) -> np.ndarray:
-    """Regular epochs ``[t_start, t_end]`` on the ``step_s`` grid of the day (datetime64)."""
+    """Regular epochs ``[t_start, t_end]`` on the ``step_s`` grid of the day (datetime64).
+
+    In integer nanoseconds: in float seconds 00:00:30 is 30.000000000000004 s after midnight
+    and a 10-s grid started at 00:00:40 (the first epoch of the GRACE-A 2007-080 SP3).
+    """
     t_start = np.datetime64(t_start, "ns")
     day = t_start.astype("datetime64[D]").astype("datetime64[ns]")
-    s0 = np.ceil(seconds_since(t_start, day) / step_s) * step_s
-    s1 = seconds_since(np.datetime64(t_end, "ns"), day)
-    return from_seconds(np.arange(s0, s1 + 1e-6, step_s), day)
+    step = int(round(step_s * 1e9))
+    start = int((t_start - day).astype("int64"))
+    end = int((np.datetime64(t_end, "ns") - day).astype("int64"))
+    first = -(-start // step) * step
+    return day + np.arange(first, end + 1, step).astype("timedelta64[ns]")
 
 
 def sp3_dataset(orbit: xr.Dataset, sat_id: str, day=None) -> xr.Dataset:
