@@ -5,8 +5,9 @@ Xu et al. (2023, sec. 3.2, Table 3) solve one HY-2A day with pseudo-stochastic p
 15, 30 and 60 min and a-priori sigmas from 1e-4 to 1e-9 m/s and compare each orbit with the
 CNES science orbit (R/T/N/3D RMS); the best was 15 min and 1e-8. The trade-off is physics: few
 or tight pulses cannot follow the unmodelled forces (the orbit stays as far from the truth as
-the force model's errors make it; with perfect data an orbit from 15-min pulses stays a few mm
-from a real orbit), many or loose ones let the orbit follow the noise of the data. Here each
+the force model's errors make it; an independent check reported in the project's issue 22
+found ~3 mm for 15-min pulses even with perfect data), many or loose ones let the orbit follow
+the noise of the data. Here each
 cell of the grid is one solution variant (:mod:`leopod.workflow.variants`: its own float and
 fixed POD, overlaps, reference and SLR validation and campaign summary), so the study runs as
 one Snakemake campaign and every figure of the summary is available per cell; on a simulated
