@@ -70,10 +70,11 @@ def orbit_dataset(result: PodResult, times: np.ndarray, *, eop=None,
     cov_rtn = np.einsum("mij,mjk,mlk->mil", rtn, cov, rtn)
     sigma = np.sqrt(np.maximum(np.diagonal(cov_rtn, axis1=1, axis2=2), 0.0))
     # r_itrf = Rᵀ r_gcrf: C_itrf = Rᵀ C R
-    rot, _ = gcrf_from_itrf_matrices(times, eop)
-    cov_itrf = np.einsum("mji,mjk,mkl->mil", rot, cov, rot)
+    matrices = gcrf_from_itrf_matrices(times, eop)
+    cov_itrf = np.einsum("mji,mjk,mkl->mil", matrices[0], cov, matrices[0])
     sigma_itrf = np.sqrt(np.maximum(np.diagonal(cov_itrf, axis1=1, axis2=2), 0.0))
-    pos_itrf, vel_itrf = gcrf_to_itrf(times, states[:, :3], states[:, 3:], eop=eop)
+    pos_itrf, vel_itrf = gcrf_to_itrf(times, states[:, :3], states[:, 3:], eop=eop,
+                                      matrices=matrices)
     diff = np.full((times.size, 3), np.nan)
     if apriori_itrf_m is not None:
         apr_gcrf, _ = itrf_to_gcrf(times, np.nan_to_num(apriori_itrf_m), eop=eop)

@@ -182,7 +182,8 @@ def itrf_to_gcrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = N
     return pos_out, np.einsum("nij,nj->ni", rot, vel) + np.einsum("nij,nj->ni", d_rot, pos)
 
 
-def gcrf_to_itrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = None):
+def gcrf_to_itrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = None,
+                 matrices=None):
     """Transform GCRF positions (and velocities) to the ITRF (inverse of :func:`itrf_to_gcrf`).
 
     Parameters
@@ -195,6 +196,8 @@ def gcrf_to_itrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = N
         GCRF (inertial) velocities [m/s].
     eop : EarthOrientation, optional
         EOP source (default: installed IERS data).
+    matrices : tuple of ndarray, optional
+        ``gcrf_from_itrf_matrices(times, eop)`` when the caller has them already.
 
     Returns
     -------
@@ -202,7 +205,7 @@ def gcrf_to_itrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = N
     vel_itrf_m_s : ndarray, shape (n, 3) or None
         Earth-fixed velocity ``R^T v + (dR/dt)^T r``; None if ``vel_m_s`` is None.
     """
-    rot, d_rot = gcrf_from_itrf_matrices(times, eop)
+    rot, d_rot = gcrf_from_itrf_matrices(times, eop) if matrices is None else matrices
     pos = np.asarray(pos_m, dtype=float)
     pos_out = np.einsum("nji,nj->ni", rot, pos)
     if vel_m_s is None:
