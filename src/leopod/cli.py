@@ -49,6 +49,7 @@ def missing_inputs(config: dict, directory: Path) -> tuple[dict[str, list[str]],
         ``{config entry: "simulated" | "downloaded"}`` of the inputs the workflow writes.
     """
     from leopod.workflow.campaign import (
+        PRODUCED,
         campaign_days,
         expand_template,
         input_references,
@@ -63,11 +64,10 @@ def missing_inputs(config: dict, directory: Path) -> tuple[dict[str, list[str]],
         template = container.get(key)
         if not template:
             continue
-        if template.startswith(PREFIX):
-            produced[entry] = "downloaded"
-            continue
-        if template.startswith("resources/simulate/"):
-            produced[entry] = "simulated"
+        kind = "downloaded" if template.startswith(PREFIX) else next(
+            (k for folder, k in PRODUCED.items() if template.startswith(folder)), None)
+        if kind:
+            produced[entry] = kind
             continue
         sat = entry.split(".")[1] if entry.startswith("satellites.") else None
         files = ([expand_template(template, day, sat) for day in days]

@@ -71,3 +71,14 @@ def test_rounds_solve_the_same_linearisation_again(arc):
     assert _max_diff(fewer.orbit, first.orbit, "pos_gcrf_m") > 1e-5
     assert _max_diff(repeat.orbit, first.orbit, "pos_gcrf_m") == 0.0
     np.testing.assert_array_equal(repeat.result.phase_rejected, first.result.phase_rejected)
+
+
+def test_itrf_sigmas_are_the_rtn_sigmas_rotated(arc):
+    # analytic: sigma_itrf_m and sigma_rtn_m are the diagonals of one position covariance in
+    # two rotated frames (GCRF -> ITRF by Earth rotation, GCRF -> RTN by the orbit), so their
+    # sums of squares (the trace) agree; a product that is no similarity transform (a mis-indexed
+    # einsum) would not
+    orbit = arc.float.orbit
+    rtn, itrf = orbit.sigma_rtn_m.values, orbit.sigma_itrf_m.values
+    np.testing.assert_allclose(np.sum(itrf**2, axis=1), np.sum(rtn**2, axis=1), rtol=1e-9)
+    assert np.max(np.abs(itrf - rtn)) > 1e-4     # different axes, not a copy

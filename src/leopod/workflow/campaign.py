@@ -15,7 +15,7 @@ from pathlib import Path
 from leopod.gnss.signal_bias import signal_bias_mode
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
-__all__ = ["LOCATE_ROOT", "arc_days", "campaign_days", "expand_template", "input_references",
+__all__ = ["LOCATE_ROOT", "PRODUCED", "arc_days", "campaign_days", "expand_template", "input_references",
            "input_templates", "is_daily_template", "library_root", "locate_inputs",
            "located_source", "satellite_ids", "script_library_files", "signal_bias_inputs"]
 
@@ -67,8 +67,8 @@ PRODUCT_INPUTS = ("gnss_orbit", "gnss_clock", "wl_bias", "osb", "dcb_p1c1", "ant
 SATELLITE_INPUTS = ("observations", "apriori_orbit", "slr_normal_points", "reference_orbit")
 #: Folder of the located inputs (links to the files named by path in the config).
 LOCATE_ROOT = "resources/locate"
-# inputs under these folders are written by rules (simulate, download), not located
-_PRODUCED = ("resources/simulate/", "resources/download/")
+#: Inputs under these folders are written by rules (simulate, download), not located.
+PRODUCED = {"resources/simulate/": "simulated", "resources/download/": "downloaded"}
 _DATE_FIELDS = ("yyyy", "yy", "doy", "gpsweek", "dow", "date", "month", "day")
 
 
@@ -124,7 +124,7 @@ def locate_inputs(config: dict) -> tuple[dict, dict[str, str]]:
     located = {}
     for entry, container, key in input_references(config):
         template = container.get(key)
-        if not template or template.startswith(_PRODUCED):
+        if not template or template.startswith(tuple(PRODUCED)):
             continue
         name = Path(template).name
         folder = f"{LOCATE_ROOT}/{entry}"

@@ -39,12 +39,15 @@ def validated(config: Mapping[str, Any], schema: str | Path = SCHEMA) -> dict:
     from snakemake.exceptions import WorkflowError
     from snakemake.utils import validate
 
-    problems = campaign_problems(config, schema)
-    if problems:
-        raise WorkflowError("the campaign configuration does not conform to the schema "
-                         f"({Path(schema).name}):\n" + "\n".join(f"  - {p}" for p in problems))
     out = copy.deepcopy(dict(config))
-    validate(out, str(schema), set_default=True)
+    try:
+        validate(out, str(schema), set_default=True)
+    except WorkflowError:
+        # explain a failure in one line per problem (no second pass over a valid campaign)
+        problems = campaign_problems(config, schema) or ["see Snakemake's message above"]
+        raise WorkflowError("the campaign configuration does not conform to the schema "
+                            f"({Path(schema).name}):\n"
+                            + "\n".join(f"  - {p}" for p in problems)) from None
     return out
 
 
