@@ -16,6 +16,27 @@ if not config:
 report: "workflow/report/workflow.rst"
 
 
+# A local run's script jobs run as forks of one warm process that imported numpy, xarray,
+# matplotlib, numba and leopod once (leopod.workflow.worker; LEOPOD_WORKER=off runs each job
+# in a process of its own, as cluster executors always do).
+from leopod.workflow import worker
+
+WORKER = []
+
+
+onstart:
+    if workflow.local_exec:
+        WORKER.append(worker.start("logs/worker.log"))
+
+
+onsuccess:
+    worker.stop(WORKER.pop() if WORKER else None)
+
+
+onerror:
+    worker.stop(WORKER.pop() if WORKER else None)
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/download.smk"
 include: "workflow/rules/locate.smk"

@@ -17,8 +17,8 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import xarray as xr
+from _jobs import BENCHMARKS, job_figures
 
 from leopod.io.manoeuvre import read_manoeuvres
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
@@ -45,8 +45,7 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     phases = {x: config["signals"][x]["phase"] for x in base.attrs["systems"].split()}
     wl, nl = true_double_differences(table, res[0], res[1], truth[0], truth[1], phases)
     wrong = wrong_dd_fixes(table, wl, nl)
-    bench = pd.read_csv(run / "logs" / "benchmarks" / "baseline" / pair / f"{date}.tsv",
-                        sep="\t")
+    wall, peak = job_figures(run, run / BENCHMARKS / "baseline" / pair / f"{date}.tsv")
     t = base.attrs
     parts = [f"{pair} {date}: DD WL {100 * t['wl_fixing_rate']:.1f} % / "
              f"NL {100 * t['nl_fixing_rate']:.1f} % (graph rank), share "
@@ -71,8 +70,7 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
                      f"{t.get('baseline_mode', 'joint')}, dynamics "
                      f"{t.get('baseline_dynamics', 'independent')}")
     parts.append(f"  DD constraints used {t['n_dd_constraints_used']} of "
-                 f"{t['n_dd_candidates']} candidates; job {bench.s.iloc[0]:.0f} s, peak RSS "
-                 f"{bench.max_rss.iloc[0]:.0f} MB")
+                 f"{t['n_dd_candidates']} candidates; job {wall:.0f} s, peak RSS {peak:.0f} MB")
     return "\n".join(parts)
 
 

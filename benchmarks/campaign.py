@@ -7,10 +7,10 @@ over N days from 2019-01-01 (code_bias.min_count 40 instead of 200, as a one-day
 run from scratch in its own working directory with
 ``snakemake --cores C``. Printed per campaign: wall time of the workflow and of the report,
 wall time per day, and per rule the number of jobs, mean and max run time and peak memory
-(the rules' Snakemake benchmark files, logs/benchmarks/<rule>/..., max_rss; the job count
-includes the target rule "all"). Then the scaling fit ``T(N) = a + b N``, the check "7 days
-take < 7/30 of 30 days plus a constant", the largest job memory, and the projected cost of
-10 years x 3 satellites.
+(the rules' Snakemake benchmark files, logs/benchmarks/<rule>/...; the memory of a job the warm
+worker ran is its fork's, from the job's log; the job count includes the target rule "all").
+Then the scaling fit ``T(N) = a + b N``, the check "7 days take < 7/30 of 30 days plus a
+constant", the largest job memory, and the projected cost of 10 years x 3 satellites.
 
     .venv/bin/python benchmarks/campaign.py [--days 1 7 30] [--cores 2] [--root ../bench]
                                             [--reuse]
@@ -34,11 +34,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
+from _jobs import BENCHMARKS, job_figures
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
-#: Folder of the rules' benchmark files (benchmark: directive), relative to the working directory.
-RULE_BENCHMARKS = Path("logs/benchmarks")
 START = dt.date(2019, 1, 1)
 # GHOST (DLR): 5-10 min per 24-30 h arc on a desktop (../shared/ANCHORS.md)
 GHOST_MIN_PER_ARC = (5.0, 10.0)
@@ -70,11 +69,10 @@ def _snakemake(work: Path, args: list[str]) -> tuple[float, int]:
 def _rule_table(work: Path) -> pd.DataFrame:
     """Per rule: jobs, mean/max run time [s], peak memory [MB] from the benchmark files."""
     rows = []
-    for tsv in (work / RULE_BENCHMARKS).rglob("*.tsv"):
-        rule = tsv.relative_to(work / RULE_BENCHMARKS).parts[0]
-        b = pd.read_csv(tsv, sep="\t")
-        rows.append({"rule": rule, "s": float(b["s"].iloc[-1]),
-                     "max_rss_mb": float(pd.to_numeric(b["max_rss"], errors="coerce").iloc[-1])})
+    for tsv in (work / BENCHMARKS).rglob("*.tsv"):
+        rule = tsv.relative_to(work / BENCHMARKS).parts[0]
+        wall, peak = job_figures(work, tsv)
+        rows.append({"rule": rule, "s": wall, "max_rss_mb": peak})
     table = pd.DataFrame(rows).groupby("rule").agg(
         jobs=("s", "size"), mean_s=("s", "mean"), max_s=("s", "max"), sum_s=("s", "sum"),
         max_rss_mb=("max_rss_mb", "max"))

@@ -13,14 +13,14 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import xarray as xr
+from _jobs import BENCHMARKS, job_figures
 
 from leopod.io.manoeuvre import read_manoeuvres
 from leopod.validation.formation import burn_windows, rms_rtn
 
 
-def day_report(nc: Path, bench: Path, burns: np.ndarray | None = None) -> str:
+def day_report(nc: Path, run: Path, bench: Path, burns: np.ndarray | None = None) -> str:
     """Lines of one pair-day; ``burns``: epochs near a burn (:func:`burn_windows`)."""
     ds = xr.load_dataset(nc)
     lines = [f"{nc.parent.name} {nc.stem}"]
@@ -45,8 +45,8 @@ def day_report(nc: Path, bench: Path, burns: np.ndarray | None = None) -> str:
                     + " mm")
             lines.append(", ".join(parts))
     if bench.exists():
-        b = pd.read_csv(bench, sep="\t")
-        lines.append(f"  job {b.s.iloc[0]:.1f} s, peak RSS {b.max_rss.iloc[0]:.0f} MB")
+        wall, peak = job_figures(run, bench)
+        lines.append(f"  job {wall:.1f} s, peak RSS {peak:.0f} MB")
     return "\n".join(lines)
 
 
@@ -55,13 +55,12 @@ def main() -> None:
     parser.add_argument("run", type=Path, help="Snakemake working directory of the campaign")
     args = parser.parse_args()
     for nc in sorted((args.run / "results" / "kinematic_baseline").glob("*/*.nc")):
-        bench = (args.run / "logs" / "benchmarks" / "kinematic_baseline" / nc.parent.name
-                 / f"{nc.stem}.tsv")
+        bench = args.run / BENCHMARKS / "kinematic_baseline" / nc.parent.name / f"{nc.stem}.tsv"
         with xr.open_dataset(nc) as ds:
             follower, times = ds.attrs["follower"], ds.time.values
         path = args.run / "resources" / "simulate" / follower / "manoeuvres.txt"
         burns = burn_windows(times, read_manoeuvres(path)[0]) if path.exists() else None
-        print(day_report(nc, bench, burns))
+        print(day_report(nc, args.run, bench, burns))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,9 @@
 """Rule ambiguity: single-difference WL/NL fixing of one float arc (leopod.ambiguity.resolve)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

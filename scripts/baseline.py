@@ -1,6 +1,10 @@
 """Rule baseline: DD ambiguity resolution and the joint DD-fixed solution of a formation pair
 (leopod.ambiguity.double_difference, leopod.estimation.baseline)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 import textwrap
 from collections.abc import Mapping

@@ -1,6 +1,10 @@
 """Rule baseline_overlap: the baseline solutions of two consecutive days over their common span
 (leopod.validation.formation.baseline_overlap)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 
 import numpy as np

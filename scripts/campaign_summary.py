@@ -5,6 +5,10 @@ PCO-Z estimates, inter-system biases and variance components of a satellite
 (leopod.validation.summary), with the PCO-Z, fixing-rate and ISB figures
 (leopod.plots.summary)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

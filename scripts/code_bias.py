@@ -1,6 +1,10 @@
 """Rule code_bias: antenna-frame code-bias maps of one satellite and period
 (leopod.codebias.period, leopod.plots.codebias)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from collections.abc import Mapping
 
 from leopod.codebias.estimate import MapSettings

@@ -1,6 +1,10 @@
 """Rule code_bias_stack: maps of several periods stacked, and their differences
 (leopod.codebias.products.stack_maps)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import itertools
 import logging
 from collections.abc import Mapping

@@ -1,5 +1,9 @@
 """The download_<family> rules: fetch one product file (leopod.download.fetch_product)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

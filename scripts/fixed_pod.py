@@ -1,5 +1,9 @@
 """Rule fixed_pod: the float POD re-solved with the fixed ambiguities (estimation.fixed_arc)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from collections.abc import Mapping
 
 import xarray as xr

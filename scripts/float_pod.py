@@ -1,5 +1,9 @@
 """Rule float_pod: float reduced-dynamic POD of one satellite-day (leopod.estimation.arc)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from collections.abc import Mapping
 
 from leopod.codebias.apply import CodeCorrection

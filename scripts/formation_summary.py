@@ -1,6 +1,10 @@
 """Rule formation_summary: the campaign table of a formation pair (leopod.validation.formation)
 as CSV and HTML, and its figure."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

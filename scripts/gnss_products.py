@@ -1,6 +1,10 @@
 """Rule gnss_products: a day's GNSS orbits (SP3), clocks (RINEX clock) and satellite antennas
 (ANTEX) parsed once and written as netCDF for ingest and the POD (leopod.io.product_netcdf)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 
 import numpy as np

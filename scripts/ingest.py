@@ -1,6 +1,10 @@
 """Rule ingest: canonical observations, GNSS products at their epochs and the a-priori orbit
 of one satellite-day (leopod.ingest)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

@@ -2,6 +2,10 @@
 differences, float and with the fixed DDs of the baseline step, per system
 (leopod.estimation.kinematic_baseline), against the reduced-dynamic baseline and the truth."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

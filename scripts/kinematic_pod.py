@@ -1,6 +1,10 @@
 """Rule kinematic_pod: kinematic positions and clocks of one satellite-day
 (leopod.estimation.kinematic), linearised at the float reduced-dynamic orbit."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import textwrap
 from collections.abc import Mapping
 

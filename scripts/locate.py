@@ -1,5 +1,9 @@
 """Rule locate: link an input named by path in the config into resources/locate/."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 import os
 from pathlib import Path

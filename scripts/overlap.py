@@ -1,6 +1,10 @@
 """Rule overlap: the arc of a day against the next day's arc over their common span
 (leopod.validation.overlap)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 
 import xarray as xr

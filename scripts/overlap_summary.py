@@ -1,5 +1,9 @@
 """Rule overlap_summary: campaign overlap statistics (Jiang et al. 2023, Fig. 13)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

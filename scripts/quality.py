@@ -1,5 +1,9 @@
 """Rule quality: data quality of one satellite-day (leopod.gnss.quality, leopod.plots.quality)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

@@ -1,6 +1,10 @@
 """Rule range_check: the length of every baseline solution of a formation pair-day against the
 inter-satellite range (leopod.validation.formation)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 
 import numpy as np

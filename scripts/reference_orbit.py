@@ -1,6 +1,10 @@
 """Rule reference_orbit: a POD arc against a reference orbit over its day
 (leopod.validation.reference)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 
 import xarray as xr

@@ -1,6 +1,10 @@
 """Rule reference_summary: daily and total reference-orbit statistics
 (Wang et al. 2024, Table 4; Jiang et al. 2023, Fig. 17)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

@@ -1,6 +1,10 @@
 """Rule simulate: onboard observations, truth and SLR normal points of one simulated
 satellite-day (leopod.simulate.campaign)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from collections.abc import Mapping
 
 import xarray as xr

@@ -1,6 +1,10 @@
 """Rule simulate_gnss: GNSS orbit, clock and bias products of one simulated day
 (leopod.simulate.campaign)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from collections.abc import Mapping
 
 import xarray as xr

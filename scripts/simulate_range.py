@@ -1,6 +1,10 @@
 """Rule simulate_range: the simulated inter-satellite range of a formation pair for a day
 (leopod.simulate.ranging), in the grc_kb_rng.csv layout."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import xarray as xr
 
 from leopod.io.grace_orbit_csv import write_kband_range_csv

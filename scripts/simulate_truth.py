@@ -1,6 +1,10 @@
 """Rule simulate_truth: the true orbit of a simulated satellite, the code-bias map truth and
 the manoeuvre file (leopod.simulate.campaign)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from leopod.simulate.campaign import (
     simulate_truth,
     write_code_bias_maps,

@@ -1,6 +1,10 @@
 """Rule simulate_world: GNSS biases and SLR stations shared by the simulated satellites
 (leopod.simulate.campaign)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from leopod.simulate.campaign import simulate_world_truth
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.log import configure_logging

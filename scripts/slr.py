@@ -1,5 +1,9 @@
 """Rule slr: laser ranging residuals of one POD arc (leopod.validation.slr)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 from collections.abc import Mapping
 
 import xarray as xr

@@ -1,6 +1,10 @@
 """Rule slr_summary: SLR statistics per station (Peng et al. 2021, Table IV), per elevation
 bin (Peng et al. 2021, Figs. 17-18) and projected on R/T/N (Wang et al. 2024, Table 5)."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 

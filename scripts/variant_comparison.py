@@ -1,6 +1,10 @@
 """Rule variant_comparison: the campaign summaries of a satellite's POD lines (its solution and
 the solution variants) side by side (leopod.validation.comparison), as CSV and HTML."""
 
+from leopod.workflow.worker import hand_off
+
+hand_off(globals())  # run in the warm worker process of this run, if it has one
+
 import logging
 from collections.abc import Mapping
 
