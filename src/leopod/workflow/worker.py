@@ -211,8 +211,10 @@ def serve(path: str, parent: int) -> None:
 
 
 def _preload() -> None:
-    """Import the jobs' modules and load the compiled force model and integrator."""
+    """Import the jobs' modules, load the compiled force model and integrator, the Earth
+    orientation table, the configuration schema and matplotlib's fonts (all read-only)."""
     import importlib
+    import io
     import pkgutil
 
     import matplotlib
@@ -226,8 +228,18 @@ def _preload() -> None:
         if module.name not in (_LOGGER, "leopod.__main__"):
             importlib.import_module(module.name)
     from leopod.dynamics.compiled import warm_up
+    from leopod.settings import schema_defaults
+    from leopod.time.eop import default_earth_orientation
 
     warm_up()
+    default_earth_orientation()
+    schema_defaults("pod")
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots()
+    axes.set_title("$\\sigma$ [mm]")
+    figure.savefig(io.BytesIO(), format="png")
+    plt.close(figure)
 
 
 def _fork_job(listener: socket.socket, conn: socket.socket) -> None:
