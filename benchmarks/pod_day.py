@@ -6,7 +6,11 @@ there), then runs the float_pod, ambiguity and fixed_pod jobs of that day with t
 in-process as Snakemake would (:func:`leopod.workflow.boundary.mock_snakemake`: same inputs,
 settings and outputs), each step ``--repeat`` times in a fresh process, and prints per step the
 best wall time, the orbit integrations and force evaluations, and the peak memory. The fixed
-POD's time is what it adds on top of the float POD and the ambiguity step.
+POD's time is what it adds on top of the float POD and the ambiguity step. As in a workflow
+run, the job's process gets its ``threads`` (1 for these rules) in the thread-count variables
+of the linear-algebra libraries (``OPENBLAS_NUM_THREADS`` etc., which Snakemake sets for a
+script job); a second BLAS thread made a Cholesky factorisation of the POD's normal matrix
+up to 0.6 s slower instead of faster on the 2-core development machine.
 
     .venv/bin/python benchmarks/pod_day.py [--date 2019-002] [--repeat 3] [--directory D]
                                            [--configfile F]
@@ -20,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
 import resource
 import subprocess
 import sys
@@ -30,6 +35,11 @@ from _counting import IntegrationCounter
 
 REPO = Path(__file__).resolve().parents[1]
 STEPS = ("float_pod", "ambiguity", "fixed_pod")
+THREADS = 1
+"""``threads`` of the three rules (workflow/rules/pod.smk; checked in each job)."""
+#: The variables Snakemake sets to a job's ``threads`` (snakemake.shell).
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "GOTO_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+                    "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
 def _one(step: str, date: str, root: Path, config: Path, sat: str) -> None:
@@ -41,6 +51,10 @@ def _one(step: str, date: str, root: Path, config: Path, sat: str) -> None:
     logging.basicConfig(level=logging.WARNING)
     job = mock_snakemake(step, root=root, configfiles=[config], snakefile=REPO / "Snakefile",
                          sat=sat, date=date)
+    if job.threads != THREADS:
+        raise SystemExit(f"rule {step} has {job.threads} threads: set THREADS")
+    for path in [*job.output, *job.log]:   # Snakemake makes these folders before a job
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
     spec = importlib.util.spec_from_file_location(step, REPO / "scripts" / f"{step}.py")
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
@@ -80,11 +94,12 @@ def main() -> None:
     print(f"{args.configfile.name}, {args.sat} {args.date}: best of {args.repeat} runs per step")
     for step in STEPS:
         runs = []
+        env = {**os.environ, **dict.fromkeys(THREAD_VARIABLES, str(THREADS))}
         for _ in range(args.repeat):
             out = subprocess.run([sys.executable, __file__, "--step", step, "--date", args.date,
                                   "--directory", str(root), "--sat", args.sat, "--configfile",
                                   str(args.configfile.resolve())], check=True, capture_output=True,
-                                 text=True, cwd=REPO / "benchmarks")
+                                 text=True, cwd=REPO / "benchmarks", env=env)
             runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
         best = min(runs, key=lambda r: r["wall_s"])
         print(f"{step:10s} wall {best['wall_s']:6.2f} s  {best['integrations']} integrations "

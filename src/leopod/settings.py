@@ -139,8 +139,11 @@ class Settings:
         ValueError
             When a field is neither in the section nor a default of the schema definition.
         """
-        values = {**(schema_defaults(cls.SCHEMA_DEF) if cls.SCHEMA_DEF else {}), **section}
         names = [f.name for f in dataclasses.fields(cls)]
+        values = dict(section)
+        if cls.SCHEMA_DEF and any(n not in values for n in names):
+            # a validated section has every key: the schema is only read for a partial one
+            values = {**schema_defaults(cls.SCHEMA_DEF), **section}
         missing = [n for n in names if n not in values]
         if missing:
             raise ValueError(f"{cls.__name__}: the configuration section has no "

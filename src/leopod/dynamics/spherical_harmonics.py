@@ -108,6 +108,17 @@ def _derivative_fields(d: np.ndarray, radius_m: float) -> tuple[np.ndarray, np.n
     return dx, dy, dz
 
 
+def _acc_fields(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: float
+                ) -> list[np.ndarray]:
+    """Coefficients of U, a_x, a_y, a_z: four complex arrays of shape (N + 3, N + 3)
+    (zero-padded), in that order."""
+    size = c.shape[0] + 2
+    u = np.zeros((size, size), dtype=complex)
+    u[:size - 2, :size - 2] = gm_m3_s2 / radius_m * (c - 1j * s)
+    return [u, *(f[:size, :size] for f in _derivative_fields(u[:size - 1, :size - 1],
+                                                            radius_m))]
+
+
 def _acc_grad_fields(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: float
                      ) -> list[np.ndarray]:
     """Coefficients of U, a_x, a_y, a_z, and of U_xx, U_xy, U_xz, U_yy, U_yz, U_zz.
@@ -115,10 +126,7 @@ def _acc_grad_fields(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: fl
     Returns ten complex arrays of shape (N + 3, N + 3) (zero-padded), in that order.
     """
     size = c.shape[0] + 2
-    u = np.zeros((size, size), dtype=complex)
-    u[:size - 2, :size - 2] = gm_m3_s2 / radius_m * (c - 1j * s)
-    ax, ay, az = (f[:size, :size] for f in _derivative_fields(u[:size - 1, :size - 1],
-                                                             radius_m))
+    u, ax, ay, az = _acc_fields(c, s, gm_m3_s2, radius_m)
     axx, axy, axz = _derivative_fields(ax[:size - 1, :size - 1], radius_m)
     _, ayy, ayz = _derivative_fields(ay[:size - 1, :size - 1], radius_m)
     azz = _derivative_fields(az[:size - 1, :size - 1], radius_m)[2]
@@ -178,7 +186,7 @@ def acceleration_table(c: np.ndarray, s: np.ndarray, gm_m3_s2: float, radius_m: 
     ndarray, shape (K, 6)
         The table is linear in (c, s), so tables at two epochs may be interpolated.
     """
-    return _field_table(_acc_grad_fields(c, s, gm_m3_s2, radius_m)[1:4], offsets)
+    return _field_table(_acc_fields(c, s, gm_m3_s2, radius_m)[1:], offsets)
 
 
 def _field_table(fields: list[np.ndarray], offsets: np.ndarray) -> np.ndarray:

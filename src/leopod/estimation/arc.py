@@ -117,7 +117,8 @@ class ArcData:
     ----------
     obs, quality, leo : list of xarray.Dataset
         Ingest observations, quality outputs and a-priori orbits of the arc's days in time
-        order (the day and its neighbours).
+        order (the day and its neighbours). :meth:`read` opens the quality files lazily:
+        the POD uses 3 or 4 of their ~50 variables, read on first use.
     orbit, clock : xarray.Dataset
         GNSS orbits and clocks covering the arc (schemas of :func:`leopod.io.sp3.read_sp3`
         and :func:`leopod.io.clock.read_rinex_clock`).
@@ -165,7 +166,7 @@ class ArcData:
         antenna, code_bias = files.get("antenna"), files.get("code_bias")
         manoeuvres = files.get("manoeuvres")
         return cls(obs=[xr.load_dataset(p) for p in obs],
-                   quality=[xr.load_dataset(p) for p in quality],
+                   quality=[xr.open_dataset(p) for p in quality],
                    leo=[xr.load_dataset(p) for p in leo],
                    orbit=merge_days([read_orbit_product(p) for p in orbit]),
                    clock=merge_days([read_clock_product(p) for p in clock]),

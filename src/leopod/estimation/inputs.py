@@ -120,9 +120,8 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
             pass_offset += total
             continue
         o = obs.isel(time=sel).reindex(sv=sv_all)
-        q = qual.isel(time=sel).reindex(sv=sv_all, fill_value={"pass_id": -1})
         code, phase = combined(o)
-        pid = q.pass_id.values.astype(int)
+        pid = qual.pass_id.isel(time=sel).reindex(sv=sv_all, fill_value=-1).values.astype(int)
         for x, cols in columns.items():
             pid[:, cols] = np.where(pid[:, cols] >= 0, pid[:, cols] + pass_offset + offsets[x],
                                     -1)

@@ -77,7 +77,8 @@ def orbit_dataset(result: PodResult, times: np.ndarray, *, eop=None,
                                       matrices=matrices)
     diff = np.full((times.size, 3), np.nan)
     if apriori_itrf_m is not None:
-        apr_gcrf, _ = itrf_to_gcrf(times, np.nan_to_num(apriori_itrf_m), eop=eop)
+        apr_gcrf, _ = itrf_to_gcrf(times, np.nan_to_num(apriori_itrf_m), eop=eop,
+                                   matrices=matrices)
         d = np.einsum("mij,mj->mi", rtn, apr_gcrf - states[:, :3])
         diff = np.where(np.isfinite(apriori_itrf_m).all(axis=1)[:, None], d, np.nan)
     frame = {"reference_frame": "ITRF"}

@@ -153,7 +153,8 @@ def gcrf_from_itrf_matrices(times, eop: EarthOrientation | None = None, *,
     return rot, d_rot
 
 
-def itrf_to_gcrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = None):
+def itrf_to_gcrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = None,
+                 matrices=None):
     """Transform ITRF positions (and velocities) to the GCRF.
 
     Parameters
@@ -166,6 +167,8 @@ def itrf_to_gcrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = N
         ITRF (Earth-fixed) velocities [m/s].
     eop : EarthOrientation, optional
         EOP source (default: installed IERS data).
+    matrices : tuple of ndarray, optional
+        ``gcrf_from_itrf_matrices(times, eop)`` when the caller has them already.
 
     Returns
     -------
@@ -173,7 +176,7 @@ def itrf_to_gcrf(times, pos_m, vel_m_s=None, *, eop: EarthOrientation | None = N
     vel_gcrf_m_s : ndarray, shape (n, 3) or None
         Inertial velocity ``R v + dR/dt r``; None if ``vel_m_s`` is None.
     """
-    rot, d_rot = gcrf_from_itrf_matrices(times, eop)
+    rot, d_rot = gcrf_from_itrf_matrices(times, eop) if matrices is None else matrices
     pos = np.asarray(pos_m, dtype=float)
     pos_out = np.einsum("nij,nj->ni", rot, pos)
     if vel_m_s is None:

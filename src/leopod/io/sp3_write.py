@@ -44,21 +44,31 @@ def _calendar(t_ns: int) -> tuple[int, int, int, int, int, str]:
     return dt.year, dt.month, dt.day, hour, minute, f"{sec:2d}.{frac:08d}"
 
 
-def _fmt(value: float, width: int, decimals: int, what: str) -> str:
-    """Fixed-point field of exactly ``width`` characters, or ValueError if it overflows."""
-    text = f"{value:{width}.{decimals}f}"
-    if len(text) > width:
-        raise ValueError(f"{what} = {value} does not fit the SP3 field F{width}.{decimals}")
-    return text
+def _fixed_texts(values: np.ndarray, width: int, decimals: int, what: str,
+                 sats: list[str]) -> list[str]:
+    """Fixed-point fields of exactly ``width`` characters of ``values`` (time, sv[, xyz]),
+    flattened in that order; ValueError naming the first field that overflows."""
+    texts = [f"{v:{width}.{decimals}f}" for v in values.ravel().tolist()]
+    long = [j for j, t in enumerate(texts) if len(t) > width]
+    if long:
+        j = long[0]
+        i, k = np.unravel_index(j, values.shape)[:2]
+        raise ValueError(f"{what} of {sats[k]} at epoch {i} = {values.ravel()[j]} does not "
+                         f"fit the SP3 field F{width}.{decimals}")
+    return texts
 
 
-def _fmt_clock(value: float, what: str) -> str:
-    """F14.6 clock or clock-rate field; NaN becomes the "bad or absent" 999999.999999."""
-    if not np.isfinite(value):
-        return " 999999.999999"
-    if abs(value) >= _BAD_CLOCK:
-        raise ValueError(f"{what} = {value} reaches the reserved SP3 bad-clock value 999999")
-    return _fmt(value, 14, 6, what)
+def _clock_texts(values: np.ndarray, what: str, sats: list[str]) -> list[str]:
+    """F14.6 clock or clock-rate fields of ``values`` (time, sv), flattened; NaN becomes the
+    "bad or absent" 999999.999999, and a value reaching it is a ValueError."""
+    ok = np.isfinite(values)
+    reserved = ok & (np.abs(np.where(ok, values, 0.0)) >= _BAD_CLOCK)
+    if reserved.any():
+        i, k = np.argwhere(reserved)[0]
+        raise ValueError(f"{what} of {sats[k]} at epoch {i} = {values[i, k]} reaches the "
+                         "reserved SP3 bad-clock value 999999")
+    texts = _fixed_texts(np.where(ok, values, 0.0), 14, 6, what, sats)
+    return [t if good else " 999999.999999" for t, good in zip(texts, ok.ravel().tolist())]
 
 
 def _exponents(sigma: np.ndarray, base: float, largest: int) -> np.ndarray:
@@ -200,25 +210,26 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
     out = _header_lines(ds, times, sats, "V" if has_vel else "P", agency=agency,
                         orbit_type=orbit_type, coordinate_system=coordinate_system,
                         data_used=data_used, comments=comments)
+    # every field formatted once, column by column; records assembled per epoch below
+    pos_text = _fixed_texts(np.where(np.isfinite(pos).all(axis=2)[:, :, None], pos, 0.0),
+                            14, 6, "position", sats)
+    clk_text = _clock_texts(clk, "clock", sats)
+    exp_text = [f" {_exponent_text(n[0], 2)} {_exponent_text(n[1], 2)} "
+                f"{_exponent_text(n[2], 2)} {_exponent_text(n[3], 3)}"
+                if max(n) >= 0 else "" for n in exps.reshape(-1, 4).tolist()]
+    if has_vel:
+        vel_text = _fixed_texts(np.where(np.isfinite(vel).all(axis=2)[:, :, None], vel, 0.0),
+                                14, 6, "velocity", sats)
+        rate_text = _clock_texts(rate, "clock rate", sats)
     for i in range(n_time):
         y, mo, d, h, mi, sec = _calendar(int(times[i]))
         out.append(f"*  {y:4d} {mo:2d} {d:2d} {h:2d} {mi:2d} {sec}")
         for k, sv in enumerate(sats):
-            where = f"{sv} at epoch {i}"
-            xyz = pos[i, k] if np.isfinite(pos[i, k]).all() else np.zeros(3)
-            c = _fmt_clock(clk[i, k], f"clock of {where}")
-            record = (f"P{sv}" + "".join(_fmt(v, 14, 6, f"position of {where}") for v in xyz)
-                      + c)
-            if (exps[i, k] >= 0).any():
-                n = exps[i, k]
-                record += "".join(f" {_exponent_text(e, 2)}" for e in n[:3]) + \
-                    f" {_exponent_text(n[3], 3)}"
-            out.append(record.rstrip())
+            j = i * n_sat + k
+            out.append(f"P{sv}{''.join(pos_text[3 * j:3 * j + 3])}{clk_text[j]}"
+                       f"{exp_text[j]}".rstrip())
             if has_vel:
-                v3 = vel[i, k] if np.isfinite(vel[i, k]).all() else np.zeros(3)
-                r = _fmt_clock(rate[i, k], f"clock rate of {where}")
-                out.append(f"V{sv}" + "".join(_fmt(v, 14, 6, f"velocity of {where}")
-                                              for v in v3) + r)
+                out.append(f"V{sv}{''.join(vel_text[3 * j:3 * j + 3])}{rate_text[j]}")
     out.append("EOF")
     text = "\n".join(out) + "\n"
     write_text(path, text)

@@ -9,22 +9,34 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
+from matplotlib.layout_engine import PlaceHolderLayoutEngine
 
 from leopod.io.netcdf import atomic_path
 
 #: Resolution of every workflow figure [dots per inch].
 DPI = 110
+#: zlib level of the PNG files: level 1 encodes a POD residual figure twice as fast as the
+#: default 6 for files 2-10 % larger (the same pixels).
+PNG_COMPRESS_LEVEL = 1
 
 
 def save_figure(fig, path: str | Path) -> None:
     """Write a figure atomically (format from the name's suffix) and close it.
 
-    No ``Software`` metadata is written, so the same figure gives the same bytes.
+    No ``Software`` metadata is written, so the same figure gives the same bytes; PNG files
+    are compressed with :data:`PNG_COMPRESS_LEVEL`. A figure laid out by
+    ``fig.tight_layout()`` keeps a placeholder layout engine, for which ``savefig`` would
+    draw the whole figure once more before drawing it into the file (a tenth of the time of
+    the POD figures); the layout is done, so the engine is dropped first (same pixels).
     """
+    if isinstance(fig.get_layout_engine(), PlaceHolderLayoutEngine):
+        fig.set_layout_engine(None)
     try:
+        fmt = Path(path).suffix.lstrip(".").lower() or "png"
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, format=Path(path).suffix.lstrip(".") or "png", dpi=DPI,
-                        metadata={"Software": None})
+            fig.savefig(tmp, format=fmt, dpi=DPI, metadata={"Software": None},
+                        **({"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}}
+                           if fmt == "png" else {}))
     finally:
         plt.close(fig)
 
