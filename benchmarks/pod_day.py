@@ -5,8 +5,11 @@ in the working directory ``--directory``, default the repository; the float POD 
 there), then runs the float_pod, ambiguity and fixed_pod jobs of that day with their scripts,
 in-process as Snakemake would (:func:`leopod.workflow.boundary.mock_snakemake`: same inputs,
 settings and outputs), each step ``--repeat`` times in a fresh process, and prints per step the
-best wall time, the orbit integrations and force evaluations, and the peak memory. The fixed
-POD's time is what it adds on top of the float POD and the ambiguity step. As in a workflow
+best wall time, the orbit integrations and force evaluations, and the peak memory: once for
+a job alone and once as in the workflow's warm worker (what the worker loads before it forks a
+job, :func:`leopod.workflow.worker.preload`, is loaded first and not timed; the ~0.2 s of the
+job process that hands the job over are not included either). The fixed POD's time is what it
+adds on top of the float POD and the ambiguity step. As in a workflow
 run, the job's process gets its ``threads`` (1 for these rules) in the thread-count variables
 of the linear-algebra libraries (``OPENBLAS_NUM_THREADS`` etc., which Snakemake sets for a
 script job); a second BLAS thread made a Cholesky factorisation of the POD's normal matrix
@@ -42,12 +45,16 @@ THREAD_VARIABLES = ("OMP_NUM_THREADS", "GOTO_NUM_THREADS", "OPENBLAS_NUM_THREADS
                     "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
-def _one(step: str, date: str, root: Path, config: Path, sat: str) -> None:
-    """Run one job in this process and print its figures as JSON."""
+def _one(step: str, date: str, root: Path, config: Path, sat: str, warm: bool) -> None:
+    """Run one job in this process and print its figures as JSON; ``warm``: first load what the
+    workflow's warm worker loads before it forks a job (leopod.workflow.worker.preload)."""
     import importlib.util
 
     from leopod.workflow.boundary import mock_snakemake
+    from leopod.workflow.worker import preload
 
+    if warm:
+        preload()
     logging.basicConfig(level=logging.WARNING)
     job = mock_snakemake(step, root=root, configfiles=[config], snakefile=REPO / "Snakefile",
                          sat=sat, date=date)
@@ -77,6 +84,7 @@ def main() -> None:
     parser.add_argument("--sat", help="POD line (satellite id or <sat>_<variant>); default: "
                         "the first satellite of the campaign")
     parser.add_argument("--step", choices=STEPS, help=argparse.SUPPRESS)   # internal
+    parser.add_argument("--warm", action="store_true", help=argparse.SUPPRESS)   # internal
     args = parser.parse_args()
     root = args.directory.resolve()
     if args.sat is None:
@@ -84,7 +92,7 @@ def main() -> None:
 
         args.sat = next(iter(load_campaign(args.configfile)["satellites"]))
     if args.step:
-        _one(args.step, args.date, root, args.configfile.resolve(), args.sat)
+        _one(args.step, args.date, root, args.configfile.resolve(), args.sat, args.warm)
         return
     target = f"results/ambiguity/{args.sat}/{args.date}.nc"
     subprocess.run([str(Path(sys.executable).with_name("snakemake")), target, "--cores", "2",
@@ -92,19 +100,24 @@ def main() -> None:
                     "--configfile", str(args.configfile.resolve())],
                    check=True, capture_output=True)
     print(f"{args.configfile.name}, {args.sat} {args.date}: best of {args.repeat} runs per step")
-    for step in STEPS:
-        runs = []
-        env = {**os.environ, **dict.fromkeys(THREAD_VARIABLES, str(THREADS))}
-        for _ in range(args.repeat):
-            out = subprocess.run([sys.executable, __file__, "--step", step, "--date", args.date,
-                                  "--directory", str(root), "--sat", args.sat, "--configfile",
-                                  str(args.configfile.resolve())], check=True, capture_output=True,
-                                 text=True, cwd=REPO / "benchmarks", env=env)
-            runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
-        best = min(runs, key=lambda r: r["wall_s"])
-        print(f"{step:10s} wall {best['wall_s']:6.2f} s  {best['integrations']} integrations "
-              f"({best['compiled']} compiled), {best['evaluations']} force evaluations, "
-              f"peak memory {best['peak_mb']:.0f} MB")
+    env = {**os.environ, **dict.fromkeys(THREAD_VARIABLES, str(THREADS))}
+    for warm in (False, True):
+        print("in the warm worker (imports, kernels, EOP preloaded; leopod.workflow.worker)"
+              if warm else "alone (a process of its own, imports not timed)")
+        for step in STEPS:
+            runs = []
+            for _ in range(args.repeat):
+                out = subprocess.run([sys.executable, __file__, "--step", step, "--date",
+                                      args.date, "--directory", str(root), "--sat", args.sat,
+                                      "--configfile", str(args.configfile.resolve()),
+                                      *(["--warm"] if warm else [])], check=True,
+                                     capture_output=True, text=True, cwd=REPO / "benchmarks",
+                                     env=env)
+                runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
+            best = min(runs, key=lambda r: r["wall_s"])
+            print(f"  {step:10s} wall {best['wall_s']:6.2f} s  {best['integrations']} "
+                  f"integrations ({best['compiled']} compiled), {best['evaluations']} force "
+                  f"evaluations, peak memory {best['peak_mb']:.0f} MB")
 
 
 if __name__ == "__main__":

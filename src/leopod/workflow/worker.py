@@ -42,7 +42,7 @@ import threading
 import time
 from pathlib import Path
 
-__all__ = ["FINISHED", "hand_off", "serve", "start", "stop"]
+__all__ = ["FINISHED", "hand_off", "preload", "serve", "start", "stop"]
 
 SOCKET_ENV = "LEOPOD_WORKER"
 """Environment variable with the server's socket path; ``off`` disables the worker."""
@@ -186,7 +186,7 @@ def serve(path: str, parent: int) -> None:
         Process id of the Snakemake run.
     """
     tic = time.perf_counter()
-    _preload()
+    preload()
     print(f"leopod worker {os.getpid()}: ready in {time.perf_counter() - tic:.1f} s", flush=True)
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(path + ".binding")
@@ -210,7 +210,7 @@ def serve(path: str, parent: int) -> None:
         os.rmdir(os.path.dirname(path))
 
 
-def _preload() -> None:
+def preload() -> None:
     """Import the jobs' modules, load the compiled force model and integrator, the Earth
     orientation table, the configuration schema and matplotlib's fonts (all read-only)."""
     import importlib
