@@ -34,9 +34,10 @@ REPO = Path(__file__).resolve().parents[2]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
 
-def _run(args, cwd=REPO, check=False):
+def _run(args, cwd=REPO, check=False, env=None):
     proc = subprocess.run([SNAKEMAKE, "--snakefile", str(REPO / "Snakefile"), *args], cwd=cwd,
-                          capture_output=True, text=True, timeout=900)
+                          capture_output=True, text=True, timeout=900,
+                          env=None if env is None else {**os.environ, **env})
     if check and proc.returncode != 0:
         raise AssertionError(proc.stdout[-3000:] + proc.stderr[-3000:])
     return proc
@@ -279,12 +280,19 @@ def test_one_simulated_day_end_to_end(tmp_path):
     _run(["--directory", str(tmp_path), "--configfile", str(cfg), "--report",
           str(tmp_path / "results/report.html")], check=True)
     assert (tmp_path / "results/report.html").stat().st_size > 1e6
+    # the warm worker (leopod.workflow.worker) ran jobs of this run: their logs end with its
+    # line (the first jobs may start before it is ready and run alone)
+    logs = [p.read_text() for p in (tmp_path / "logs").rglob("*.log")]
+    assert any("worker job finished: exit 0" in text for text in logs)
     # issue 9: identical inputs give bit-identical outputs. Every job runs again from
     # scratch (same config, same seed) and must write the same bytes, files of the
-    # simulation included (their header times come from the data, not the wall clock).
+    # simulation included (their header times come from the data, not the wall clock);
+    # this time without the worker, so a job in a fork writes what a job alone writes.
     before = _digests(tmp_path)
     _run(["--cores", "2", "--forceall", "--directory", str(tmp_path), "--configfile", str(cfg)],
-         check=True)
+         check=True, env={"LEOPOD_WORKER": "off"})
+    assert not any("worker job finished" in p.read_text()
+                   for p in (tmp_path / "logs").rglob("*.log"))
     after = _digests(tmp_path)
     assert len(before) > 60 and before.keys() == after.keys()
     assert [name for name in before if before[name] != after[name]] == []
