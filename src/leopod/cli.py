@@ -8,12 +8,18 @@
     leopod run CAMPAIGN [--directory D] [--cores N] [--profile P] [-- SNAKEMAKE OPTIONS]
                                               (e.g. ``-- -n`` for a dry run)
     leopod report CAMPAIGN [--directory D]    results/report.html of a finished run
+    leopod compare ORBIT REFERENCE [--sv ID] [--reference-sv ID] [--time-system S]
+                   [--helmert 3|6|7] [--figure PNG]
+                                              ORBIT minus REFERENCE in inertial R, T, N: mean,
+                                              STD and RMS per day and in total (SP3, leopod
+                                              netCDF or GRACE CSV files; leopod.validation)
 
 ``CAMPAIGN`` is one or more campaign files, merged in order (as Snakemake's ``--configfile``).
 Relative input paths of a campaign are relative to the working directory ``D`` (default: the
 current directory), as for Snakemake. ``check`` exits with 2 when the campaign does not conform
 to the schema, 1 when input files are missing, 0 otherwise; it reports inputs that the workflow
-writes itself (simulated data, downloads) as such.
+writes itself (simulated data, downloads) as such. ``compare`` exits with 1 when a file cannot
+be read or the two orbits have no common span.
 """
 
 from __future__ import annotations
@@ -129,6 +135,46 @@ def _report(args) -> int:
     return subprocess.run(cmd).returncode
 
 
+def _compare(args) -> int:
+    import numpy as np
+
+    from leopod.validation.compare import compare_orbits, to_gps_time
+    from leopod.validation.orbit_statistics import orbit_statistics
+    from leopod.validation.reference import read_reference_orbit
+
+    try:
+        orbit = read_reference_orbit([args.orbit], sv=args.sv)
+        reference = read_reference_orbit([args.reference], sv=args.reference_sv or args.sv)
+        system = orbit.attrs.get("time_system", "GPS")
+        orbit = orbit.assign_coords(time=to_gps_time(orbit.time.values, system))
+        diff = compare_orbits(orbit, reference, reference_time_system=args.time_system,
+                              helmert=args.helmert)
+    except (OSError, ValueError) as error:   # leopod's FormatError is a ValueError
+        print(f"leopod compare: {error}", file=sys.stderr)
+        return 1
+    ok = np.isfinite(diff.diff_rtn_m.values).all(axis=1)
+    stats = orbit_statistics(diff.isel(time=np.flatnonzero(ok)))
+    print(f"{args.orbit} minus {args.reference}: {int(ok.sum())} common epochs "
+          f"({int((~ok).sum())} of the orbit's without reference), reference time system "
+          f"{diff.attrs['reference_time_system']}, inertial R/T/N of the reference"
+          + (f", {args.helmert}-parameter Helmert removed" if args.helmert else ""))
+    print(f"{'period':<12s} {'epochs':>7s}  " + "  ".join(
+        f"{kind + ' ' + c:>9s}" for kind in ("mean", "STD", "RMS") for c in ("R", "T", "N", "3D"))
+          + "   [cm]")
+    for period in stats.period.values:
+        row = stats.sel(period=period)
+        print(f"{period:<12s} {int(row.n_epochs):7d}  " + "  ".join(
+            f"{100 * float(row[name].sel(component=c)):9.2f}"
+            for name in ("mean_m", "std_m", "rms_m") for c in ("R", "T", "N", "3D")))
+    if args.figure:
+        from leopod.plots.validation import plot_reference_differences
+
+        plot_reference_differences(diff, args.figure,
+                                   title=f"{Path(args.orbit).name} vs {Path(args.reference).name}")
+        print(f"figure: {args.figure}")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``leopod`` command (module docstring); returns the exit status."""
     parser = argparse.ArgumentParser(prog="leopod", description=__doc__.splitlines()[0])
@@ -145,12 +191,24 @@ def main(argv: Sequence[str] | None = None) -> int:
             p.add_argument("--profile", default=None,
                            help="Snakemake profile: a folder of the checkout's profiles/ "
                                 "(e.g. slurm) or a path")
+    p = sub.add_parser("compare", help="compare an orbit with a reference orbit",
+                       description="ORBIT minus REFERENCE in inertial R/T/N, per day and in total")
+    p.add_argument("orbit", help="orbit file (SP3, leopod netCDF or GRACE CSV)")
+    p.add_argument("reference", help="reference orbit file (same formats)")
+    p.add_argument("--sv", help="satellite id in the SP3 files (default: the only one)")
+    p.add_argument("--reference-sv", help="satellite id in the reference SP3 (default: --sv)")
+    p.add_argument("--time-system", choices=("GPS", "TAI", "TT", "UTC"),
+                   help="time system of the reference's epochs (default: its header, else GPS)")
+    p.add_argument("--helmert", type=int, choices=(3, 6, 7),
+                   help="estimate and remove a Helmert transformation with this many parameters")
+    p.add_argument("--figure", type=Path, help="PNG of the differences over time")
     argv = list(sys.argv[1:] if argv is None else argv)
     # everything after the first "--" goes to Snakemake as it is
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
     args.snakemake = extra
-    return {"check": _check, "run": _run, "report": _report}[args.command](args)
+    return {"check": _check, "run": _run, "report": _report,
+            "compare": _compare}[args.command](args)
 
 
 if __name__ == "__main__":

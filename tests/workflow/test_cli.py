@@ -1,7 +1,7 @@
-"""The leopod command (leopod.cli): check, run and report over Snakemake.
+"""The leopod command (leopod.cli): check, run and report over Snakemake; compare orbits.
 
-Authorities: the campaign schema (what conforms), the files on disk (what is missing), and the
-workflow's own dry run (what a run plans).
+Authorities: the campaign schema (what conforms), the files on disk (what is missing), the
+workflow's own dry run (what a run plans), and analytic orbits (what compare measures).
 """
 
 from __future__ import annotations
@@ -11,7 +11,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 import yaml
 
 from leopod.cli import main, missing_inputs
@@ -70,3 +72,43 @@ def test_run_passes_snakemake_options_after_the_double_dash(tmp_path):
     stats = dict(re.findall(r"^(\w+)\s+(\d+)$", proc.stdout, flags=re.M))
     assert stats["float_pod"] == "3"          # the default campaign: one satellite, 3 days
     assert not (tmp_path / "results").exists()
+
+
+def _circular_sp3(path: Path, radius_offset_m: float = 0.0, start="2019-01-02T00:00") -> Path:
+    """SP3 of a 7000-km circular orbit (3 h at 30 s), its radius changed by ``radius_offset_m``."""
+    from leopod.io.sp3_write import write_sp3
+
+    t = np.arange(0, 3 * 3600 + 1, 30.0)
+    phase, tilt = 2 * np.pi * t / 5800.0, np.radians(60.0)
+    unit = np.column_stack([np.cos(phase), np.sin(phase) * np.cos(tilt),
+                            np.sin(phase) * np.sin(tilt)])
+    times = np.datetime64(start, "ns") + (t * 1e9).astype("timedelta64[ns]")
+    pos = (7.0e6 + radius_offset_m) * unit
+    write_sp3(xr.Dataset({"pos_m": (("time", "sv", "xyz"), pos[:, None, :])},
+                         coords={"time": times, "sv": ["L01"], "xyz": ["x", "y", "z"]},
+                         attrs={"time_system": "GPS"}), path)
+    return path
+
+
+def test_compare_gives_the_radial_offset_of_two_orbits(tmp_path):
+    # analytic truth: the reference is the orbit raised by 5 cm along its position vector, a
+    # purely radial offset in any Earth-centred frame (orbit minus reference: R -5 cm, T = N = 0
+    # up to the 1-mm rounding of SP3 positions)
+    orbit, reference = _circular_sp3(tmp_path / "a.sp3"), _circular_sp3(tmp_path / "b.sp3", 0.05)
+    proc = _leopod("compare", orbit, reference, "--figure", tmp_path / "diff.png", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    total = next(line for line in proc.stdout.splitlines() if line.startswith("total"))
+    values = [float(v) for v in total.split()[1:]]
+    epochs, mean, rms = values[0], values[1:5], values[9:13]
+    assert epochs == 361
+    assert abs(mean[0] + 5.0) < 0.01 and abs(mean[1]) < 0.02 and abs(mean[2]) < 0.02
+    assert abs(rms[0] - 5.0) < 0.01 and rms[1] < 0.05 and rms[2] < 0.05
+    assert (tmp_path / "diff.png").stat().st_size > 10_000
+
+
+def test_compare_without_a_common_span_fails_with_one_line(tmp_path):
+    orbit = _circular_sp3(tmp_path / "a.sp3")
+    reference = _circular_sp3(tmp_path / "b.sp3", start="2019-01-05T00:00")
+    proc = _leopod("compare", orbit, reference, cwd=tmp_path)
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == "leopod compare: the orbit and the reference have no common span"
