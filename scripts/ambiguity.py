@@ -14,7 +14,7 @@ from leopod.ambiguity.resolve import ArSettings, resolve_arc, resolve_systems
 from leopod.codebias.apply import CodeCorrection, correct_codes
 from leopod.codebias.scb import NADIR_VARIABLE, correct_bds2_scb
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
-from leopod.io.netcdf import merge_days, write_netcdf
+from leopod.io.netcdf import load_netcdf, merge_days, write_netcdf
 from leopod.plots.ambiguity import plot_fractional_parts
 from leopod.signals import SystemSignals, signal_settings
 from leopod.workflow.boundary import plain
@@ -48,15 +48,15 @@ def main(inputs: Mapping, table_path, histogram_path, *, system: str | list[str]
     combined = not isinstance(system, str)
     observed = ([o for x in system for o in signals[x].observations] if combined
                 else signals.observations)
-    amb = xr.load_dataset(inputs["ambiguities"])
-    residuals = xr.load_dataset(inputs["residuals"])
-    obs = [correct_signal_biases(xr.load_dataset(p), signal_biases, observed)[0]
+    amb = load_netcdf(inputs["ambiguities"], "float POD ambiguities")
+    residuals = load_netcdf(inputs["residuals"], "float POD residuals")
+    obs = [correct_signal_biases(load_netcdf(p, "ingest observation"), signal_biases, observed)[0]
            for p in inputs["obs"]]
     directions = [_directions(q) for q in inputs["quality"]]
     if code_correction.bds2_scb:
         obs = [correct_bds2_scb(o, d)[0] for o, d in zip(obs, directions, strict=True)]
     if inputs.get("code_bias") and code_correction.apply:
-        maps = xr.load_dataset(inputs["code_bias"])
+        maps = load_netcdf(inputs["code_bias"], "code-bias map")
         obs = [correct_codes(o, d, maps, code_correction.apply,
                              empty_cells=code_correction.empty_cells, yaw_flips=yaw_flips)[0]
                for o, d in zip(obs, directions, strict=True)]

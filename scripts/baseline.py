@@ -33,7 +33,7 @@ from leopod.estimation.baseline import (  # noqa: E402
 from leopod.estimation.fixed_arc import FixedSolutions, FloatSolution  # noqa: E402
 from leopod.estimation.outputs import sp3_dataset  # noqa: E402
 from leopod.io.attitude import load_leo_attitude  # noqa: E402
-from leopod.io.netcdf import merge_days, write_netcdf  # noqa: E402
+from leopod.io.netcdf import load_netcdf, merge_days, write_netcdf  # noqa: E402
 from leopod.io.sp3_write import write_sp3  # noqa: E402
 from leopod.plots.ambiguity import plot_fractional_parts  # noqa: E402
 from leopod.time.calendar import parse_date_id  # noqa: E402
@@ -110,8 +110,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
         misclosure = np.concatenate([misclosure, rel[1]])
         weight = np.concatenate([weight, rel[2]])
     if baseline.mode == "reference_fixed":
-        dx_a = fixed_correction(normals[0], xr.load_dataset(inputs["a_fixed_parameters"]),
-                                xr.load_dataset(inputs["a_fixed_ambiguities"]))
+        dx_a = fixed_correction(normals[0], load_netcdf(inputs["a_fixed_parameters"]),
+                                load_netcdf(inputs["a_fixed_ambiguities"]))
         joint = reference_fixed_solve(*normals, design, misclosure, weight, dx_a)
     else:
         joint = joint_solve(*normals, design, misclosure, weight)

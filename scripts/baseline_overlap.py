@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.estimation.kinematic import orbit_state
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.validation.formation import baseline_overlap, rms_rtn
 from leopod.workflow.log import configure_logging
 
@@ -36,12 +36,12 @@ def _solutions(a: xr.Dataset, b: xr.Dataset, kind: str) -> dict:
 
 def main(inputs: dict, nc_path) -> None:
     """RMS R/T/N/3D of the differences of every solution over the common span."""
-    leader = xr.load_dataset(inputs["leader"])
+    leader = load_netcdf(inputs["leader"])
     labels, rms, counts = [], [], []
     for kind in ("dynamic", "kinematic"):
         if f"{kind}_a" not in inputs:
             continue
-        a, b = xr.load_dataset(inputs[f"{kind}_a"]), xr.load_dataset(inputs[f"{kind}_b"])
+        a, b = load_netcdf(inputs[f"{kind}_a"]), load_netcdf(inputs[f"{kind}_b"])
         state = orbit_state(leader, a.time.values, a.time.values[0])    # the RTN axes
         for label, (ta, ba, tb, bb) in _solutions(a, b, kind).items():
             times, diff = baseline_overlap(ta, ba, tb, bb, state)

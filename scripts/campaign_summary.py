@@ -17,9 +17,10 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.summary import plot_fixing_rates, plot_isb, plot_pco_z
 from leopod.simulate.ambiguity_truth import wrong_fix_counts
+from leopod.validation.quality_gate import STATUS, GateSettings
 from leopod.validation.summary import campaign_table, column_meta, day_row, isb_series, sections
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
@@ -29,7 +30,7 @@ log = logging.getLogger(__name__)
 
 def _load(files: dict, key: str, date: str):
     path = files.get(key, {}).get(date)
-    return xr.load_dataset(path) if path else None
+    return load_netcdf(path) if path else None
 
 
 def _cell(value: float) -> str:
@@ -54,8 +55,17 @@ def _html_table(table, columns: list[str]) -> str:
             f"</tr>\n{body}</table>")
 
 
+def _gate_list(rows: list[dict]) -> str:
+    """HTML list of the days the quality gate did not pass, with the reasons."""
+    items = [f"<li>{r['date']} {r['solution']}: {STATUS[int(r['quality_gate'])]} "
+             f"({r['quality_gate_reasons']})</li>"
+             for r in rows if np.isfinite(r["quality_gate"]) and r["quality_gate"] > 0]
+    return ("<h4>quality gate</h4>\n"
+            + (f"<ul>{''.join(items)}</ul>\n" if items else "<p>every day passed</p>\n"))
+
+
 def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
-         phases: Mapping | None = None) -> None:
+         phases: Mapping | None = None, gate: GateSettings | None = None) -> None:
     """Campaign table from ``files`` (``{solution: {product: {date: path}}}``, products
     ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``, ``parameters``, and
     ``truth`` (``{date: [simulator truth files of the arc's days]}``, simulated satellites))
@@ -68,14 +78,18 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
             residuals = _load(products, "residuals", date)
             parameters = _load(products, "parameters", date)
             ambiguity = _load(products, "ambiguity", date)
-            truth = [xr.load_dataset(p) for p in products.get("truth", {}).get(date, [])]
+            truth = [load_netcdf(p) for p in products.get("truth", {}).get(date, [])]
             wrong = (wrong_fix_counts(ambiguity, residuals, truth, phases)
                      if truth and ambiguity is not None else None)
             rows.append(day_row(date, solution, residuals=residuals, ambiguity=ambiguity,
                                 overlap=_load(products, "overlap", date),
                                 reference=_load(products, "reference", date),
                                 slr=_load(products, "slr", date),
-                                parameters=parameters, wrong_fixes=wrong))
+                                parameters=parameters, wrong_fixes=wrong, gate=gate))
+            row = rows[-1]
+            if row["quality_gate"] > 0:
+                log.warning("quality gate %s %s: %s (%s)", date, solution,
+                            STATUS[int(row["quality_gate"])], row["quality_gate_reasons"])
             if parameters is not None:
                 isb.append(isb_series(parameters, residuals).assign(solution=solution,
                                                                     date=date))
@@ -92,8 +106,9 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
     write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
     parts = "\n".join(f"<h4>{name}</h4>\n{_html_table(table, columns)}"
                        for name, columns in sections(table.columns).items())
-    write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>\n{parts}"
-                                "</body></html>\n")
+    gates = _gate_list(rows) if gate is not None else ""
+    write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>\n{gates}"
+                                f"{parts}</body></html>\n")
     plot_pco_z(table, outputs["pco_z_png"], title=title)
     plot_fixing_rates(table, outputs["fixing_png"], title=title)
     plot_isb(pd.concat(isb, ignore_index=True) if isb else pd.DataFrame(
@@ -106,7 +121,8 @@ def run(sm) -> None:
     configure_logging(sm)
     p = sm.params
     main({s: p.files[s] for s in p.solutions}, list(p.days), [str(f) for f in sm.input],
-         plain(sm.output), title=p.title, phases=dict(p.phases))
+         plain(sm.output), title=p.title, phases=dict(p.phases),
+         gate=GateSettings.from_config(p.quality_gate))
 
 
 if __name__ == "__main__":

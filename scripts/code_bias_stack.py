@@ -9,11 +9,9 @@ import itertools
 import logging
 from collections.abc import Mapping
 
-import xarray as xr
-
 from leopod.codebias.products import map_difference, stack_maps
 from leopod.io import write_text
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.codebias import plot_code_bias_maps, plot_map_difference
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
@@ -24,7 +22,7 @@ log = logging.getLogger(__name__)
 def main(map_paths, outputs: Mapping, *, title: str) -> None:
     """Stack the period maps (paths in time order) into ``outputs``: ``nc``, ``differences``
     (CSV), ``maps`` and ``difference`` (PNG)."""
-    maps = [xr.load_dataset(p) for p in map_paths]
+    maps = [load_netcdf(p) for p in map_paths]
     stacked = stack_maps(maps)
     write_netcdf(stacked, outputs["nc"], step="code_bias_stack", inputs=map_paths,
                  time_system="GPS", reference_frame="antenna",

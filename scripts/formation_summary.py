@@ -9,9 +9,9 @@ import logging
 from collections.abc import Mapping
 
 import numpy as np
-import xarray as xr
 
 from leopod.io import write_text
+from leopod.io.netcdf import load_netcdf
 from leopod.plots.validation import plot_formation_summary
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
 from leopod.validation.formation import formation_day_row, formation_table
@@ -30,9 +30,9 @@ def _wrong(files: Mapping, phases: Mapping) -> dict | None:
     """Wrong DD fixes of a simulated pair-day, None without truth files."""
     if "truth_a" not in files:
         return None
-    table = xr.load_dataset(files["dd"])
-    res = [xr.load_dataset(files[f"residuals_{k}"]) for k in ("a", "b")]
-    truth = [[xr.load_dataset(p) for p in files[f"truth_{k}"]] for k in ("a", "b")]
+    table = load_netcdf(files["dd"])
+    res = [load_netcdf(files[f"residuals_{k}"]) for k in ("a", "b")]
+    truth = [[load_netcdf(p) for p in files[f"truth_{k}"]] for k in ("a", "b")]
     wl, nl = true_double_differences(table, res[0], res[1], truth[0], truth[1], phases)
     return wrong_dd_fixes(table, wl, nl)
 
@@ -42,12 +42,12 @@ def main(files: Mapping, outputs: Mapping, *, phases: Mapping, title: str) -> No
     rows = {}
     for date, f in files.items():
         rows[date] = formation_day_row(
-            xr.load_dataset(f["baseline"]),
-            kinematic=xr.load_dataset(f["kinematic"]) if "kinematic" in f else None,
-            ranges=xr.load_dataset(f["range"]) if "range" in f else None,
-            overlap=xr.load_dataset(f["overlap"]) if "overlap" in f else None,
+            load_netcdf(f["baseline"]),
+            kinematic=load_netcdf(f["kinematic"]) if "kinematic" in f else None,
+            ranges=load_netcdf(f["range"]) if "range" in f else None,
+            overlap=load_netcdf(f["overlap"]) if "overlap" in f else None,
             wrong=_wrong(f, phases),
-            lines={k: xr.load_dataset(v) for k, v in f["lines"].items()} if "lines" in f
+            lines={k: load_netcdf(v) for k, v in f["lines"].items()} if "lines" in f
             else None)
     table, meta = formation_table(rows)
     log.info("formation summary:\n%s", table.T.to_string(float_format=lambda v: f"{v:.3g}"))

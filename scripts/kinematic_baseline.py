@@ -18,7 +18,7 @@ from leopod.estimation.kinematic import KinematicSettings
 from leopod.estimation.kinematic_baseline import KinematicBaseline, baseline_dataset
 from leopod.estimation.outputs import pod_start
 from leopod.io.attitude import load_leo_attitude
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.kinematic import plot_baseline_differences
 from leopod.time.calendar import parse_date_id
 from leopod.validation.formation import difference_rtn, rms_rtn, truth_baseline_itrf
@@ -58,8 +58,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     (pa, orbit_a, files_a), (pb, orbit_b, files_b) = (
         _receiver(date, f, p, signals, arc, forces, code_correction)
         for f, p in zip(split, pair, strict=True))
-    table = xr.load_dataset(inputs["dd"])
-    dynamic = xr.load_dataset(inputs["dynamic"])
+    table = load_netcdf(inputs["dd"])
+    dynamic = load_netcdf(inputs["dynamic"])
     day = np.datetime64(parse_date_id(date), "ns")
     times = pb.observations.times
     in_day = (times >= day) & (times < day + np.timedelta64(1, "D"))

@@ -9,7 +9,6 @@ import textwrap
 from collections.abc import Mapping
 
 import numpy as np
-import xarray as xr
 
 from leopod.ambiguity.resolve import ArSettings
 from leopod.codebias.apply import CodeCorrection
@@ -25,7 +24,7 @@ from leopod.estimation.kinematic import (
 )
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.io.sp3_write import write_sp3
 from leopod.plots.kinematic import plot_kinematic_rtn
 from leopod.signals import SystemSignals
@@ -47,13 +46,13 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     ``nc``, ``sp3`` and ``figure`` paths.
     """
     data = ArcData.read(inputs, signal_bias=signal_bias)
-    reference = xr.load_dataset(inputs["float_orbit"])
+    reference = load_netcdf(inputs["float_orbit"])
     problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
                         code_correction=code_correction, yaw_flips=yaw_flips,
                         apriori_orbit=reference.pos_itrf_m, attitude=attitude)
     constraints = None
     if kinematic.ambiguities == "fixed":
-        constraints = constraints_of(xr.load_dataset(inputs["table"]),
+        constraints = constraints_of(load_netcdf(inputs["table"]),
                                      ambiguity.constraint_sigma_m)
     result = kinematic_pod(problem.observations, problem.products, reference, problem.t_ref,
                            pod, kinematic, eop=problem.eop, constraints=constraints,

@@ -7,9 +7,7 @@ hand_off(globals())  # run in the warm worker process of this run, if it has one
 
 import logging
 
-import xarray as xr
-
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.validation.overlap import overlap
 from leopod.workflow.log import configure_logging
 
@@ -18,7 +16,7 @@ log = logging.getLogger(__name__)
 
 def main(orbit_a, orbit_b, out_path, *, trim_s: float, title: str) -> None:
     """Overlap of two orbit files (netCDF) into ``out_path``."""
-    ov = overlap(xr.load_dataset(orbit_a), xr.load_dataset(orbit_b), trim_s=trim_s)
+    ov = overlap(load_netcdf(orbit_a), load_netcdf(orbit_b), trim_s=trim_s)
     rms = ov.rms_m
     log.info("overlap %s to %s (%d epochs): RMS R %.2f T %.2f N %.2f 3D %.2f cm",
              ov.attrs["span_start"], ov.attrs["span_end"], int(ov.n_epochs),

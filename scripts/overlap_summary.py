@@ -11,7 +11,7 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.validation import plot_overlaps
 from leopod.validation.orbit_statistics import statistics_table
 from leopod.validation.overlap import overlap_summary
@@ -26,7 +26,7 @@ def main(overlaps: Mapping, outputs: Mapping, *, title: str) -> None:
     ``outputs``: ``nc``, ``csv`` and ``figure``."""
     summaries = {}
     for solution, files in overlaps.items():
-        summaries[solution] = overlap_summary([xr.load_dataset(p) for p in files])
+        summaries[solution] = overlap_summary([load_netcdf(p) for p in files])
         camp = summaries[solution]
         log.info("%s overlaps (%d pairs): 3D RMS %.2f +- %.2f cm", solution, len(files),
                  100 * float(camp.campaign_rms_mean_m.sel(component="3D")),

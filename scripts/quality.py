@@ -21,7 +21,7 @@ from leopod.gnss.scb import nadir_angle_deg
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io._text import write_text
 from leopod.io.attitude import load_leo_attitude
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.io.product_netcdf import read_antenna_product
 from leopod.plots.quality import (
     plot_code_noise,
@@ -68,12 +68,9 @@ def main(obs_path, gnss_path, leo_path, signals: Mapping[str, SystemSignals],
     LEO PCO terms follow the satellite's attitude law ``attitude`` (None: nominal); with an
     ANTEX antenna (``pco_body_m`` a LeoAntenna) the angles are those of its antenna frame and
     its PCV per band is removed with its PCO."""
-    with xr.open_dataset(obs_path) as f:
-        obs = f.load()
-    with xr.open_dataset(gnss_path) as f:
-        gnss = f.load().reindex(sv=obs.sv.values)
-    with xr.open_dataset(leo_path) as f:
-        leo = f.load()
+    obs = load_netcdf(obs_path, "ingest observation")
+    gnss = load_netcdf(gnss_path, "ingest GNSS geometry").reindex(sv=obs.sv.values)
+    leo = load_netcdf(leo_path, "a-priori orbit")
     rot = leo_body_axes_ef(attitude, obs.time.values, leo.pos_m.values, leo.vel_m_s.values)
     los = gnss.pos_m.values - leo.pos_m.values[:, None, :]
     el, az = antenna_angles(rot, los, antenna_frame_of(pco_body_m))

@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.io.grace_orbit_csv import read_kband_range_csv
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.validation import plot_range_check
 from leopod.time.calendar import parse_date_id
 from leopod.validation.formation import range_residuals
@@ -38,8 +38,8 @@ def main(range_path, dynamic_path, kinematic_path, nc_path, figure_path, *, date
     """Residuals |baseline| − range of every solution over the day ``date`` (YYYY-DDD), their
     statistics and figure."""
     rng = read_kband_range_csv(range_path)
-    dynamic = xr.load_dataset(dynamic_path)
-    kinematic = None if kinematic_path is None else xr.load_dataset(kinematic_path)
+    dynamic = load_netcdf(dynamic_path)
+    kinematic = None if kinematic_path is None else load_netcdf(kinematic_path)
     day = np.datetime64(parse_date_id(date), "ns")
     times = dynamic.time.values
     times = times[(times >= day) & (times < day + np.timedelta64(1, "D"))]

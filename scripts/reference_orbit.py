@@ -7,9 +7,7 @@ hand_off(globals())  # run in the warm worker process of this run, if it has one
 
 import logging
 
-import xarray as xr
-
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.validation.reference import compare_day, read_reference_orbit
 from leopod.workflow.log import configure_logging
 
@@ -20,7 +18,7 @@ def main(orbit_path, reference_paths, out_path, *, date: str, reference_id, time
          solution: str, title: str) -> None:
     """Orbit (netCDF) minus the reference orbit files over ``date`` into ``out_path``."""
     reference = read_reference_orbit(reference_paths, sv=reference_id)
-    diff = compare_day(xr.load_dataset(orbit_path), reference, date, time_system=time_system)
+    diff = compare_day(load_netcdf(orbit_path), reference, date, time_system=time_system)
     rms = diff.rms_m.sel(period="total")
     log.info("%s minus reference over %s (%d epochs): RMS R %.2f T %.2f N %.2f 3D %.2f cm",
              solution, date, int(diff.n_epochs.sel(period="total")),

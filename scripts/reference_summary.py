@@ -12,7 +12,7 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.validation import plot_daily_statistics, plot_reference_differences
 from leopod.validation.orbit_statistics import orbit_statistics, statistics_table
 from leopod.workflow.boundary import plain
@@ -26,7 +26,7 @@ def main(differences: Mapping, outputs: Mapping, *, title: str) -> None:
     into ``outputs``: ``nc``, ``csv``, ``differences`` and ``daily`` (PNG)."""
     diffs, stats = {}, {}
     for solution, files in differences.items():
-        days = [xr.load_dataset(p)[["diff_rtn_m", "diff_3d_m"]] for p in files]
+        days = [load_netcdf(p)[["diff_rtn_m", "diff_3d_m"]] for p in files]
         diffs[solution] = xr.concat(days, dim="time")
         stats[solution] = orbit_statistics(diffs[solution].dropna("time"), daily=True)
         rms = stats[solution].rms_m.sel(period="total")

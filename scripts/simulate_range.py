@@ -5,9 +5,9 @@ from leopod.workflow.worker import hand_off
 
 hand_off(globals())  # run in the warm worker process of this run, if it has one
 
-import xarray as xr
 
 from leopod.io.grace_orbit_csv import write_kband_range_csv
+from leopod.io.netcdf import load_netcdf
 from leopod.simulate.ranging import simulated_range
 from leopod.simulate.settings import SimulationSettings
 from leopod.workflow.log import configure_logging
@@ -16,7 +16,7 @@ from leopod.workflow.log import configure_logging
 def main(truth_a, truth_b, out_path, *, settings: SimulationSettings, label: str,
          sigma_m: float) -> None:
     """Range of the truth orbits ``truth_a``, ``truth_b`` (netCDF) into ``out_path``."""
-    ds = simulated_range(xr.load_dataset(truth_a), xr.load_dataset(truth_b), sigma_m,
+    ds = simulated_range(load_netcdf(truth_a), load_netcdf(truth_b), sigma_m,
                          settings.int_seed(f"range/{label}"))
     write_kband_range_csv(ds, out_path)
 

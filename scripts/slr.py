@@ -6,13 +6,11 @@ hand_off(globals())  # run in the warm worker process of this run, if it has one
 
 from collections.abc import Mapping
 
-import xarray as xr
-
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
 from leopod.io.blq import read_blq
 from leopod.io.crd import read_crd
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.io.sinex import read_sinex_eccentricities, read_sinex_stations
 from leopod.validation.slr import SlrResidualSettings, slr_residuals
 from leopod.workflow.boundary import attitude_files, plain
@@ -24,7 +22,7 @@ def main(inputs: Mapping, out_path, *, retro_offset_body_m, settings: SlrResidua
     """SLR residuals of an orbit. ``inputs``: ``orbit`` (netCDF), ``normal_points`` (CRD),
     ``stations`` (SINEX), optional ``eccentricities`` (SINEX) and ``ocean_loading`` (BLQ)."""
     res = slr_residuals(
-        xr.load_dataset(inputs["orbit"]), read_crd(inputs["normal_points"]),
+        load_netcdf(inputs["orbit"]), read_crd(inputs["normal_points"]),
         read_sinex_stations(inputs["stations"]),
         read_sinex_eccentricities(inputs["eccentricities"])
         if inputs.get("eccentricities") else None,

@@ -12,7 +12,7 @@ import pandas as pd
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.io.netcdf import write_netcdf
+from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.slr import plot_slr_elevation, plot_slr_residuals_time, plot_slr_stations
 from leopod.validation.slr_statistics import (
     elevation_statistics,
@@ -40,7 +40,7 @@ def main(residual_files: Mapping, outputs: Mapping, *, elevation_bin_deg: float,
     the last one is plotted over time) into ``outputs``: ``nc``, ``stations_csv``,
     ``elevation_csv``, ``stations_png``, ``elevation_png``, ``time_png``."""
     solutions = list(residual_files)
-    residuals = {s: xr.concat([xr.load_dataset(p) for p in files], dim="point")
+    residuals = {s: xr.concat([load_netcdf(p) for p in files], dim="point")
                  for s, files in residual_files.items()}
     stations = {s: station_statistics(r) for s, r in residuals.items()}
     elevation = {s: elevation_statistics(r, elevation_bin_deg) for s, r in residuals.items()}

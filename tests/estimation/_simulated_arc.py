@@ -55,6 +55,24 @@ def simulated_gnss_world(folder: Path, sim: SimulationSettings, day: str = DAY,
     return truth, biases
 
 
+def arc_data(cfg: dict, obs: xr.Dataset, orbit: xr.Dataset, clock: xr.Dataset) -> ArcData:
+    """The inputs of a GPS float POD of one day: the canonical observations ``obs``
+    ingested and quality-checked in memory as the ingest and quality rules do
+    (scripts/ingest.py, scripts/quality.py) with the campaign ``cfg``, against the GNSS
+    ``orbit`` and ``clock`` products (datasets of read_sp3 and read_rinex_clock)."""
+    signals = signal_settings(cfg["signals"])
+    pco = cfg["satellites"][SAT]["antenna_pco_body_m"]
+    products = GnssProducts.from_datasets(orbit, clock, T0, max_extrapolation_s=900.0)
+    gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
+    leo = apriori_from_spp(obs, products, signals, pco)
+    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
+                            gnss.pos_m.values - leo.pos_m.values[:, None, :])
+    sig = signals["G"]
+    quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
+                             QualitySettings.from_config(cfg["quality"]))
+    return ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
+
+
 def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
                   ar_fault: str = "none", ambiguity: dict | None = None) -> SimpleNamespace:
     """Files of :data:`DAY` in ``folder``, and the float POD and AR of ``hours`` of it.
@@ -76,20 +94,11 @@ def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
     truth, biases = simulated_gnss_world(folder, sim)
     simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, pco, rinex3=folder / "o.rnx",
                      truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc")
-    # ingest and quality (scripts/ingest.py, scripts/quality.py)
-    signals = signal_settings(cfg["signals"])
-    obs = canonical_observations(read_rinex_obs(folder / "o.rnx"), signals)
-    orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk")
-    products = GnssProducts.from_datasets(orbit, clock, T0, max_extrapolation_s=900.0)
-    gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
-    leo = apriori_from_spp(obs, products, signals, pco)
-    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
-                            gnss.pos_m.values - leo.pos_m.values[:, None, :])
-    sig = signals["G"]
-    quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
-                             QualitySettings.from_config(cfg["quality"]))
+    obs = canonical_observations(read_rinex_obs(folder / "o.rnx"),
+                                 signal_settings(cfg["signals"]))
+    data = arc_data(cfg, obs, read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk"))
+    sig = signal_settings(cfg["signals"])["G"]
     # float POD of the arc and its AR (scripts/float_pod.py, scripts/ambiguity.py)
-    data = ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
     settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     code_correction = settings.pop("code_correction")
     args = (DAY, data, settings["signals"], settings["arc"], settings["pod"],

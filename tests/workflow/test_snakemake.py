@@ -361,3 +361,24 @@ def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
     assert not (tmp_path / "results/ingest/hy2b-sim/2019-002_obs.nc").exists()
     log = (tmp_path / "logs/ingest/hy2b-sim/2019-002.log").read_text()
     assert "2019-002.rnx:" in log and "field" in log
+
+
+@pytest.mark.slow
+def test_a_damaged_intermediate_fails_its_step_with_the_file_named(tmp_path):
+    # the ingest netCDF of an earlier run cut in half (a killed copy, a full disk): the next
+    # step that reads it fails that day with one line naming the file, no traceback (issue 24,
+    # item 4). Authority: the error contract of DESIGN.md (bad input -> an error naming the
+    # file) and leopod.io.netcdf.load_netcdf.
+    cfg = _write_config(tmp_path / "one.yaml", end_date="2019-01-01")
+    target = "results/quality/hy2b-sim/2019-001.nc"
+    _run([target, "--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg)],
+         check=True)
+    obs = tmp_path / "results/ingest/hy2b-sim/2019-001_obs.nc"
+    obs.write_bytes(obs.read_bytes()[: obs.stat().st_size // 2])
+    proc = _run([target, "--cores", "1", "--directory", str(tmp_path), "--configfile", str(cfg)])
+    assert proc.returncode != 0
+    log = (tmp_path / "logs/quality/hy2b-sim/2019-001.log").read_text()
+    assert (f"step quality failed: {obs.relative_to(tmp_path)}: field 'netCDF': cannot read the "
+            "ingest observation file") in log
+    assert "delete it and run the step again" in log and "Traceback" not in log
+    assert not (tmp_path / target).exists()

@@ -263,6 +263,7 @@ rule campaign_summary:
         files=campaign_summary_files,
         title=sat_name,
         phases={x: CONFIG["signals"][x]["phase"] for x in CONFIG["signals"]},
+        quality_gate=CONFIG["pod"]["quality_gate"],
     script:
         "../../scripts/campaign_summary.py"
 

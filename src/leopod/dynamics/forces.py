@@ -253,6 +253,14 @@ class PseudoStochasticPulses:
 # ------------------------------------------------------- reference orbits (ForceModel.follow)
 
 
+#: Epochs of the Lagrange interpolation of :func:`tabulated_orbit` (degree 8).
+_TABLE_NODES = 9
+#: A step of a tabulated orbit longer than this many median steps is a gap bridged by
+#: circular orbits (:func:`tabulated_orbit`); shorter holes (5 min of 30-s data) stay inside
+#: the degree-8 interpolation.
+_TABLE_GAP_STEPS = 10.0
+
+
 def circular_orbit(t0_s: float, state0: np.ndarray):
     """Circular two-body motion through a state: a reference orbit for minutes around it.
 
@@ -312,25 +320,64 @@ def extended_orbit(inside, lo: float, hi: float, state_lo: np.ndarray, state_hi:
 def tabulated_orbit(t_s: np.ndarray, pos_m: np.ndarray):
     """A reference orbit for :meth:`ForceModel.follow` from tabulated positions.
 
+    The table is cut at gaps longer than :data:`_TABLE_GAP_STEPS` median steps (a data gap
+    of the a-priori orbit); each piece of at least 9 epochs is interpolated on its own, and a
+    gap is bridged by the :func:`circular_orbit` of the states at its two edges, blended
+    linearly across it. A degree-8 polynomial through nodes on both sides of an hours-long
+    gap swings by more than 1000 km (a 2-h gap of the simulated HY-2B day gave heights of
+    −400 km); the bridge stays within the km of :func:`circular_orbit`, enough for
+    a density looked up along the orbit (Drag.follow).
+
     Parameters
     ----------
     t_s : ndarray, shape (n,)
-        Increasing epochs [TT s since the reference epoch], n ≥ 9.
+        Increasing epochs [TT s since the reference epoch]; a piece without a gap of at least
+        9 of them.
     pos_m : ndarray, shape (n, 3)
-        GCRF positions [m] (e.g. the a-priori orbit; across data gaps the interpolation is
-        rough, enough for a density looked up along the orbit, see Drag.follow).
+        GCRF positions [m] (e.g. the a-priori orbit).
 
     Returns
     -------
     callable
-        ``positions(t_s (m,)) -> (m, 3)``: Lagrange interpolation (degree 8) inside
-        ``[t_s[0], t_s[-1]]``, :func:`extended_orbit` beyond.
+        ``positions(t_s (m,)) -> (m, 3)``: Lagrange interpolation (degree 8) inside the
+        pieces, the bridges between them, :func:`extended_orbit` beyond the first and last.
+
+    Raises
+    ------
+    ValueError
+        If no piece has 9 epochs.
     """
     t = np.asarray(t_s, dtype=float)
     pos = np.asarray(pos_m, dtype=float)
-    ends, rates = interpolate_table(t, pos, t[[0, -1]], order=8)
-    return extended_orbit(lambda q: interpolate_table(t, pos, q, order=8)[0], t[0], t[-1],
-                          np.concatenate([ends[0], rates[0]]), np.concatenate([ends[1], rates[1]]))
+    step = np.diff(t)
+    cuts = np.flatnonzero(step > _TABLE_GAP_STEPS * np.median(step)) + 1 if t.size > 1 else []
+    pieces = [p for p in np.split(np.arange(t.size), cuts) if p.size >= _TABLE_NODES]
+    if not pieces:
+        raise ValueError(f"reference orbit: no stretch of {_TABLE_NODES} positions without a "
+                         f"gap (of more than {_TABLE_GAP_STEPS} steps) among {t.size}")
+    spans, states, tables = [], [], []
+    for p in pieces:
+        tp, xp = t[p], pos[p]
+        ends, rates = interpolate_table(tp, xp, tp[[0, -1]], order=_TABLE_NODES - 1)
+        spans.append((tp[0], tp[-1]))
+        states.append((np.concatenate([ends[0], rates[0]]), np.concatenate([ends[1], rates[1]])))
+        tables.append((tp, xp))
+
+    def inside(q):
+        out = np.empty((q.size, 3))
+        for k, ((lo, hi), (tp, xp)) in enumerate(zip(spans, tables, strict=True)):
+            sel = (q >= lo) & (q <= hi)
+            if sel.any():
+                out[sel] = interpolate_table(tp, xp, q[sel], order=_TABLE_NODES - 1)[0]
+            if k + 1 < len(spans):        # the bridge of the gap after piece k
+                nxt = spans[k + 1][0]
+                sel = (q > hi) & (q < nxt)
+                if sel.any():
+                    w = ((q[sel] - hi) / (nxt - hi))[:, None]
+                    out[sel] = ((1.0 - w) * circular_orbit(hi, states[k][1])(q[sel])
+                                + w * circular_orbit(nxt, states[k + 1][0])(q[sel]))
+        return out
+    return extended_orbit(inside, spans[0][0], spans[-1][1], states[0][0], states[-1][1])
 
 
 # ------------------------------------------------------- parameters per interval

@@ -52,7 +52,7 @@ from leopod.gnss.attitude import satellite_families
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.signal_bias import SignalBiases, correct_signal_biases, read_signal_biases
 from leopod.io.manoeuvre import Manoeuvre, read_manoeuvres
-from leopod.io.netcdf import merge_days
+from leopod.io.netcdf import load_netcdf, merge_days
 from leopod.io.product_netcdf import read_antenna_product, read_clock_product, read_orbit_product
 from leopod.settings import Settings
 from leopod.signals import SystemSignals
@@ -159,19 +159,21 @@ class ArcData:
 
         The products are the netCDF files of the gnss_products rule, parsed once per day
         (``.nc``), or the SP3, RINEX clock and ANTEX files themselves
-        (:mod:`leopod.io.product_netcdf`).
+        (:mod:`leopod.io.product_netcdf`). A damaged netCDF file (e.g. of an earlier run) is
+        refused with a :class:`leopod.io.FormatError` naming it
+        (:func:`leopod.io.netcdf.load_netcdf`).
         """
         obs, quality, leo = files["obs"], files["quality"], files["leo"]
         orbit, clock = files["orbit"], files["clock"]
         antenna, code_bias = files.get("antenna"), files.get("code_bias")
         manoeuvres = files.get("manoeuvres")
-        return cls(obs=[xr.load_dataset(p) for p in obs],
-                   quality=[xr.open_dataset(p) for p in quality],
-                   leo=[xr.load_dataset(p) for p in leo],
+        return cls(obs=[load_netcdf(p, "ingest observation") for p in obs],
+                   quality=[load_netcdf(p, "quality", lazy=True) for p in quality],
+                   leo=[load_netcdf(p, "a-priori orbit") for p in leo],
                    orbit=merge_days([read_orbit_product(p) for p in orbit]),
                    clock=merge_days([read_clock_product(p) for p in clock]),
                    antex=read_antenna_product(antenna) if antenna else None,
-                   code_maps=xr.load_dataset(code_bias) if code_bias else None,
+                   code_maps=load_netcdf(code_bias, "code-bias map") if code_bias else None,
                    files=[*map(str, obs), *map(str, quality), *map(str, leo), *map(str, orbit),
                           *map(str, clock), *([str(antenna)] if antenna else []),
                           *([str(manoeuvres)] if manoeuvres else [])],

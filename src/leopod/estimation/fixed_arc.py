@@ -27,6 +27,7 @@ from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, arc_outputs,
 from leopod.estimation.float_pod import FixedPod, PodSettings
 from leopod.estimation.outputs import pod_start
 from leopod.frames.leo_attitude import LeoAttitude
+from leopod.io.netcdf import load_netcdf
 from leopod.signals import SystemSignals
 
 __all__ = ["FixedArc", "FixedSolutions", "FloatSolution", "constraints_of", "run_fixed_arc"]
@@ -54,7 +55,9 @@ class FloatSolution:
     @classmethod
     def read(cls, *, parameters, ambiguities, residuals, orbit) -> FloatSolution:
         """Read the float POD's netCDF files."""
-        return cls(*(xr.load_dataset(p) for p in (parameters, ambiguities, residuals, orbit)))
+        return cls(*(load_netcdf(p, f"float POD {kind}") for p, kind in (
+            (parameters, "parameters"), (ambiguities, "ambiguities"), (residuals, "residuals"),
+            (orbit, "orbit"))))
 
 
 class FixedSolutions:

@@ -843,6 +843,18 @@ def _announce(label: str, prob: _Problem) -> None:
                          "code_bias.min_count and code_bias.empty_cells)")
 
 
+def _log_without_products(prob: _Problem, model: ModelResult) -> None:
+    """Log the observations left out for want of GNSS orbit or clock (records missing or
+    flagged bad in the products, or outside them), per satellite."""
+    missing = (prob.code_ok | prob.phase_ok) & ~model.valid
+    if missing.any():
+        svs, counts = np.unique(np.asarray(prob.obs.sv)[prob.obs.sat[missing]],
+                                return_counts=True)
+        log.warning("%d observations without GNSS orbit or clock (missing or bad in the "
+                    "products) not used: %s", int(missing.sum()),
+                    ", ".join(f"{sv} {n}" for sv, n in zip(svs, counts, strict=True)))
+
+
 def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceModel, t_ref,
               state0_gcrf: np.ndarray, settings: PodSettings, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
@@ -892,6 +904,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         if iteration == 1:
             log.info("rejected %d code observations with gross errors (> %.0f m)",
                      prob.reject_gross_code(model), settings.gross_code_m)
+            _log_without_products(prob, model)
         sol = _solve_linearised(prob, state, model, g, screening)
         res, is_phase = sol.residuals, sol.is_phase
         log.info("iteration %d: max position correction %.4f m, code RMS %.3f m, phase RMS "

@@ -10,6 +10,7 @@ pairs (GPS L1/L2, BDS-3 B1C/B2a, Galileo E1/E5a, ...: the frequencies come from
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Mapping
 
 import numpy as np
@@ -26,6 +27,8 @@ from leopod.signals import SystemSignals
 __all__ = ["as_system_signals", "pod_observations", "receiver_antenna", "receiver_pco_if",
            "satellite_antenna",
            "satellite_antennas"]
+
+log = logging.getLogger(__name__)
 
 
 def as_system_signals(signal_cfg, systems) -> dict[str, SystemSignals]:
@@ -138,6 +141,10 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     phase = np.where(pid >= 0, phase, np.nan)
     have = np.isfinite(code) | np.isfinite(phase)
     keep_epoch = have.any(axis=1) & np.isfinite(clk)
+    unsolved = int((have.any(axis=1) & ~np.isfinite(clk)).sum())
+    if unsolved:
+        log.warning("%d epochs with observations but without a code-only position and clock "
+                    "(too few satellites for it, or rejected at ingest) not used", unsolved)
     times, code, phase, pid, clk = (times[keep_epoch], code[keep_epoch], phase[keep_epoch],
                                     pid[keep_epoch], clk[keep_epoch])
     have = have[keep_epoch]

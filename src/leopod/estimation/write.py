@@ -12,8 +12,9 @@ from leopod.estimation.arc import ArcOutputs
 from leopod.estimation.outputs import sp3_dataset
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3_write import write_sp3
+from leopod.validation.quality_gate import GateSettings, Verdict, check, pod_figures, stamp
 
-__all__ = ["ARC_PRODUCTS", "log_arc", "write_arc"]
+__all__ = ["ARC_PRODUCTS", "gate_arc", "log_arc", "write_arc"]
 
 #: The files :func:`write_arc` writes (its path arguments).
 ARC_PRODUCTS = ("orbit", "sp3", "sp3_arc", "residuals", "parameters", "ambiguities")
@@ -38,6 +39,26 @@ def log_arc(arc: ArcOutputs, label: str) -> None:
     for name, value, sigma in zip(res.parameter_names, res.estimates, res.sigmas, strict=True):
         if not name.startswith("pulse_"):
             log.info("parameter %-16s %+.6e +- %.2e", name, value, sigma)
+
+
+def gate_arc(arc: ArcOutputs, gate: GateSettings, label: str, day,
+             sampling_s: float) -> Verdict:
+    """The quality gate of a solution (:mod:`leopod.validation.quality_gate`): its figures
+    and verdict logged (a warning unless ok) and kept in ``arc.parameters``' attributes.
+
+    ``day`` (datetime64 or ISO date) is 00:00 of the day the orbit is for and
+    ``sampling_s`` the observation sampling [s] (the coverage of the day refers to them).
+    """
+    start = np.datetime64(day, "ns")
+    figures = pod_figures(arc.orbit, arc.residuals, arc.parameters,
+                          (start, start + np.timedelta64(86_400, "s")), sampling_s)
+    verdict = check(figures, gate, converged=arc.result.converged)
+    log.info("%s: quality figures %s", label,
+             ", ".join(f"{k} {v:.4g}" for k, v in figures.items()))
+    (log.info if verdict.status == "ok" else log.warning)("%s: quality gate %s", label,
+                                                          verdict)
+    stamp(arc.parameters, figures, verdict)
+    return verdict
 
 
 def write_arc(arc: ArcOutputs, *, orbit, sp3, sp3_arc, residuals, parameters, ambiguities,

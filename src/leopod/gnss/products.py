@@ -4,10 +4,18 @@ Orbits (SP3, typically 5-15 min) are interpolated with 10th-order Lagrange polyn
 clocks (RINEX clock, typically 30 s) are interpolated linearly between neighbouring samples
 only, and never across a missing sample, so no clock value is invented beyond what the
 product supports (a 30-s clock product gives exact values at its own epochs).
+
+Orbit records that their producer marks as unusable are missing records here
+(:func:`usable_positions`): those with the SP3 manoeuvre flag, those whose own standard
+deviation (accuracy exponent) or whose satellite's header accuracy exceeds
+:data:`MAX_ORBIT_SIGMA_M`; the "bad or absent" values 0.000000 and 999999.999999 are NaN
+already (:func:`leopod.io.sp3.read_sp3`). The observations of such a satellite are then not
+used near those records (the POD logs how many).
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,7 +24,38 @@ import xarray as xr
 from leopod.numerics.interpolate import lagrange_weights
 from leopod.time.calendar import seconds_since
 
-__all__ = ["GnssProducts"]
+__all__ = ["MAX_ORBIT_SIGMA_M", "GnssProducts", "usable_positions"]
+
+log = logging.getLogger(__name__)
+
+#: An orbit record (or a satellite's header accuracy) with a standard deviation above this
+#: [m] is not used: IGS final and rapid orbits are accurate to a few cm, ultra-rapid
+#: predictions to ~5 cm (IGS product table, igs.org/products), so an accuracy code of metres
+#: marks a satellite its producer does not vouch for.
+MAX_ORBIT_SIGMA_M = 1.0
+
+
+def usable_positions(orbit: xr.Dataset) -> np.ndarray:
+    """Positions ``pos_m`` (time, sv, xyz) [m] of an SP3 dataset (:func:`leopod.io.sp3.
+    read_sp3`) with the records its producer marks as unusable set to NaN (module docstring);
+    their number is logged."""
+    pos = orbit.pos_m.transpose("time", "sv", "xyz").values.copy()
+    bad = np.zeros(pos.shape[:2], dtype=bool)
+    if "manoeuvre_flag" in orbit:
+        bad |= orbit.manoeuvre_flag.transpose("time", "sv").values == 1
+    if "pos_sigma_m" in orbit:
+        bad |= (orbit.pos_sigma_m.transpose("time", "sv", "xyz").values
+                > MAX_ORBIT_SIGMA_M).any(axis=2)
+    if "orbit_accuracy_m" in orbit:
+        bad |= (orbit.orbit_accuracy_m.values > MAX_ORBIT_SIGMA_M)[None, :]
+    bad &= np.isfinite(pos).all(axis=2)
+    if bad.any():
+        svs, counts = np.unique(orbit.sv.values[np.nonzero(bad)[1]], return_counts=True)
+        log.warning("GNSS orbits: %d records flagged (manoeuvre, or accuracy worse than "
+                    "%g m) not used: %s", int(bad.sum()), MAX_ORBIT_SIGMA_M,
+                    ", ".join(f"{sv} {n}" for sv, n in zip(svs, counts, strict=True)))
+        pos[bad] = np.nan
+    return pos
 
 
 @dataclass
@@ -63,10 +102,11 @@ class GnssProducts:
 
         Satellites present in the orbit file define the axis; clocks missing for a satellite
         are NaN. ``systems`` restricts to satellites whose id starts with one of the letters.
+        Flagged orbit records are missing (:func:`usable_positions`).
         """
         sv = np.array(sorted(str(s) for s in orbit.sv.values
                              if systems is None or str(s)[0] in systems))
-        pos = orbit.pos_m.sel(sv=sv).transpose("time", "sv", "xyz").values
+        pos = usable_positions(orbit.sel(sv=sv))
         clk = clock.clk_s.reindex(sv=sv).transpose("time", "sv").values
         return cls(ref=np.datetime64(ref, "ns"), sv=sv,
                    t_orbit_s=seconds_since(orbit.time.values, ref), pos_m=pos,

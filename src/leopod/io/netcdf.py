@@ -16,8 +16,9 @@ import numpy as np
 import xarray as xr
 
 from leopod import __version__
+from leopod.io._text import FormatError
 
-__all__ = ["write_netcdf", "TIME_UNITS", "atomic_path"]
+__all__ = ["write_netcdf", "TIME_UNITS", "atomic_path", "load_netcdf"]
 
 #: Time encoding of every leopod netCDF file: float64 seconds since the GPS epoch (exact to
 #: well below 1 ns over decades), so files are stable and independent of the first sample.
@@ -131,3 +132,35 @@ def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:
                    compat="override", combine_attrs="override")
     _, first = np.unique(ds.time.values, return_index=True)
     return ds.isel(time=np.sort(first))
+
+
+def load_netcdf(path: str | Path, what: str = "netCDF", required: Iterable[str] = (), *,
+                lazy: bool = False) -> xr.Dataset:
+    """A netCDF file, loaded, with its ``required`` variables checked.
+
+    A damaged file (e.g. an intermediate of an earlier run cut short or altered on disk) is
+    refused with an error that names it and says what to do, instead of the HDF or xarray
+    traceback. ``lazy``: open only (variables are read when used, so damage inside a variable's
+    data shows only then), for files of which a step reads a few variables.
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no such file.
+    FormatError
+        If it cannot be read as netCDF or lacks a required variable (``what`` names the kind
+        of file in the message).
+    """
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    try:
+        ds = xr.open_dataset(path) if lazy else xr.load_dataset(path)
+    except (OSError, ValueError, RuntimeError) as err:
+        raise FormatError(path, None, "netCDF",
+                          f"cannot read the {what} file ({err}); if an earlier run wrote "
+                          "it, delete it and run the step again") from None
+    missing = [name for name in required if name not in ds.variables]
+    if missing:
+        raise FormatError(path, None, missing[0],
+                          f"not a {what} file: variables {missing} missing")
+    return ds

@@ -60,10 +60,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from leopod.io._text import FormatError, time_system_to_gps
+from leopod.io._text import time_system_to_gps
 from leopod.io.antex import AntennaPattern, AntexFile, read_antex
 from leopod.io.clock import read_rinex_clock
-from leopod.io.netcdf import atomic_path, write_netcdf
+from leopod.io.netcdf import atomic_path, load_netcdf, write_netcdf
 from leopod.io.sp3 import read_sp3
 
 __all__ = [
@@ -92,21 +92,6 @@ def is_netcdf(path: str | Path) -> bool:
     return Path(path).suffix == ".nc"
 
 
-def _load(path: str | Path, required: Iterable[str], what: str) -> xr.Dataset:
-    """A netCDF product, loaded, with its schema's variables checked (FormatError)."""
-    if not Path(path).is_file():
-        raise FileNotFoundError(f"{path}: no such file")
-    try:
-        ds = xr.load_dataset(path)
-    except (OSError, ValueError, RuntimeError) as err:
-        raise FormatError(path, None, "netCDF", f"cannot read the {what} file ({err})") from None
-    missing = [name for name in required if name not in ds.variables]
-    if missing:
-        raise FormatError(path, None, missing[0],
-                          f"not a {what} file: variables {missing} missing")
-    return ds
-
-
 def _gps_product(ds: xr.Dataset, path: str | Path) -> xr.Dataset:
     """A netCDF product with its ``time`` in GPS time (converted if its ``time_system``
     attribute names another system; FormatError if that has no conversion)."""
@@ -129,7 +114,7 @@ def read_orbit_product(path: str | Path) -> xr.Dataset:
         ``time`` in GPS time (``time_system_file`` keeps the file's when converted).
     """
     if is_netcdf(path):
-        return _gps_product(_load(path, _ORBIT_VARS, "GNSS orbit"), path)
+        return _gps_product(load_netcdf(path, "GNSS orbit", _ORBIT_VARS), path)
     return read_sp3(path, gps_time=True)
 
 
@@ -144,7 +129,7 @@ def read_clock_product(path: str | Path) -> xr.Dataset:
         ``time`` in GPS time (``time_system_file`` keeps the file's when converted).
     """
     if is_netcdf(path):
-        return _gps_product(_load(path, _CLOCK_VARS, "GNSS clock"), path)
+        return _gps_product(load_netcdf(path, "GNSS clock", _CLOCK_VARS), path)
     return read_rinex_clock(path, gps_time=True)
 
 
@@ -153,7 +138,7 @@ def read_antenna_product(path: str | Path) -> AntexFile:
     ANTEX file (:func:`leopod.io.antex.read_antex`)."""
     if not is_netcdf(path):
         return read_antex(path)
-    return antex_from_dataset(_load(path, _ANTENNA_VARS, "satellite antenna"), path)
+    return antex_from_dataset(load_netcdf(path, "satellite antenna", _ANTENNA_VARS), path)
 
 
 def write_product(ds: xr.Dataset, path: str | Path, *, inputs: Iterable[str | Path],

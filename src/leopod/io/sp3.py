@@ -25,6 +25,9 @@ Data variables
                     accuracy exponents and the ``%f`` line gives a non-zero base; NaN when blank
     ``orbit_accuracy_m`` (sv,) float64 [m]        header accuracy 2**n mm ("++" lines); NaN for 0
                     (unknown)
+    ``clock_event_flag``, ``manoeuvre_flag`` (time, sv) int8  1 where a P record sets the clock
+                    event flag "E" (column 75) or the manoeuvre flag "M" (column 79); each
+                    only when the file sets it somewhere
 Attributes
     ``sp3_version`` ("a".."d"), ``pv_flag`` ("P" or "V"), ``data_used``, ``coordinate_system``,
     ``orbit_type``, ``agency``, ``interval_s`` (float, header epoch interval), ``time_system``
@@ -73,6 +76,10 @@ logger = logging.getLogger(__name__)
 
 _NS = 1_000_000_000
 _BAD_CLOCK = 999_999.0  # "bad or absent" clock values are 999999.999999 (>= this)
+#: Event flags of a P record: variable, 0-based column, character, long name (SP3-d, Hilla
+#: 2016: column 75 clock event flag "E", column 79 manoeuvre flag "M").
+_FLAGS = (("clock_event_flag", 74, "E", "clock event (discontinuity) flag of the record"),
+          ("manoeuvre_flag", 78, "M", "orbit manoeuvre flag of the record"))
 _XYZ = ("x", "y", "z")
 # 0-based [start, stop) columns of a P or V record (SP3-d table "Position and Clock Record")
 _REC_COLS = ((4, 18), (18, 32), (32, 46), (46, 60))
@@ -444,6 +451,14 @@ def read_sp3(path: str | Path, *, gps_time: bool = False) -> xr.Dataset:
                            {"units": "m s-1", "long_name": "satellite velocity"})
         data["clk_rate_s_s"] = (("time", "sv"), grid[:, :, 3],
                                 {"units": "s s-1", "long_name": "satellite clock rate"})
+    # event flags of the P records (SP3-d, columns 75 and 79): only when the file sets one
+    for name, col, char, text in _FLAGS:
+        flag = np.array([t[col:col + 1] == char for t in pos.texts], dtype=bool)
+        if flag.any():
+            grid = np.zeros((n_time, n_sat), dtype=np.int8)
+            grid[np.asarray(pos.epoch, dtype=np.intp)[flag],
+                 np.asarray(pos.sat, dtype=np.intp)[flag]] = 1
+            data[name] = (("time", "sv"), grid, {"units": "1", "long_name": text})
     data["orbit_accuracy_m"] = (("sv",), accuracy,
                                 {"units": "m", "long_name": "header orbit accuracy (2**n mm)"})
     attrs.pop("_n_epochs")

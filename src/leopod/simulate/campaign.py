@@ -187,12 +187,16 @@ def _eccentric(nominal: CircularOrbit, e_max: float, rng: np.random.Generator) -
 
 def receiver_clock(settings: SimulationSettings, sat: str, world_start: str,
                    world_end: str) -> RandomWalkClock:
-    """Receiver clock of a LEO [s] as a function of world time."""
+    """Receiver clock of a LEO [s] as a function of world time (with the steps of
+    ``simulate.clocks.rx_jumps``)."""
     c = settings.clocks
+    jumps = tuple((float(seconds_since(np.datetime64(j["epoch"], "ns"), _epoch(world_start))),
+                   float(j["size_s"])) for j in c.rx_jumps)
     return RandomWalkClock(bias_s=c.rx_bias_s, drift_s_s=c.rx_drift_s_s,
                            walk_s_sqrt_s=c.rx_walk_s_sqrt_s,
                            seed=settings.int_seed(f"rx-clock/{sat}"),
-                           step_s=settings.interval_s, span_s=_span_s(world_start, world_end))
+                           step_s=settings.interval_s, span_s=_span_s(world_start, world_end),
+                           jumps=jumps)
 
 
 def _code_bias_maps(settings: SimulationSettings) -> list[CodeBiasMap]:
@@ -217,7 +221,8 @@ def code_bias_map_truth(settings: SimulationSettings, step_deg: float = 5.0) -> 
 
 
 def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, world_end: str,
-                   *, eop=None, formation: FormationSettings | None = None) -> xr.Dataset:
+                   *, eop=None, formation: FormationSettings | None = None,
+                   manoeuvres: Sequence[Manoeuvre] = ()) -> xr.Dataset:
     """The truth orbit of one LEO over the campaign (00:00 of the first day to 24:00 of the
     last, plus ``orbit.margin_s`` on both sides), :func:`simulate_truth_orbit` with the
     settings' dynamics and models and the seed of label ``truth/<sat>``.
@@ -229,14 +234,16 @@ def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, wor
     ``formation_leader`` and ``formation_roe_m`` record them. Its stochastic accelerations and
     drag-scale noise sample the leader's random field (seed of ``truth/<leader>``) with the
     correlation ``formation.truth_correlation``
-    (:mod:`leopod.simulate.truth_forces`, Formations)."""
+    (:mod:`leopod.simulate.truth_forces`, Formations). Any other satellite flies the burns
+    ``manoeuvres`` (:mod:`leopod.simulate.manoeuvres`; none by default), e.g. a burn its
+    operator did not announce."""
     o = settings.orbit
     margin = np.timedelta64(round(o.margin_s * _NS_PER_S), "ns")
     t_start = _epoch(world_start) - margin
     t_end = _epoch(world_end) + _DAY + margin
     models = resolve_model_paths({"m": dict(settings.models)})["m"]
     clock = _time.perf_counter()
-    state0, burns, common = None, (), {}
+    state0, burns, common = None, tuple(manoeuvres), {}
     if formation is not None:
         leader = initial_state_sun_synchronous(t_start, o.altitude_km * 1e3, o.ltan_h,
                                                inclination_deg=o.inclination_deg,

@@ -88,6 +88,8 @@ class ClockSettings(Settings):
         GNSS clock offsets and drifts are uniform in ±these [s, s/s].
     gnss_walk_s_sqrt_s : float
         GNSS clock random-walk intensity [s/√s] (1e-12: 5 ps per 30 s, 0.3 ns per day).
+    rx_jumps : tuple of mapping
+        Steps of the receiver clock, each ``epoch`` (ISO 8601, GPS time) and ``size_s`` [s].
     """
 
     rx_bias_s: float
@@ -96,6 +98,7 @@ class ClockSettings(Settings):
     gnss_bias_max_s: float
     gnss_drift_max_s_s: float
     gnss_walk_s_sqrt_s: float
+    rx_jumps: tuple
 
 
 @dataclass(frozen=True)

@@ -291,10 +291,12 @@ def earth_fixed(t_s, pos_in: np.ndarray, vel_in: np.ndarray | None = None, theta
 
 @dataclass(frozen=True)
 class RandomWalkClock:
-    """Clock offset = bias + drift·t + a smooth random walk, reproducible from a seed.
+    """Clock offset = bias + drift·t + a smooth random walk + steps, reproducible from a seed.
 
     The random part is a random walk sampled every ``step_s`` and interpolated linearly, so
-    its value at any time is deterministic and continuous across day boundaries.
+    its value at any time is deterministic and continuous across day boundaries. ``jumps``
+    add steps: the millisecond clock jumps of receivers that keep their clock within 1 ms of
+    GPS time by resetting it (Guo & Zhang 2014).
 
     Attributes
     ----------
@@ -304,6 +306,9 @@ class RandomWalkClock:
     step_s : float
     span_s : float
         Length of the pre-drawn walk [s] (the campaign's duration).
+    jumps : tuple of (float, float)
+        Steps ``(t_s, size_s)``: from time ``t_s`` on [s] the offset is larger by ``size_s``
+        [s].
     """
 
     bias_s: float
@@ -312,6 +317,7 @@ class RandomWalkClock:
     seed: int
     step_s: float = 30.0
     span_s: float = 10 * 86400.0
+    jumps: tuple[tuple[float, float], ...] = ()
 
     def __call__(self, t_s) -> np.ndarray:
         t = np.asarray(t_s, dtype=float)
@@ -319,4 +325,5 @@ class RandomWalkClock:
         rng = np.random.default_rng(self.seed)
         walk = np.concatenate([[0.0], np.cumsum(rng.normal(0.0, self.walk_s_sqrt_s * np.sqrt(self.step_s), n))])
         grid = (np.arange(walk.size) - 1) * self.step_s
-        return self.bias_s + self.drift_s_s * t + np.interp(t, grid, walk)
+        steps = sum((size * (t >= t_jump) for t_jump, size in self.jumps), np.zeros_like(t))
+        return self.bias_s + self.drift_s_s * t + np.interp(t, grid, walk) + steps

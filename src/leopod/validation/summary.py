@@ -8,7 +8,9 @@ independent), the number of constraints, the verdict of the product guard
 cosine of the WL and NL fractional parts it tested), the 3D RMS of the overlap of the day's arc with
 the next one (Jiang et al. 2023, Fig. 13), the RMS of the orbit minus reference orbit in R, T, N and
 3D (Wang et al. 2024, Table 4), and the number, mean and STD of the used SLR residuals
-(Peng et al. 2021, Table IV).
+(Peng et al. 2021, Table IV), and the verdict of the quality gate
+(:mod:`leopod.validation.quality_gate`: 0 ok, 1 suspect, 2 failed; the worst day in the ``mean``
+row).
 
 Ambiguity resolution is reported with both definitions in use: the graph-rank fixing rate
 (Jiang et al. 2023: fixed independent / all independent single differences, ``*_fixing_rate_pct``)
@@ -67,6 +69,7 @@ import pandas as pd
 import xarray as xr
 
 from leopod.signals import system_of
+from leopod.validation.quality_gate import GateSettings, check, rms, stamped_figures
 
 __all__ = ["COLUMNS", "COUNTS", "SECTIONS", "SYSTEM_COLUMNS", "campaign_table",
            "column_meta", "day_row", "isb_series", "sections"]
@@ -103,6 +106,8 @@ COLUMNS = {
     "pco_z_cm": ("cm", "estimated antenna PCO-Z correction to the a-priori PCO"),
     "pco_z_sigma_cm": ("cm", "formal standard deviation of the PCO-Z estimate"),
     "sigma0": ("1", "a-posteriori standard deviation of unit weight of the POD"),
+    "quality_gate": ("1", "quality gate of the day (leopod.validation.quality_gate): 0 ok, "
+                          "1 suspect, 2 failed"),
 }
 
 #: Per-system column templates (``{system}``: one letter, e.g. ``G``) -> (unit, description).
@@ -149,7 +154,7 @@ SYSTEM_COLUMNS = {
 
 #: Count columns: summed in the ``mean`` row, no ``std`` row value.
 COUNTS = ("n_phase", "n_sd", "n_constraints", "slr_n", "wl_wrong", "nl_wrong",
-          "constrained_wrong")
+          "constrained_wrong", "quality_gate")
 _COUNT_PREFIXES = ("n_phase_", "n_sd_", "n_isb_", "wl_wrong_", "nl_wrong_",
                    "constrained_wrong_")
 
@@ -165,7 +170,8 @@ SECTIONS = {"residuals": "phase_rms_mm",
             "ambiguity resolution": "wl_fixing_rate_pct",
             "product guard and wrong fixes (simulated truth)": "ar_product_accepted",
             "validation": "overlap_3d_rms_cm",
-            "antenna, inter-system biases and variance components": "pco_z_cm"}
+            "antenna, inter-system biases and variance components": "pco_z_cm",
+            "quality gate": "quality_gate"}
 _ISB = re.compile(r"isb_(?P<system>[A-Z])(?:_(?P<piece>\d+))?_m")
 _SYSTEM_PATTERNS = {template: re.compile(re.escape(template).replace(r"\{system\}",
                                                                      "(?P<system>[A-Z])"))
@@ -217,11 +223,6 @@ def sections(columns) -> dict[str, list[str]]:
     bounds = [k for k, _ in starts[1:]] + [len(columns)]
     return {title: columns[k:end] for (k, title), end in zip(starts, bounds, strict=True)
             if columns[k:end]}
-
-
-def _rms(values: np.ndarray) -> float:
-    values = values[np.isfinite(values)]
-    return float(np.sqrt(np.mean(values**2))) if values.size else float("nan")
 
 
 def _sd_share(flags: np.ndarray) -> float:
@@ -355,7 +356,7 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
             ambiguity: xr.Dataset | None = None, overlap: xr.Dataset | None = None,
             reference: xr.Dataset | None = None, slr: xr.Dataset | None = None,
             parameters: xr.Dataset | None = None,
-            wrong_fixes: Mapping | None = None) -> dict:
+            wrong_fixes: Mapping | None = None, gate: GateSettings | None = None) -> dict:
     """Figures of one day and solution from its product files (module docstring).
 
     Parameters
@@ -384,6 +385,10 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         Wrong fixes of the day's ambiguity resolution against the simulated truth,
         :func:`leopod.simulate.ambiguity_truth.wrong_fix_counts` (``{"all": counts,
         system: counts}``).
+    gate : GateSettings, optional
+        Thresholds of the quality gate: ``quality_gate`` is the level of
+        :func:`leopod.validation.quality_gate.check` of the figures the POD kept in
+        ``parameters`` and the overlap (the reasons in ``quality_gate_reasons``, a text).
 
     Returns
     -------
@@ -394,8 +399,8 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
     row = {"date": date, "solution": solution} | dict.fromkeys(COLUMNS, np.nan)
     phase = residuals.phase_residual_m.values
     code = residuals.code_residual_m.values
-    row["phase_rms_mm"] = 1e3 * _rms(phase)
-    row["code_rms_m"] = _rms(code)
+    row["phase_rms_mm"] = 1e3 * rms(phase)
+    row["code_rms_m"] = rms(code)
     row["n_phase"] = int(np.isfinite(phase).sum())
     if "sv" in residuals.coords:
         axis = residuals.phase_residual_m.dims.index("sv")
@@ -403,8 +408,8 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         for system in np.unique(systems):
             cols = systems == system
             p = np.compress(cols, phase, axis=axis)
-            row[f"phase_rms_{system}_mm"] = 1e3 * _rms(p)
-            row[f"code_rms_{system}_m"] = _rms(np.compress(cols, code, axis=axis))
+            row[f"phase_rms_{system}_mm"] = 1e3 * rms(p)
+            row[f"code_rms_{system}_m"] = rms(np.compress(cols, code, axis=axis))
             row[f"n_phase_{system}"] = int(np.isfinite(p).sum())
     if ambiguity is not None:
         row["wl_fixing_rate_pct"] = 100 * float(ambiguity.attrs.get("wl_fixing_rate", np.nan))
@@ -438,9 +443,9 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
     if overlap is not None:
         row["overlap_3d_rms_cm"] = 100 * float(overlap.rms_m.sel(component="3D"))
     if reference is not None:
-        rms = reference.rms_m.sel(period="total")
+        total = reference.rms_m.sel(period="total")
         for c in ("R", "T", "N", "3D"):
-            row[f"reference_{c.lower()}_rms_cm"] = 100 * float(rms.sel(component=c))
+            row[f"reference_{c.lower()}_rms_cm"] = 100 * float(total.sel(component=c))
     if slr is not None:
         used = slr.residual_m.values[slr.flag.values == 0]
         row["slr_n"] = int(used.size)
@@ -453,13 +458,19 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         row["pco_z_sigma_cm"] = 100 * float(pco.sigma)
     if parameters is not None:
         row |= _isb_columns(parameters) | _vce_columns(parameters)
+    if gate is not None and parameters is not None:
+        verdict = check(stamped_figures(parameters) | {"overlap_3d_cm": row["overlap_3d_rms_cm"]},
+                        gate, converged=bool(parameters.attrs.get("converged", 1)))
+        row["quality_gate"] = float(verdict.level)
+        row["quality_gate_reasons"] = "; ".join(verdict.reasons)
     return row
 
 
 def campaign_table(rows: list[dict]) -> pd.DataFrame:
     """Rows of :func:`day_row` as a table indexed by (date, solution), plus per solution a
-    ``mean`` row (means of the daily figures; counts summed) and a ``std`` row (sample STD of
-    the daily figures, NaN with one day; counts NaN).
+    ``mean`` row (means of the daily figures; counts summed; the worst quality gate) and a
+    ``std`` row (sample STD of the daily figures, NaN with one day; counts NaN); the text
+    column ``quality_gate_reasons`` of the rows is left out.
 
     Columns are :data:`COLUMNS` with the per-system columns of every system in ``rows``
     after ``n_phase``; a system missing from a row is NaN there.
@@ -474,6 +485,8 @@ def campaign_table(rows: list[dict]) -> pd.DataFrame:
         for count in counts:
             mean[count] = group[count].sum(min_count=1)
             std[count] = np.nan
+        if "quality_gate" in group:         # the worst day, not a sum of levels
+            mean["quality_gate"] = group["quality_gate"].max()
         means.append(mean.rename(("mean", solution)))
         stds.append(std.rename(("std", solution)))
     out = pd.concat([table, pd.DataFrame(means + stds)])

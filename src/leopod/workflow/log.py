@@ -5,11 +5,16 @@ from __future__ import annotations
 import logging
 import sys
 
+from leopod.io._text import FormatError
+
 __all__ = ["configure_logging"]
 
 
 def configure_logging(snakemake) -> logging.Logger:
     """Send ``logging`` to the rule's log file and stderr; log uncaught exceptions there too.
+
+    A :class:`leopod.io.FormatError` (bad or damaged input: its message names the file, line
+    and field) is logged as that message alone; any other exception with its traceback.
 
     Parameters
     ----------
@@ -30,7 +35,10 @@ def configure_logging(snakemake) -> logging.Logger:
     logger = logging.getLogger()
 
     def _hook(exc_type, exc, tb):
-        logger.error("step %s failed", snakemake.rule, exc_info=(exc_type, exc, tb))
+        if issubclass(exc_type, FormatError):
+            logger.error("step %s failed: %s", snakemake.rule, exc)
+        else:
+            logger.error("step %s failed", snakemake.rule, exc_info=(exc_type, exc, tb))
 
     sys.excepthook = _hook
     logger.info("rule %s, wildcards %s", snakemake.rule, dict(snakemake.wildcards))

@@ -1,0 +1,53 @@
+"""Logging of a step (leopod.workflow.log): a bad-input error is one line naming the file, any
+other exception keeps its traceback.
+
+Authority: the project's error contract (DESIGN.md, Conventions: bad input gets a clear error
+that names the file, line and field) and issue 24, item 4 (a damaged file fails its day with a
+message naming the cause, never a traceback).
+"""
+
+import logging
+import sys
+from types import SimpleNamespace
+
+import pytest
+
+from leopod.io._text import FormatError
+from leopod.workflow.log import configure_logging
+
+
+@pytest.fixture
+def step_log(tmp_path):
+    hook, root = sys.excepthook, logging.getLogger()
+    handlers, level = list(root.handlers), root.level
+    path = tmp_path / "step.log"
+    configure_logging(SimpleNamespace(log=[path], rule="float_pod",
+                                      wildcards={"sat": "hy2b-sim", "date": "2019-001"}))
+    yield path, sys.excepthook
+    for h in root.handlers:
+        h.close()
+    root.handlers[:] = handlers
+    root.setLevel(level)
+    sys.excepthook = hook
+
+
+def _raised(exc):
+    try:
+        raise exc
+    except Exception:
+        return sys.exc_info()
+
+
+def test_format_error_is_its_message(step_log):
+    path, hook = step_log
+    hook(*_raised(FormatError("results/ingest/x.nc", None, "netCDF", "cannot read it")))
+    text = path.read_text()
+    assert "step float_pod failed: results/ingest/x.nc: field 'netCDF': cannot read it" in text
+    assert "Traceback" not in text
+
+
+def test_other_errors_keep_their_traceback(step_log):
+    path, hook = step_log
+    hook(*_raised(ZeroDivisionError("division by zero")))
+    text = path.read_text()
+    assert "step float_pod failed" in text and "Traceback" in text
