@@ -37,6 +37,7 @@ from leopod import signals
 from leopod.gnss.antenna_terms import remove_antenna_terms
 from leopod.gnss.combinations import ionosphere_l1_m, multipath
 from leopod.gnss.passes import FLAG_GAP, FLAG_NEW, PassResult, detect_passes
+from leopod.numerics.statistics import finite_rms
 from leopod.settings import Settings
 
 __all__ = ["QualitySettings", "assess_quality", "merge_systems", "sliding_std"]
@@ -127,14 +128,6 @@ def _pass_durations(t_s: np.ndarray, pass_id: np.ndarray) -> np.ndarray:
     np.maximum.at(t_max, ids, tt)
     out[sel] = (t_max - t_min)[ids]
     return out
-
-
-def _rms(x, axis=None):
-    """RMS over finite values (NaN where there are none)."""
-    ok = np.isfinite(x)
-    n = ok.sum(axis=axis)
-    total = np.where(ok, np.square(np.where(ok, x, 0.0)), 0.0).sum(axis=axis)
-    return np.sqrt(np.divide(total, n, out=np.full(np.shape(n), np.nan), where=n > 0))
 
 
 def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, system: str,
@@ -271,8 +264,9 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
         data[f"mp_{code}_m"] = (("time", "sv"), mp, {
             "units": "m", "long_name": f"code multipath MP of {code} (with {ph_i}, {ph_j}) minus pass mean",
             "antenna_terms_removed": int(antenna is not None)})
-        sv_stats[f"mp_rms_{code}_m"] = (_rms(mp, axis=0), "m", f"RMS of MP {code} per satellite")
-        stats[f"mp_rms_{code}_m"] = (float(_rms(mp)), "m", f"RMS of MP {code} over the day")
+        sv_stats[f"mp_rms_{code}_m"] = (finite_rms(mp, axis=0), "m",
+                                        f"RMS of MP {code} per satellite")
+        stats[f"mp_rms_{code}_m"] = (finite_rms(mp), "m", f"RMS of MP {code} over the day")
 
         # code noise: epoch-differenced code-minus-carrier within a pass, sliding STD
         cmc = obs[code].values - obs[ph_i].values
@@ -309,7 +303,7 @@ def assess_quality(obs: xr.Dataset, el_deg: np.ndarray, az_deg: np.ndarray, syst
     iod[1:] = np.where(same, (ion[1:] - ion[:-1]) / dt * 60.0, np.nan)
     data["iod_m_min"] = (("time", "sv"), iod, {
         "units": "m min-1", "long_name": f"rate of the ionospheric delay on {phase[0]} (IOD)"})
-    stats["iod_rms_m_min"] = (float(_rms(iod)), "m min-1", "RMS of IOD over the day")
+    stats["iod_rms_m_min"] = (finite_rms(iod), "m min-1", "RMS of IOD over the day")
     n_iod = np.isfinite(iod).sum()
     stats["iod_above_threshold"] = (float((np.abs(iod) > settings.iod_threshold_m_min).sum() / max(n_iod, 1)),
                                     "1", f"fraction of IOD values above {settings.iod_threshold_m_min} m/min")

@@ -1,1 +1,1 @@
-"""Numerical foundation: interpolation of tabulated series."""
+"""Numerical foundation: interpolation, smoothing and finite-value statistics of series."""

@@ -35,8 +35,9 @@ from matplotlib.axes import Axes
 from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
 
+from leopod.numerics.statistics import finite_rms
 from leopod.plots import save_figure
-from leopod.plots.pod import _heading, _rms
+from leopod.plots.pod import _heading
 
 __all__ = [
     "plot_code_bias_counts",
@@ -273,7 +274,7 @@ def _overall_rms(maps: xr.Dataset | None, signal: str, before_m: np.ndarray,
     if maps is not None and "mp_rms_all_before_m" in maps and signal in maps.signal.values:
         return (float(maps.mp_rms_all_before_m.sel(signal=signal)),
                 float(maps.mp_rms_all_after_m.sel(signal=signal)))
-    return _rms(before_m), _rms(after_m)
+    return finite_rms(before_m), finite_rms(after_m)
 
 
 def _band_width(maps: xr.Dataset) -> float:
@@ -395,7 +396,7 @@ def _difference_stats(diff: xr.DataArray, keep: xr.DataArray) -> tuple[float, fl
     if not d.size:
         return float("nan"), float("nan"), 0
     mean = float(d.mean())
-    return mean, _rms(d - mean), int(d.size)
+    return mean, finite_rms(d - mean), int(d.size)
 
 
 def _common_maps(map_a: xr.Dataset, map_b: xr.Dataset) -> tuple[xr.Dataset, xr.Dataset]:

@@ -26,6 +26,7 @@ import matplotlib.transforms as mtransforms
 import numpy as np
 import xarray as xr
 
+from leopod.numerics.statistics import finite_rms
 from leopod.plots import dots, save_figure
 
 __all__ = [
@@ -52,13 +53,6 @@ _RTN_NAMES = {"R": "radial", "T": "along-track", "N": "cross-track"}
 
 def _heading(title: str, what: str) -> str:
     return f"{title}: {what}" if title else what
-
-
-def _rms(values: np.ndarray) -> float:
-    """Root mean square of the finite entries of ``values``; NaN when there are none."""
-    v = np.asarray(values, dtype=float)
-    v = v[np.isfinite(v)]
-    return float(np.sqrt(np.mean(v * v))) if v.size else float("nan")
 
 
 def _hours_of_day(time: np.ndarray) -> tuple[np.ndarray, str]:
@@ -155,7 +149,7 @@ def plot_residuals_time(res: xr.Dataset, path, title: str = "", solution: str = 
         lim = _symmetric_limit(r, 1.0)
         ax.set_ylim(-lim, lim)
         ax.set_ylabel(f"{kind} residual [{unit}]")
-        ax.set_title(f"{kind}: RMS {_rms(r):.3g} {unit}, {np.count_nonzero(ok)} used, "
+        ax.set_title(f"{kind}: RMS {finite_rms(r):.3g} {unit}, {np.count_nonzero(ok)} used, "
                      f"{_n_rejected(res, kind)} rejected", fontsize=9, loc="left")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel(xlabel)
@@ -193,7 +187,7 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "",
         lim = _symmetric_limit(r[ok], 1.0)
         ax.set_ylim(-lim, lim)
         ax.set_ylabel(f"{kind} residual [{unit}]")
-        ax.set_title(f"{kind}: RMS {_rms(r):.3g} {unit}", fontsize=9, loc="left")
+        ax.set_title(f"{kind}: RMS {finite_rms(r):.3g} {unit}", fontsize=9, loc="left")
         ax.legend(fontsize=8, loc="upper right")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("elevation in the antenna frame [deg]")
@@ -284,7 +278,7 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "", solution: 
     for comp in _RTN:
         diff = orbit.apriori_diff_rtn_m.sel(rtn=comp).values
         ax.plot(hours, diff, lw=0.8,
-                label=f"{comp} ({_RTN_NAMES[comp]}): RMS {_rms(diff):.3f} m")
+                label=f"{comp} ({_RTN_NAMES[comp]}): RMS {finite_rms(diff):.3f} m")
         sigma = orbit.sigma_rtn_m.sel(rtn=comp).values * _M_TO_MM
         ok = np.isfinite(sigma) & (sigma > 0)
         any_sigma |= bool(ok.any())

@@ -41,10 +41,11 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from leopod.numerics.statistics import finite_rms
 from leopod.settings import Settings
 
 __all__ = ["FIGURES", "STATUS", "GateSettings", "Verdict", "check", "pod_figures", "stamp",
-           "rms", "stamped_figures"]
+           "stamped_figures"]
 
 #: Verdicts in increasing severity (the summary's ``quality_gate`` column is the index).
 STATUS = ("ok", "suspect", "failed")
@@ -147,7 +148,7 @@ def pod_figures(orbit: xr.Dataset, residuals: xr.Dataset, parameters: xr.Dataset
     span_s = (end - start) / np.timedelta64(1, "s")
     sigma = np.sqrt(np.sum(orbit.sigma_rtn_m.values**2, axis=1))
     diff = np.sum(orbit.apriori_diff_rtn_m.values**2, axis=1)
-    return {"phase_rms_mm": 1e3 * rms(phase), "code_rms_m": rms(code),
+    return {"phase_rms_mm": 1e3 * finite_rms(phase), "code_rms_m": finite_rms(code),
             "sigma0": float(parameters.attrs.get("sigma0", np.nan)),
             "position_sigma_cm": 100 * float(np.nanmax(sigma)) if np.isfinite(sigma).any()
             else np.nan,
@@ -169,9 +170,3 @@ def stamped_figures(parameters: xr.Dataset) -> dict[str, float]:
     """The figures :func:`stamp` kept in ``parameters`` (empty for a file without them)."""
     return {name: float(parameters.attrs[_ATTR + name]) for name in FIGURES
             if _ATTR + name in parameters.attrs}
-
-
-def rms(values: np.ndarray) -> float:
-    """RMS of the finite ``values`` (NaN if none)."""
-    v = values[np.isfinite(values)]
-    return float(np.sqrt(np.mean(v**2))) if v.size else np.nan

@@ -68,8 +68,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from leopod.numerics.statistics import finite_rms
 from leopod.signals import system_of
-from leopod.validation.quality_gate import GateSettings, check, rms, stamped_figures
+from leopod.validation.quality_gate import GateSettings, check, stamped_figures
 
 __all__ = ["COLUMNS", "COUNTS", "SECTIONS", "SYSTEM_COLUMNS", "campaign_table",
            "column_meta", "day_row", "isb_series", "sections"]
@@ -399,8 +400,8 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
     row = {"date": date, "solution": solution} | dict.fromkeys(COLUMNS, np.nan)
     phase = residuals.phase_residual_m.values
     code = residuals.code_residual_m.values
-    row["phase_rms_mm"] = 1e3 * rms(phase)
-    row["code_rms_m"] = rms(code)
+    row["phase_rms_mm"] = 1e3 * finite_rms(phase)
+    row["code_rms_m"] = finite_rms(code)
     row["n_phase"] = int(np.isfinite(phase).sum())
     if "sv" in residuals.coords:
         axis = residuals.phase_residual_m.dims.index("sv")
@@ -408,8 +409,8 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         for system in np.unique(systems):
             cols = systems == system
             p = np.compress(cols, phase, axis=axis)
-            row[f"phase_rms_{system}_mm"] = 1e3 * rms(p)
-            row[f"code_rms_{system}_m"] = rms(np.compress(cols, code, axis=axis))
+            row[f"phase_rms_{system}_mm"] = 1e3 * finite_rms(p)
+            row[f"code_rms_{system}_m"] = finite_rms(np.compress(cols, code, axis=axis))
             row[f"n_phase_{system}"] = int(np.isfinite(p).sum())
     if ambiguity is not None:
         row["wl_fixing_rate_pct"] = 100 * float(ambiguity.attrs.get("wl_fixing_rate", np.nan))

@@ -212,7 +212,7 @@ def serve(path: str, parent: int) -> None:
 
 def preload() -> None:
     """Import the jobs' modules, load the compiled force model and integrator, the Earth
-    orientation table, the configuration schema and matplotlib's fonts (all read-only)."""
+    orientation table and matplotlib's fonts (all read-only)."""
     import importlib
     import io
     import pkgutil
@@ -228,12 +228,10 @@ def preload() -> None:
         if module.name not in (_LOGGER, "leopod.__main__"):
             importlib.import_module(module.name)
     from leopod.dynamics.compiled import warm_up
-    from leopod.settings import schema_defaults
     from leopod.time.eop import default_earth_orientation
 
     warm_up()
     default_earth_orientation()
-    schema_defaults("pod")
     import matplotlib.pyplot as plt
 
     figure, axes = plt.subplots()
