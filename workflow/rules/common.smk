@@ -13,11 +13,13 @@ from leopod.workflow.campaign import (
     arc_days,
     campaign_days,
     code_bias_periods,
+    excluded_days,
     expand_template,
     input_templates,
     library_root,
     locate_inputs,
     located_source,
+    next_day,
     period_days,
     satellite_ids,
     script_library_files,
@@ -52,6 +54,8 @@ _located, LOCATED = locate_inputs(_downloaded)
 INPUTS = input_templates(_located)
 
 DAYS = campaign_days(CONFIG)
+#: Days whose arc overlaps the next day's (the next calendar day is a campaign day).
+OVERLAP_DAYS = [d for d in DAYS if next_day(CONFIG, d)]
 SATS = satellite_ids(CONFIG)
 #: POD lines {line id: (satellite, variant or None)}: each satellite's own solution, then one
 #: line <sat>_<variant> per solution variant (leopod.workflow.variants). The POD, ambiguity
@@ -426,7 +430,7 @@ def formation_summary_files(pair):
         if VARIANTS and PAIRS[pair].variant is None:
             files["lines"] = {pair_label(p): fill(rules.baseline.output.nc, pair=p, date=date)
                               for p, line in PAIRS.items() if line.base == pair}
-        if date != DAYS[-1]:
+        if date in OVERLAP_DAYS:
             files["overlap"] = fill(rules.baseline_overlap.output.nc, pair=pair, date=date)
         if simulated:
             files["range"] = fill(rules.range_check.output.nc, pair=pair, date=date)
@@ -448,9 +452,9 @@ def formation_summary_inputs(wildcards):
 
 
 def baseline_overlap_inputs(wildcards):
-    """The baseline solutions of a day and of the next campaign day, and the leader's float
+    """The baseline solutions of a day and of the next day, and the leader's float
     orbit of the day (RTN axes)."""
-    later = DAYS[DAYS.index(wildcards.date) + 1]
+    later = next_day(CONFIG, wildcards.date)
     files = {"dynamic_a": fill(rules.baseline.output.nc, pair=wildcards.pair,
                                date=wildcards.date),
              "dynamic_b": fill(rules.baseline.output.nc, pair=wildcards.pair, date=later),
@@ -510,8 +514,8 @@ def pod_orbit(wildcards):
 
 
 def overlap_inputs(wildcards):
-    """The arcs of a day and of the next campaign day."""
-    later = DAYS[DAYS.index(wildcards.date) + 1]
+    """The arcs of a day and of the next day (:func:`next_day`)."""
+    later = next_day(CONFIG, wildcards.date)
     orbit = pod_output(wildcards.solution, "orbit")
     return {
         "a": fill(orbit, sat=wildcards.sat, date=wildcards.date),
@@ -575,7 +579,7 @@ def summary_files(sat):
         if "fixed_pod" in solutions():
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {
-            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in DAYS[:-1]
+            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in OVERLAP_DAYS
         }
         if reference_template(base):
             f["reference"] = {
@@ -628,16 +632,16 @@ def all_targets():
         simulated_pairs = [p for p, line in PAIRS.items()
                            if is_simulated(line.leader) and is_simulated(line.follower)]
         targets += expand(rules.range_check.output.nc, pair=simulated_pairs, date=DAYS)
-        if len(DAYS) > 1:
+        if OVERLAP_DAYS:
             targets += expand(rules.baseline_overlap.output.nc, pair=list(PAIRS),
-                              date=DAYS[:-1])
+                              date=OVERLAP_DAYS)
         targets += expand(rules.formation_summary.output.csv, pair=list(PAIRS))
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
     if solutions():
-        if len(DAYS) > 1:
+        if OVERLAP_DAYS:
             targets += expand(rules.overlap_summary.output.nc, sat=LINES)
         targets += expand(
             rules.reference_summary.output.nc,

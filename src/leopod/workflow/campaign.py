@@ -15,17 +15,50 @@ from pathlib import Path
 from leopod.gnss.signal_bias import signal_bias_mode
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
-__all__ = ["LOCATE_ROOT", "PRODUCED", "arc_days", "campaign_days", "expand_template", "input_references",
-           "input_templates", "is_daily_template", "library_root", "locate_inputs",
-           "located_source", "satellite_ids", "script_library_files", "signal_bias_inputs"]
+__all__ = ["LOCATE_ROOT", "PRODUCED", "arc_days", "campaign_days", "excluded_days",
+           "expand_template", "input_references", "input_templates", "is_daily_template",
+           "library_root", "locate_inputs", "located_source", "next_day", "satellite_ids",
+           "script_library_files", "signal_bias_inputs"]
 
 #: Folder that holds the imported ``leopod`` package (``src`` of a checkout, or site-packages).
 _ROOT = Path(__file__).resolve().parents[2]
 
 
 def campaign_days(config: dict) -> list[str]:
-    """Day identifiers ``YYYY-DDD`` of the campaign (start to end inclusive)."""
-    return days_between(config["start_date"], config["end_date"])
+    """Day identifiers ``YYYY-DDD`` of the campaign (start to end inclusive), without the
+    days of ``exclude_days`` (:func:`excluded_days`)."""
+    excluded = excluded_days(config)
+    return [d for d in days_between(config["start_date"], config["end_date"])
+            if d not in excluded]
+
+
+def excluded_days(config: dict) -> dict[str, str]:
+    """Days left out of the campaign (``exclude_days``: day ``YYYY-DDD`` or ``YYYY-MM-DD`` ->
+    reason), keyed by their identifier ``YYYY-DDD``: they get no jobs, the arcs of their
+    neighbours end at their midnight, code-bias periods and overlaps do without them, and the
+    campaign summary lists them with the reason (``leopod run --exclude-failed`` writes them).
+
+    Raises
+    ------
+    ValueError
+        If a key is no day or lies outside the campaign.
+    """
+    days = set(days_between(config["start_date"], config["end_date"]))
+    out = {}
+    for day, reason in (config.get("exclude_days") or {}).items():
+        key = date_id(parse_date_id(str(day)))
+        if key not in days:
+            raise ValueError(f"exclude_days: {day} is not a day of the campaign "
+                             f"({config['start_date']} to {config['end_date']})")
+        out[key] = str(reason)
+    return out
+
+
+def next_day(config: dict, date: str) -> str | None:
+    """The campaign day after ``date`` if it is the next calendar day (the arcs of the two
+    overlap), else None (the last day, or the next one excluded)."""
+    later = date_id(parse_date_id(date) + _dt.timedelta(days=1))
+    return later if later in campaign_days(config) else None
 
 
 def satellite_ids(config: dict) -> list[str]:
