@@ -9,9 +9,10 @@
                         [-- SNAKEMAKE OPTIONS]     (e.g. ``-- -n`` for a dry run)
                                               with --exclude-failed: keep going past failed
                                               jobs, then leave the days with a failed job out
-                                              (results/failed_days.yaml, config exclude_days)
-                                              and run again, so that the other days and the
-                                              summary finish; the failed days are listed
+                                              (results/failed_days.yaml: config exclude_days,
+                                              exclude_pod_days) and run again, so that the
+                                              other days and the summary finish; the failed
+                                              days are listed
     leopod status CAMPAIGN [--directory D]    the days with an orbit and the failed jobs of a
                                               run, each failed day with its reason (the error
                                               in its log)
@@ -26,9 +27,9 @@
 Relative input paths of a campaign are relative to the working directory ``D`` (default: the
 current directory), as for Snakemake. ``check`` exits with 2 when the campaign does not conform
 to the schema, 1 when input files are missing, 0 otherwise; it reports inputs that the workflow
-writes itself (simulated data, downloads) as such. ``status`` exits with 1 when a job failed
-(leopod.workflow.status). ``compare`` exits with 1 when a file cannot
-be read or the two orbits have no common span.
+writes itself (simulated data, downloads) as such. ``run --exclude-failed`` exits with 1 when
+it left days out, ``status`` when a job failed (leopod.workflow.status). ``compare`` exits with
+1 when a file cannot be read or the two orbits have no common span.
 """
 
 from __future__ import annotations
@@ -147,47 +148,60 @@ def _run(args) -> int:
         return status
     import yaml
 
-    from leopod.workflow.campaign import campaign_days, excluded_days
+    from leopod.workflow.campaign import pod_days
     from leopod.workflow.status import failed_days, failures
 
-    config = _campaign(args)
-    failed = failed_days(failures(args.directory), campaign_days(config))
-    if not failed:
-        print("leopod run: the run failed, but no day has a failed job of its own "
-              "(see the Snakemake output above)", file=sys.stderr)
-        return status
     overlay = args.directory.resolve() / "results" / "failed_days.yaml"
-    overlay.parent.mkdir(parents=True, exist_ok=True)
-    reasons = {day: f.reason for day, f in failed.items()}
-    overlay.write_text(yaml.safe_dump({"exclude_days": {**excluded_days(config), **reasons}},
-                                      sort_keys=True, width=1000))
-    print(f"{len(failed)} day(s) failed, run again without them ({overlay}):")
-    for day, reason in reasons.items():
-        print(f"  {day}  {reason}")
-    args.campaign = [*args.campaign, overlay]
-    cmd = _snakemake(args, [*extra, *args.snakemake])
-    print(" ".join(cmd), flush=True)
-    status = subprocess.run(cmd).returncode
+    config = _campaign(args)
+    # the days given in the campaign and those found here: data unusable, or POD failed
+    excluded = {key: dict(config[key]) for key in ("exclude_days", "exclude_pod_days")}
+    found = False
+    # each pass leaves out at least one more day: a day's POD (held back by the code-bias map
+    # of its period) may fail only once the days with bad data are out of the way
+    while status != 0:
+        failed = failed_days(failures(args.directory), pod_days(_campaign(args)))
+        if not failed:
+            print("leopod run: the run failed, but no day has a failed job of its own "
+                  "(see the Snakemake output above)", file=sys.stderr)
+            break
+        found = True
+        for day, f in failed.items():
+            excluded["exclude_pod_days" if f.in_pod else "exclude_days"][day] = f.reason
+        overlay.parent.mkdir(parents=True, exist_ok=True)
+        overlay.write_text(yaml.safe_dump(excluded, sort_keys=True, width=1000))
+        print(f"{len(failed)} day(s) failed, run again without them ({overlay}):")
+        for day, f in failed.items():
+            print(f"  {day}  {f.reason}")
+        if overlay not in args.campaign:
+            args.campaign = [*args.campaign, overlay]
+        cmd = _snakemake(args, [*extra, *args.snakemake])
+        print(" ".join(cmd), flush=True)
+        status = subprocess.run(cmd).returncode
     _status(args)
-    return status
+    return status or int(found)
 
 
 def _status(args) -> int:
-    from leopod.workflow.campaign import campaign_days, excluded_days, satellite_ids
-    from leopod.workflow.status import failed_days, failures, orbit_days
+    from leopod.workflow.campaign import excluded_days, pod_days, satellite_ids
+    from leopod.workflow.status import failed_days, failures, gate_verdicts, orbit_days
 
     config = _campaign(args)
-    days, excluded = campaign_days(config), excluded_days(config)
+    days, excluded = pod_days(config), excluded_days(config)
     found = failures(args.directory)
     failed = failed_days(found, days)
     print(f"campaign {config['campaign']}: {len(days)} day(s) "
           f"({config['start_date']} to {config['end_date']}"
           + (f", {len(excluded)} excluded" if excluded else "") + ")")
-    solutions = ["float_pod"] + (["fixed_pod"] if config["ambiguity"]["enabled"] else [])
+    products = config["products"]
+    fixed = config["ambiguity"]["enabled"] and (products.get("wl_bias") or products.get("osb"))
+    solutions = (["float_pod"] + (["fixed_pod"] if fixed else [])
+                 if products.get("gnss_clock") else [])   # the solutions of common.smk
     for sat in satellite_ids(config):
         for solution in solutions:
             done = orbit_days(args.directory, solution, sat, days)
             print(f"  {sat} {solution}: {len(done)} of {len(days)} day(s) with an orbit")
+            for day, verdict in gate_verdicts(args.directory, solution, sat, done).items():
+                print(f"    {day}  quality gate {verdict}")
     for day, reason in excluded.items():
         print(f"  {day}  excluded: {reason}")
     for day, f in failed.items():

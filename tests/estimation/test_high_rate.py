@@ -1,4 +1,5 @@
-"""1-s data in the float POD (issue 24, item 5): the POD reads only the epochs of its sampling.
+"""1-s data in the float POD and the code-bias maps (issue 24, item 5): they read only the
+epochs of their sampling.
 
 Authority: the POD's own selection (leopod.estimation.inputs.pod_observations keeps the epochs
 on the ``pod.sampling_s`` grid); reading the daily files decimated must give the identical
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from leopod.codebias.samples import load_quality
 from leopod.estimation.inputs import pod_observations
 from leopod.io.netcdf import load_netcdf, on_grid, write_netcdf
 from leopod.signals import signal_settings
@@ -37,7 +39,9 @@ def _day(folder, step_s: float, hours: float = 2.0, seed: int = 7):
     pass_id = np.broadcast_to(np.arange(len(sv)) + 8 * (np.arange(n1)[:, None] // 1800),
                               shape).astype("i4")
     quality = xr.Dataset({"pass_id": (("time", "sv"), np.where(gap, -1, pass_id)),
-                          "el_deg": (("time", "sv"), rng.uniform(0, 90, shape))},
+                          "el_deg": (("time", "sv"), rng.uniform(0, 90, shape)),
+                          "az_deg": (("time", "sv"), rng.uniform(0, 360, shape)),
+                          "mp_C1W_m": (("time", "sv"), rng.normal(0, 0.1, shape))},
                          coords={"time": times, "sv": sv})
     leo = xr.Dataset({"pos_m": (("time", "xyz"), rng.normal(7e6, 1e3, (n1, 3))),
                       "clk_rx_m": ("time", rng.normal(0, 100, n1))},
@@ -90,3 +94,11 @@ def test_the_read_keeps_the_epochs_that_are_multiples_of_the_step(files):
     assert load_netcdf(files["1s"]["obs"], step_s=45.0).sizes["time"] == 7200 // 45
     assert load_netcdf(files["1s"]["obs"], step_s=0.5).sizes["time"] == 7200
     assert load_netcdf(files["30s"]["obs"], step_s=45.0).sizes["time"] == 80
+
+
+def test_code_bias_samples_of_1s_data_at_30s_are_those_of_30s_data(files):
+    # config code_bias.sampling_s: the maps of 1-s data from the samples of 30-s data
+    read = load_quality(files["1s"]["quality"], ["C1W"], step_s=30.0)
+    thirty = load_quality(files["30s"]["quality"], ["C1W"])
+    xr.testing.assert_identical(read.drop_attrs(), thirty.drop_attrs())
+    assert load_quality(files["1s"]["quality"], ["C1W"]).sizes["time"] == 7200

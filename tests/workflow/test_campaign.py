@@ -20,8 +20,9 @@ from leopod.workflow.campaign import (
     library_root,
     locate_inputs,
     located_source,
-    next_day,
+    next_days,
     period_days,
+    pod_days,
     script_library_files,
 )
 
@@ -52,7 +53,14 @@ def test_excluded_days_leave_the_campaign_and_the_arcs_of_their_neighbours():
     assert arc_days(cfg, "2019-030") == ["2019-030"]
     assert arc_days(cfg, "2019-032") == ["2019-032", "2019-033"]
     assert arc_days(cfg, "2019-033") == ["2019-032", "2019-033"]
-    assert [next_day(cfg, d) for d in campaign_days(cfg)] == [None, "2019-033", None]
+    assert next_days(cfg) == {"2019-032": "2019-033"}
+    # a day whose POD failed on usable data: out of the PODs, its data serve its neighbours
+    pod = {**cfg, "exclude_pod_days": {"2019-032": "float_pod: no convergence"}}
+    assert campaign_days(pod) == ["2019-030", "2019-032", "2019-033"]
+    assert pod_days(pod) == ["2019-030", "2019-033"]
+    assert arc_days(pod, "2019-033") == ["2019-032", "2019-033"]
+    assert next_days(pod) == {}
+    assert list(excluded_days(pod)) == ["2019-031", "2019-032", "2019-034"]
     assert code_bias_periods(cfg) == ["2019-01", "2019-02"]
     assert period_days(cfg, "2019-01") == ["2019-030"]
     with pytest.raises(ValueError, match="exclude_days: 2019-040 is not a day of the campaign"):

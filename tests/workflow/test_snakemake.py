@@ -97,6 +97,14 @@ def test_an_excluded_day_gets_no_job_and_its_neighbours_do_without_it(tmp_path):
     for day in ("2019-001", "2019-003"):
         assert f"results/float_pod/hy2b-sim/{day}_orbit.nc" in out
     assert "rule overlap:" not in out and "rule campaign_summary:" in out
+    # its POD failed on usable data (exclude_pod_days): its data still serve the arcs
+    cfg = _write_config(tmp_path / "c.yaml",
+                        exclude_pod_days={"2019-002": "float_pod: no convergence"})
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(cfg)], check=True)
+    out = proc.stdout + proc.stderr
+    assert "results/quality/hy2b-sim/2019-002.nc" in out
+    assert "results/float_pod/hy2b-sim/2019-002_orbit.nc" not in out
+    assert "results/float_pod/hy2b-sim/2019-003_orbit.nc" in out
 
 
 def test_bds3_campaign_dry_run_plans_no_rinex2(tmp_path):
@@ -402,7 +410,8 @@ def test_failed_days_are_left_out_and_listed_with_their_reasons(tmp_path, capsys
     assert main(["run", str(broken), "--directory", str(tmp_path), "--exclude-failed"]) != 0
     out = capsys.readouterr().out
     assert "1 day(s) failed, run again without them" in out
-    assert "2019-002  failed: ingest: " in out and "2019-002.rnx:" in out
+    assert "  2019-002  ingest: " in out and "2019-002.rnx:" in out
+    assert "  2019-002  excluded: ingest: " in out
     assert "hy2b-sim float_pod: 2 of 2 day(s) with an orbit" in out
     overlay = yaml.safe_load((tmp_path / "results/failed_days.yaml").read_text())
     assert list(overlay["exclude_days"]) == ["2019-002"]

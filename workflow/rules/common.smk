@@ -19,8 +19,9 @@ from leopod.workflow.campaign import (
     library_root,
     locate_inputs,
     located_source,
-    next_day,
+    next_days,
     period_days,
+    pod_days,
     satellite_ids,
     script_library_files,
     signal_bias_inputs,
@@ -53,9 +54,14 @@ _downloaded, DOWNLOADS = (
 _located, LOCATED = locate_inputs(_downloaded)
 INPUTS = input_templates(_located)
 
-DAYS = campaign_days(CONFIG)
-#: Days whose arc overlaps the next day's (the next calendar day is a campaign day).
-OVERLAP_DAYS = [d for d in DAYS if next_day(CONFIG, d)]
+#: The days whose orbits the campaign computes (the POD, validation and summary rules); the
+#: days whose data the steps use, DATA_DAYS, hold those of config exclude_pod_days too.
+DAYS = pod_days(CONFIG)
+DATA_DAYS = campaign_days(CONFIG)
+#: Day -> the next day, for the days whose arc overlaps the next day's (the next calendar day
+#: is a campaign day: not the last one, not one before an excluded day).
+NEXT_DAY = next_days(CONFIG)
+OVERLAP_DAYS = list(NEXT_DAY)
 SATS = satellite_ids(CONFIG)
 #: POD lines {line id: (satellite, variant or None)}: each satellite's own solution, then one
 #: line <sat>_<variant> per solution variant (leopod.workflow.variants). The POD, ambiguity
@@ -454,7 +460,7 @@ def formation_summary_inputs(wildcards):
 def baseline_overlap_inputs(wildcards):
     """The baseline solutions of a day and of the next day, and the leader's float
     orbit of the day (RTN axes)."""
-    later = next_day(CONFIG, wildcards.date)
+    later = NEXT_DAY[wildcards.date]
     files = {"dynamic_a": fill(rules.baseline.output.nc, pair=wildcards.pair,
                                date=wildcards.date),
              "dynamic_b": fill(rules.baseline.output.nc, pair=wildcards.pair, date=later),
@@ -514,8 +520,8 @@ def pod_orbit(wildcards):
 
 
 def overlap_inputs(wildcards):
-    """The arcs of a day and of the next day (:func:`next_day`)."""
-    later = next_day(CONFIG, wildcards.date)
+    """The arcs of a day and of the next day (NEXT_DAY)."""
+    later = NEXT_DAY[wildcards.date]
     orbit = pod_output(wildcards.solution, "orbit")
     return {
         "a": fill(orbit, sat=wildcards.sat, date=wildcards.date),
@@ -579,7 +585,8 @@ def summary_files(sat):
         if "fixed_pod" in solutions():
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {
-            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in OVERLAP_DAYS
+            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d)
+            for d in OVERLAP_DAYS
         }
         if reference_template(base):
             f["reference"] = {
@@ -621,7 +628,7 @@ def all_targets():
         per_day.append(rules.float_pod.output.sp3)
         if "fixed_pod" in solutions():
             per_day += [rules.ambiguity.output.table, rules.fixed_pod.output.sp3]
-    targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
+    targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DATA_DAYS)
     targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
     # inter-satellite DDs need no AR product: the float solutions of the pair are enough
