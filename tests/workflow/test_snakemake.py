@@ -358,10 +358,11 @@ def test_a_killed_run_resumes_without_redoing_finished_jobs(tmp_path):
                           "code_bias"}
 
 
-@pytest.mark.slow
-def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
-    # two days of simulated files; the second day's RINEX is cut in the middle of an epoch
-    cfg = _write_config(tmp_path / "two.yaml", end_date="2019-01-02")
+def _corrupt_day_campaign(tmp_path: Path, end_date: str, **changes) -> Path:
+    """Campaign reading simulated files (source ``files``) from 2019-01-01 to ``end_date``
+    whose RINEX of 2019-002 is cut in the middle of an epoch record; ``changes`` as
+    :func:`_write_config`."""
+    cfg = _write_config(tmp_path / "simulated.yaml", end_date=end_date)
     _run(["--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg),
           "--until", "simulate", "simulate_gnss"], check=True)
     files = tmp_path / "files"
@@ -369,12 +370,19 @@ def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
     rnx = files / "hy2b-sim/2019-002.rnx"
     lines = rnx.read_text().splitlines(keepends=True)
     rnx.write_text("".join(lines[: len(lines) // 2 + 3]))
-    broken = _write_config(tmp_path / "files.yaml", end_date="2019-01-02",
-                           **{"satellites.hy2b-sim.source": "files",
-                              "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
-                              "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
-                              "products.gnss_clock": str(files / "gnss/{date}.clk"),
-                              "products.dcb_p1c1": str(files / "gnss/{date}_p1c1.dcb")})
+    return _write_config(tmp_path / "files.yaml", end_date=end_date,
+                         **{"satellites.hy2b-sim.source": "files",
+                            "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
+                            "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
+                            "products.gnss_clock": str(files / "gnss/{date}.clk"),
+                            "products.dcb_p1c1": str(files / "gnss/{date}_p1c1.dcb"),
+                            **changes})
+
+
+@pytest.mark.slow
+def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
+    # two days of simulated files; the second day's RINEX is cut in the middle of an epoch
+    broken = _corrupt_day_campaign(tmp_path, "2019-01-02")
     proc = _run(["--cores", "2", "--keep-going", "--directory", str(tmp_path), "--configfile",
                  str(broken)])
     assert proc.returncode != 0
@@ -392,21 +400,7 @@ def test_failed_days_are_left_out_and_listed_with_their_reasons(tmp_path, capsys
     # name day 2 with the error of its log
     from leopod.cli import main
 
-    cfg = _write_config(tmp_path / "three.yaml", end_date="2019-01-03")
-    _run(["--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg),
-          "--until", "simulate", "simulate_gnss"], check=True)
-    files = tmp_path / "files"
-    shutil.copytree(tmp_path / "resources/simulate", files)
-    rnx = files / "hy2b-sim/2019-002.rnx"
-    lines = rnx.read_text().splitlines(keepends=True)
-    rnx.write_text("".join(lines[: len(lines) // 2 + 3]))
-    broken = _write_config(tmp_path / "files.yaml", end_date="2019-01-03",
-                           **{"satellites.hy2b-sim.source": "files",
-                              "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
-                              "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
-                              "products.gnss_clock": str(files / "gnss/{date}.clk"),
-                              "products.dcb_p1c1": str(files / "gnss/{date}_p1c1.dcb"),
-                              "ambiguity.enabled": False})
+    broken = _corrupt_day_campaign(tmp_path, "2019-01-03", **{"ambiguity.enabled": False})
     assert main(["run", str(broken), "--directory", str(tmp_path), "--exclude-failed"]) != 0
     out = capsys.readouterr().out
     assert "1 day(s) failed, run again without them" in out
