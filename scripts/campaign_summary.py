@@ -21,7 +21,14 @@ from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.summary import plot_fixing_rates, plot_isb, plot_pco_z
 from leopod.simulate.ambiguity_truth import wrong_fix_counts
 from leopod.validation.quality_gate import STATUS, GateSettings
-from leopod.validation.summary import campaign_table, column_meta, day_row, isb_series, sections
+from leopod.validation.summary import (
+    campaign_table,
+    column_meta,
+    day_row,
+    excluded_row,
+    isb_series,
+    sections,
+)
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
 
@@ -65,16 +72,23 @@ def _gate_list(rows: list[dict]) -> str:
 
 
 def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
-         phases: Mapping | None = None, gate: GateSettings | None = None) -> None:
+         phases: Mapping | None = None, gate: GateSettings | None = None,
+         excluded: Mapping[str, str] | None = None) -> None:
     """Campaign table from ``files`` (``{solution: {product: {date: path}}}``, products
     ``residuals``, ``ambiguity``, ``overlap``, ``reference``, ``slr``, ``parameters``, and
     ``truth`` (``{date: [simulator truth files of the arc's days]}``, simulated satellites))
     into ``outputs``: ``nc``, ``csv``, ``html``, ``pco_z_png``, ``fixing_png`` and
     ``isb_png``; ``phases`` (phase pair per system) count the wrong fixes against the truth;
-    ``input_files`` are recorded as provenance."""
+    ``input_files`` are recorded as provenance; the days ``excluded`` from the campaign
+    (day -> reason, config ``exclude_days``) get rows without figures, gate failed."""
     rows, isb = [], []
+    excluded = dict(excluded or {})
     for solution, products in files.items():
-        for date in days:
+        for date in sorted([*days, *excluded]):
+            if date in excluded:
+                rows.append(excluded_row(date, solution, excluded[date]))
+                log.warning("%s %s: %s", date, solution, rows[-1]["quality_gate_reasons"])
+                continue
             residuals = _load(products, "residuals", date)
             parameters = _load(products, "parameters", date)
             ambiguity = _load(products, "ambiguity", date)
@@ -122,7 +136,7 @@ def run(sm) -> None:
     p = sm.params
     main({s: p.files[s] for s in p.solutions}, list(p.days), [str(f) for f in sm.input],
          plain(sm.output), title=p.title, phases=dict(p.phases),
-         gate=GateSettings.from_config(p.quality_gate))
+         gate=GateSettings.from_config(p.quality_gate), excluded=dict(p.excluded))
 
 
 if __name__ == "__main__":

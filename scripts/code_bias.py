@@ -19,10 +19,12 @@ from leopod.workflow.log import configure_logging
 
 
 def main(quality_paths, outputs: Mapping, *, codes, settings: MapSettings,
-         min_elevation_deg: float, sat: str, period: str, yaw_flips, title: str) -> None:
+         min_elevation_deg: float, sat: str, period: str, yaw_flips, title: str,
+         sampling_s: float | None = None) -> None:
     """Maps of ``codes`` (None: every code assessed) from the daily quality files of a period
-    into ``outputs``: ``nc``, ``statistics`` (CSV), ``maps``, ``counts``, ``mp_elevation``."""
-    quality = [load_quality(p, codes) for p in quality_paths]
+    into ``outputs``: ``nc``, ``statistics`` (CSV), ``maps``, ``counts``, ``mp_elevation``;
+    the epochs on the grid of ``sampling_s`` [s] only (None: every epoch)."""
+    quality = [load_quality(p, codes, step_s=sampling_s) for p in quality_paths]
     maps, stats = estimate_period(quality, codes, settings, period=period, satellite=sat,
                                   yaw_flips=yaw_flips, min_elevation_deg=min_elevation_deg)
     write_netcdf(maps, outputs["nc"], step="code_bias", inputs=quality_paths, time_system="GPS",
@@ -41,7 +43,7 @@ def run(sm) -> None:
     main(list(sm.input.quality), plain(sm.output), codes=cfg["signals"],
          settings=MapSettings.from_config(cfg), min_elevation_deg=cfg["min_elevation_deg"],
          sat=sm.wildcards.sat, period=sm.wildcards.period, yaw_flips=sm.params.yaw_flips,
-         title=sm.params.title)
+         title=sm.params.title, sampling_s=cfg["sampling_s"])
 
 
 if __name__ == "__main__":

@@ -39,7 +39,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     quality gate, :mod:`leopod.validation.quality_gate`) marks the day in the log and the
     parameters file.
     """
-    data = ArcData.read(inputs, signal_bias=signal_bias)
+    data = ArcData.read(inputs, signal_bias=signal_bias, sampling_s=arc.sampling_s)
     float_solution = FloatSolution.read(parameters=inputs["float_parameters"],
                                         ambiguities=inputs["float_ambiguities"],
                                         residuals=inputs["float_residuals"],

@@ -37,7 +37,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     gate, :mod:`leopod.validation.quality_gate`) marks the day in the log and the parameters
     file.
     """
-    data = ArcData.read(inputs, signal_bias=signal_bias)
+    data = ArcData.read(inputs, signal_bias=signal_bias, sampling_s=arc.sampling_s)
     solution = run_arc(date, data, signals, arc, pod, forces, pco_body_m,
                        code_correction=code_correction, yaw_flips=yaw_flips, attitude=attitude)
     log_arc(solution, f"float POD {date}")

@@ -34,7 +34,7 @@ KINDS = ("float", "fixed")
 def _receiver(date, files: Mapping, p: Mapping, signals, arc, forces, code_correction):
     """The arc problem of one satellite linearised at its float orbit, with its float POD's
     receiver clocks, and that orbit."""
-    data = ArcData.read(files, signal_bias=p["signal_bias"])
+    data = ArcData.read(files, signal_bias=p["signal_bias"], sampling_s=arc.sampling_s)
     fs = FloatSolution.read(parameters=files["float_parameters"],
                             ambiguities=files["float_ambiguities"],
                             residuals=files["float_residuals"], orbit=files["float_orbit"])

@@ -45,7 +45,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     for ``kinematic.ambiguities == "fixed"``, ``table`` (ambiguity step); ``outputs``:
     ``nc``, ``sp3`` and ``figure`` paths.
     """
-    data = ArcData.read(inputs, signal_bias=signal_bias)
+    data = ArcData.read(inputs, signal_bias=signal_bias, sampling_s=arc.sampling_s)
     reference = load_netcdf(inputs["float_orbit"])
     problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
                         code_correction=code_correction, yaw_flips=yaw_flips,

@@ -4,8 +4,10 @@ from leopod.workflow.worker import hand_off
 
 hand_off(globals())  # run in the warm worker process of this run, if it has one
 
+import datetime as dt
 import logging
 from collections.abc import Mapping
+from pathlib import Path
 
 import pandas as pd
 import xarray as xr
@@ -13,6 +15,7 @@ import xarray as xr
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.validation import plot_overlaps
+from leopod.time.calendar import parse_date_id
 from leopod.validation.orbit_statistics import statistics_table
 from leopod.validation.overlap import overlap_summary
 from leopod.workflow.boundary import plain
@@ -21,12 +24,20 @@ from leopod.workflow.log import configure_logging
 log = logging.getLogger(__name__)
 
 
+def _pair_label(path) -> str:
+    """Label of the overlap file ``<day>.nc`` (day ``YYYY-DDD`` of arc a): the ISO date of the
+    next day, which arc b is centred on - from the name, not from the span compared, which a
+    day with little data shortens (two labels from spans would then coincide)."""
+    return (parse_date_id(Path(path).stem) + dt.timedelta(days=1)).isoformat()
+
+
 def main(overlaps: Mapping, outputs: Mapping, *, title: str) -> None:
     """Summary of the overlap files of every solution (``{solution: [paths]}``) into
     ``outputs``: ``nc``, ``csv`` and ``figure``."""
     summaries = {}
     for solution, files in overlaps.items():
-        summaries[solution] = overlap_summary([load_netcdf(p) for p in files])
+        summaries[solution] = overlap_summary([load_netcdf(p) for p in files],
+                                              labels=[_pair_label(p) for p in files])
         camp = summaries[solution]
         log.info("%s overlaps (%d pairs): 3D RMS %.2f +- %.2f cm", solution, len(files),
                  100 * float(camp.campaign_rms_mean_m.sel(component="3D")),

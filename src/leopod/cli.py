@@ -5,8 +5,17 @@
     leopod check CAMPAIGN [--directory D]     the campaign against the schema (one line per
                                               problem, did-you-mean for misspelt keys) and the
                                               input files it names, per entry and day
-    leopod run CAMPAIGN [--directory D] [--cores N] [--profile P] [-- SNAKEMAKE OPTIONS]
-                                              (e.g. ``-- -n`` for a dry run)
+    leopod run CAMPAIGN [--directory D] [--cores N] [--profile P] [--exclude-failed]
+                        [-- SNAKEMAKE OPTIONS]     (e.g. ``-- -n`` for a dry run)
+                                              with --exclude-failed: keep going past failed
+                                              jobs, then leave the days with a failed job out
+                                              (results/failed_days.yaml: config exclude_days,
+                                              exclude_pod_days) and run again, so that the
+                                              other days and the summary finish; the failed
+                                              days are listed
+    leopod status CAMPAIGN [--directory D]    the days with an orbit and the failed jobs of a
+                                              run, each failed day with its reason (the error
+                                              in its log)
     leopod report CAMPAIGN [--directory D]    results/report.html of a finished run
     leopod compare ORBIT REFERENCE [--sv ID] [--reference-sv ID] [--time-system S]
                    [--helmert 3|6|7] [--figure PNG]
@@ -18,8 +27,9 @@
 Relative input paths of a campaign are relative to the working directory ``D`` (default: the
 current directory), as for Snakemake. ``check`` exits with 2 when the campaign does not conform
 to the schema, 1 when input files are missing, 0 otherwise; it reports inputs that the workflow
-writes itself (simulated data, downloads) as such. ``compare`` exits with 1 when a file cannot
-be read or the two orbits have no common span.
+writes itself (simulated data, downloads) as such. ``run --exclude-failed`` exits with 1 when
+it left days out, ``status`` when a job failed (leopod.workflow.status). ``compare`` exits with
+1 when a file cannot be read or the two orbits have no common span.
 """
 
 from __future__ import annotations
@@ -118,14 +128,88 @@ def _snakemake(args, extra: Sequence[str]) -> list[str]:
     return cmd + [*extra, "--configfile", *[str(p.resolve()) for p in args.campaign]]
 
 
+def _campaign(args) -> dict:
+    from leopod.workflow.config import load_campaign
+
+    return load_campaign(*args.campaign)
+
+
 def _run(args) -> int:
     extra = ["--cores", str(args.cores)]
     if args.profile:
         extra += ["--profile", str(REPO / "profiles" / args.profile)
                   if (REPO / "profiles" / args.profile).is_dir() else args.profile]
+    if args.exclude_failed:
+        extra.append("--keep-going")
     cmd = _snakemake(args, [*extra, *args.snakemake])
     print(" ".join(cmd), flush=True)
-    return subprocess.run(cmd).returncode
+    status = subprocess.run(cmd).returncode
+    if status == 0 or not args.exclude_failed:
+        return status
+    import yaml
+
+    from leopod.workflow.campaign import pod_days
+    from leopod.workflow.status import failed_days, failures
+
+    overlay = args.directory.resolve() / "results" / "failed_days.yaml"
+    config = _campaign(args)
+    # the days given in the campaign and those found here: data unusable, or POD failed
+    excluded = {key: dict(config[key]) for key in ("exclude_days", "exclude_pod_days")}
+    found = False
+    # each pass leaves out at least one more day: a day's POD (held back by the code-bias map
+    # of its period) may fail only once the days with bad data are out of the way
+    while status != 0:
+        failed = failed_days(failures(args.directory), pod_days(_campaign(args)))
+        if not failed:
+            print("leopod run: the run failed, but no day has a failed job of its own "
+                  "(see the Snakemake output above)", file=sys.stderr)
+            break
+        found = True
+        for day, f in failed.items():
+            excluded["exclude_pod_days" if f.in_pod else "exclude_days"][day] = f.reason
+        overlay.parent.mkdir(parents=True, exist_ok=True)
+        overlay.write_text(yaml.safe_dump(excluded, sort_keys=True, width=1000))
+        print(f"{len(failed)} day(s) failed, run again without them ({overlay}):")
+        for day, f in failed.items():
+            print(f"  {day}  {f.reason}")
+        if overlay not in args.campaign:
+            args.campaign = [*args.campaign, overlay]
+        cmd = _snakemake(args, [*extra, *args.snakemake])
+        print(" ".join(cmd), flush=True)
+        status = subprocess.run(cmd).returncode
+    _status(args)
+    return status or int(found)
+
+
+def _status(args) -> int:
+    from leopod.workflow.campaign import excluded_days, pod_days, satellite_ids
+    from leopod.workflow.status import failed_days, failures, gate_verdicts, orbit_days
+
+    config = _campaign(args)
+    days, excluded = pod_days(config), excluded_days(config)
+    found = failures(args.directory)
+    failed = failed_days(found, days)
+    print(f"campaign {config['campaign']}: {len(days)} day(s) "
+          f"({config['start_date']} to {config['end_date']}"
+          + (f", {len(excluded)} excluded" if excluded else "") + ")")
+    products = config["products"]
+    fixed = config["ambiguity"]["enabled"] and (products.get("wl_bias") or products.get("osb"))
+    solutions = (["float_pod"] + (["fixed_pod"] if fixed else [])
+                 if products.get("gnss_clock") else [])   # the solutions of common.smk
+    for sat in satellite_ids(config):
+        for solution in solutions:
+            done = orbit_days(args.directory, solution, sat, days)
+            print(f"  {sat} {solution}: {len(done)} of {len(days)} day(s) with an orbit")
+            for day, verdict in gate_verdicts(args.directory, solution, sat, done).items():
+                print(f"    {day}  quality gate {verdict}")
+    for day, reason in excluded.items():
+        print(f"  {day}  excluded: {reason}")
+    for day, f in failed.items():
+        print(f"  {day}  failed: {f.reason} ({f.log})")
+    others = [f for f in found if f.day is None or f.day not in days + list(excluded)]
+    for f in others:
+        print(f"  failed job {f.rule} {f.wildcards}: {f.message} ({f.log})")
+    return 1 if failed or others else 0
 
 
 def _report(args) -> int:
@@ -181,6 +265,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     for name, text in (("check", "check a campaign and its input files"),
                        ("run", "run a campaign (Snakemake)"),
+                       ("status", "the days with an orbit and the failed jobs of a run"),
                        ("report", "build results/report.html of a run")):
         p = sub.add_parser(name, help=text, description=text)
         p.add_argument("campaign", type=Path, nargs="+", help="campaign file(s), merged in order")
@@ -191,6 +276,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             p.add_argument("--profile", default=None,
                            help="Snakemake profile: a folder of the checkout's profiles/ "
                                 "(e.g. slurm) or a path")
+            p.add_argument("--exclude-failed", action="store_true",
+                           help="keep going past failed jobs, then run again without the "
+                                "days that have one (results/failed_days.yaml)")
     p = sub.add_parser("compare", help="compare an orbit with a reference orbit",
                        description="ORBIT minus REFERENCE in inertial R/T/N, per day and in total")
     p.add_argument("orbit", help="orbit file (SP3, leopod netCDF or GRACE CSV)")
@@ -207,7 +295,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
     args.snakemake = extra
-    return {"check": _check, "run": _run, "report": _report,
+    return {"check": _check, "run": _run, "status": _status, "report": _report,
             "compare": _compare}[args.command](args)
 
 

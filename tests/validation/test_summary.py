@@ -17,6 +17,7 @@ from leopod.validation.summary import (
     campaign_table,
     column_meta,
     day_row,
+    excluded_row,
     isb_series,
     sections,
 )
@@ -62,6 +63,23 @@ def test_table_means_per_solution():
     assert table.loc[("mean", "float_pod"), "phase_rms_mm"] == pytest.approx(3.0)
     assert table.loc[("mean", "fixed_pod"), "n_phase"] == 2
     assert np.isnan(table.loc[("2019-001", "float_pod"), "overlap_3d_rms_cm"])
+
+
+def test_an_excluded_day_is_a_failed_row_without_figures():
+    # issue 24, item 5: a day left out of the campaign (exclude_days) keeps its row, the gate
+    # failed, and does not enter the means of the figures
+    rows = [day_row("2019-001", "float_pod", residuals=_residuals([[0.004]], [[1.0]])),
+            excluded_row("2019-002", "float_pod", "ingest: files/x.rnx: line 9: cut short"),
+            day_row("2019-003", "float_pod", residuals=_residuals([[0.002]], [[1.0]]))]
+    assert rows[1]["quality_gate_reasons"] == ("excluded from the campaign: ingest: "
+                                               "files/x.rnx: line 9: cut short")
+    table = campaign_table(rows)
+    assert table.loc[("2019-002", "float_pod"), "quality_gate"] == 2
+    assert np.isnan(table.loc[("2019-002", "float_pod"), "phase_rms_mm"])
+    assert table.loc[("mean", "float_pod"), "phase_rms_mm"] == pytest.approx(3.0)
+    assert table.loc[("mean", "float_pod"), "quality_gate"] == 2
+    assert list(table.index.get_level_values("date")[:3]) == ["2019-001", "2019-002",
+                                                              "2019-003"]
 
 
 def test_row_reports_the_product_guard():

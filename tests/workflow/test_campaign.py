@@ -11,11 +11,18 @@ import pytest
 import leopod
 from leopod.time.calendar import days_between, gps_week_dow, parse_date_id
 from leopod.workflow.campaign import (
+    arc_days,
+    campaign_days,
+    code_bias_periods,
+    excluded_days,
     expand_template,
     input_templates,
     library_root,
     locate_inputs,
     located_source,
+    next_days,
+    period_days,
+    pod_days,
     script_library_files,
 )
 
@@ -31,6 +38,33 @@ def test_gps_week_and_templates():
 def test_days_between_crosses_year_end():
     assert days_between("2007-12-30", "2008-01-02") == ["2007-364", "2007-365", "2008-001",
                                                         "2008-002"]
+
+
+def test_excluded_days_leave_the_campaign_and_the_arcs_of_their_neighbours():
+    # issue 24, item 5: a failed day left out (exclude_days) no longer holds back the arcs of
+    # its neighbours, its code-bias period or an overlap with a day it does not touch
+    cfg = {"start_date": "2019-01-30", "end_date": "2019-02-03",
+           "exclude_days": {"2019-031": "ingest: truncated RINEX", "2019-02-03": "no products"},
+           "pod": {"arc_before_s": 10800.0, "arc_after_s": 10800.0},
+           "code_bias": {"period": "month"}}
+    assert excluded_days(cfg) == {"2019-031": "ingest: truncated RINEX",
+                                  "2019-034": "no products"}
+    assert campaign_days(cfg) == ["2019-030", "2019-032", "2019-033"]
+    assert arc_days(cfg, "2019-030") == ["2019-030"]
+    assert arc_days(cfg, "2019-032") == ["2019-032", "2019-033"]
+    assert arc_days(cfg, "2019-033") == ["2019-032", "2019-033"]
+    assert next_days(cfg) == {"2019-032": "2019-033"}
+    # a day whose POD failed on usable data: out of the PODs, its data serve its neighbours
+    pod = {**cfg, "exclude_pod_days": {"2019-032": "float_pod: no convergence"}}
+    assert campaign_days(pod) == ["2019-030", "2019-032", "2019-033"]
+    assert pod_days(pod) == ["2019-030", "2019-033"]
+    assert arc_days(pod, "2019-033") == ["2019-032", "2019-033"]
+    assert next_days(pod) == {}
+    assert list(excluded_days(pod)) == ["2019-031", "2019-032", "2019-034"]
+    assert code_bias_periods(cfg) == ["2019-01", "2019-02"]
+    assert period_days(cfg, "2019-01") == ["2019-030"]
+    with pytest.raises(ValueError, match="exclude_days: 2019-040 is not a day of the campaign"):
+        excluded_days({**cfg, "exclude_days": {"2019-040": "x"}})
 
 
 def test_bad_inputs_name_the_problem():

@@ -74,6 +74,43 @@ def test_run_passes_snakemake_options_after_the_double_dash(tmp_path):
     assert not (tmp_path / "results").exists()
 
 
+def test_run_exclude_failed_leaves_failed_days_out_until_none_fails(tmp_path, monkeypatch,
+                                                                      capsys):
+    # issue 24, item 5: pass 1 fails day 2's ingest (bad data -> exclude_days), pass 2 then
+    # fails day 3's float POD (usable data -> exclude_pod_days), pass 3 succeeds; Snakemake
+    # stands in for a function that writes the job logs as leopod.workflow.log does
+    import leopod.cli
+
+    stamp = "2026-11-27 14:00:00,000"
+    failing = {1: ("ingest", "2019-002", "step ingest failed: x.rnx: line 9: cut short"),
+               2: ("float_pod", "2019-003", "step float_pod failed: no observations")}
+    calls = []
+
+    def snakemake(cmd):
+        calls.append(cmd)
+        if len(calls) in failing:
+            rule, day, text = failing[len(calls)]
+            log = tmp_path / "logs" / rule / "hy2b-sim" / f"{day}.log"
+            log.parent.mkdir(parents=True, exist_ok=True)
+            log.write_text(f"{stamp} INFO root: rule {rule}, wildcards {{'sat': 'hy2b-sim', "
+                           f"'date': '{day}'}}\n{stamp} ERROR root: {text}\n")
+        return subprocess.CompletedProcess(cmd, 1 if len(calls) in failing else 0)
+
+    monkeypatch.setattr(leopod.cli.subprocess, "run", snakemake)
+    status = main(["run", str(DEFAULT), "--directory", str(tmp_path), "--exclude-failed"])
+    assert status == 1 and len(calls) == 3
+    assert all("--keep-going" in cmd for cmd in calls)
+    overlay = tmp_path / "results/failed_days.yaml"
+    assert str(overlay) in calls[1] and str(overlay) in calls[2]
+    assert yaml.safe_load(overlay.read_text()) == {
+        "exclude_days": {"2019-002": "ingest: x.rnx: line 9: cut short"},
+        "exclude_pod_days": {"2019-003": "float_pod: no observations"}}
+    out = capsys.readouterr().out
+    assert "  2019-002  excluded: ingest: x.rnx: line 9: cut short" in out
+    assert "  2019-003  excluded: float_pod: no observations" in out
+    assert "hy2b-sim float_pod: 0 of 1 day(s) with an orbit" in out
+
+
 def _circular_sp3(path: Path, radius_offset_m: float = 0.0, start="2019-01-02T00:00") -> Path:
     """SP3 of a 7000-km circular orbit (3 h at 30 s), its radius changed by ``radius_offset_m``."""
     from leopod.io.sp3_write import write_sp3

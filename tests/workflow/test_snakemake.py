@@ -86,6 +86,27 @@ def test_default_dry_run_has_three_days(tmp_path):
     assert benchmarks and all(b.startswith("logs/benchmarks/") for b in benchmarks)
 
 
+def test_an_excluded_day_gets_no_job_and_its_neighbours_do_without_it(tmp_path):
+    # issue 24, item 5: exclude_days (written by leopod run --exclude-failed) removes a day
+    # from every stage; the arcs of its neighbours end at its midnight, the overlaps skip it
+    cfg = _write_config(tmp_path / "c.yaml",
+                        exclude_days={"2019-002": "ingest: truncated RINEX"})
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(cfg)], check=True)
+    out = proc.stdout + proc.stderr
+    assert "2019-002" not in out
+    for day in ("2019-001", "2019-003"):
+        assert f"results/float_pod/hy2b-sim/{day}_orbit.nc" in out
+    assert "rule overlap:" not in out and "rule campaign_summary:" in out
+    # its POD failed on usable data (exclude_pod_days): its data still serve the arcs
+    cfg = _write_config(tmp_path / "c.yaml",
+                        exclude_pod_days={"2019-002": "float_pod: no convergence"})
+    proc = _run(["-n", "--directory", str(tmp_path), "--configfile", str(cfg)], check=True)
+    out = proc.stdout + proc.stderr
+    assert "results/quality/hy2b-sim/2019-002.nc" in out
+    assert "results/float_pod/hy2b-sim/2019-002_orbit.nc" not in out
+    assert "results/float_pod/hy2b-sim/2019-003_orbit.nc" in out
+
+
 def test_bds3_campaign_dry_run_plans_no_rinex2(tmp_path):
     # config/hy2d-sim.yaml simulates BDS-3 only: RINEX 2.11 holds GPS observations only
     # (RINEX 2.11 section 5.1: BeiDou B1C/B2a have no RINEX 2 observation code), so the
@@ -337,10 +358,11 @@ def test_a_killed_run_resumes_without_redoing_finished_jobs(tmp_path):
                           "code_bias"}
 
 
-@pytest.mark.slow
-def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
-    # two days of simulated files; the second day's RINEX is cut in the middle of an epoch
-    cfg = _write_config(tmp_path / "two.yaml", end_date="2019-01-02")
+def _corrupt_day_campaign(tmp_path: Path, end_date: str, **changes) -> Path:
+    """Campaign reading simulated files (source ``files``) from 2019-01-01 to ``end_date``
+    whose RINEX of 2019-002 is cut in the middle of an epoch record; ``changes`` as
+    :func:`_write_config`."""
+    cfg = _write_config(tmp_path / "simulated.yaml", end_date=end_date)
     _run(["--cores", "2", "--directory", str(tmp_path), "--configfile", str(cfg),
           "--until", "simulate", "simulate_gnss"], check=True)
     files = tmp_path / "files"
@@ -348,12 +370,19 @@ def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
     rnx = files / "hy2b-sim/2019-002.rnx"
     lines = rnx.read_text().splitlines(keepends=True)
     rnx.write_text("".join(lines[: len(lines) // 2 + 3]))
-    broken = _write_config(tmp_path / "files.yaml", end_date="2019-01-02",
-                           **{"satellites.hy2b-sim.source": "files",
-                              "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
-                              "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
-                              "products.gnss_clock": str(files / "gnss/{date}.clk"),
-                              "products.dcb_p1c1": str(files / "gnss/{date}_p1c1.dcb")})
+    return _write_config(tmp_path / "files.yaml", end_date=end_date,
+                         **{"satellites.hy2b-sim.source": "files",
+                            "satellites.hy2b-sim.observations": str(files / "{sat}/{date}.rnx"),
+                            "products.gnss_orbit": str(files / "gnss/{date}.sp3"),
+                            "products.gnss_clock": str(files / "gnss/{date}.clk"),
+                            "products.dcb_p1c1": str(files / "gnss/{date}_p1c1.dcb"),
+                            **changes})
+
+
+@pytest.mark.slow
+def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
+    # two days of simulated files; the second day's RINEX is cut in the middle of an epoch
+    broken = _corrupt_day_campaign(tmp_path, "2019-01-02")
     proc = _run(["--cores", "2", "--keep-going", "--directory", str(tmp_path), "--configfile",
                  str(broken)])
     assert proc.returncode != 0
@@ -361,6 +390,33 @@ def test_a_corrupt_day_fails_alone_with_a_clear_message(tmp_path):
     assert not (tmp_path / "results/ingest/hy2b-sim/2019-002_obs.nc").exists()
     log = (tmp_path / "logs/ingest/hy2b-sim/2019-002.log").read_text()
     assert "2019-002.rnx:" in log and "field" in log
+
+
+@pytest.mark.slow
+def test_failed_days_are_left_out_and_listed_with_their_reasons(tmp_path, capsys):
+    # issue 24, item 5, on 3 days: day 2's RINEX cut short fails its ingest, which holds
+    # back the arcs of days 1 and 3 and the summary; leopod run --exclude-failed runs again
+    # without day 2, so days 1 and 3 get their orbits, and the summary and leopod status
+    # name day 2 with the error of its log
+    from leopod.cli import main
+
+    broken = _corrupt_day_campaign(tmp_path, "2019-01-03", **{"ambiguity.enabled": False})
+    assert main(["run", str(broken), "--directory", str(tmp_path), "--exclude-failed"]) != 0
+    out = capsys.readouterr().out
+    assert "1 day(s) failed, run again without them" in out
+    assert "  2019-002  ingest: " in out and "2019-002.rnx:" in out
+    assert "  2019-002  excluded: ingest: " in out
+    assert "hy2b-sim float_pod: 2 of 2 day(s) with an orbit" in out
+    overlay = yaml.safe_load((tmp_path / "results/failed_days.yaml").read_text())
+    assert list(overlay["exclude_days"]) == ["2019-002"]
+    summary = (tmp_path / "results/summary/hy2b-sim.html").read_text()
+    assert "2019-002 float_pod: failed (excluded from the campaign: ingest: " in summary
+    table = pd.read_csv(tmp_path / "results/summary/hy2b-sim.csv")
+    assert list(table.date[:3]) == ["2019-001", "2019-002", "2019-003"]
+    assert table.quality_gate[1] == 2
+    assert main(["status", str(broken), str(tmp_path / "results/failed_days.yaml"),
+                 "--directory", str(tmp_path)]) == 0
+    assert "2019-002  excluded: ingest: " in capsys.readouterr().out
 
 
 @pytest.mark.slow

@@ -13,12 +13,15 @@ from leopod.workflow.campaign import (
     arc_days,
     campaign_days,
     code_bias_periods,
+    excluded_days,
     expand_template,
     input_templates,
     library_root,
     locate_inputs,
     located_source,
+    next_days,
     period_days,
+    pod_days,
     satellite_ids,
     script_library_files,
     signal_bias_inputs,
@@ -51,7 +54,14 @@ _downloaded, DOWNLOADS = (
 _located, LOCATED = locate_inputs(_downloaded)
 INPUTS = input_templates(_located)
 
-DAYS = campaign_days(CONFIG)
+#: The days whose orbits the campaign computes (the POD, validation and summary rules); the
+#: days whose data the steps use, DATA_DAYS, hold those of config exclude_pod_days too.
+DAYS = pod_days(CONFIG)
+DATA_DAYS = campaign_days(CONFIG)
+#: Day -> the next day, for the days whose arc overlaps the next day's (the next calendar day
+#: is a campaign day: not the last one, not one before an excluded day).
+NEXT_DAY = next_days(CONFIG)
+OVERLAP_DAYS = list(NEXT_DAY)
 SATS = satellite_ids(CONFIG)
 #: POD lines {line id: (satellite, variant or None)}: each satellite's own solution, then one
 #: line <sat>_<variant> per solution variant (leopod.workflow.variants). The POD, ambiguity
@@ -426,7 +436,7 @@ def formation_summary_files(pair):
         if VARIANTS and PAIRS[pair].variant is None:
             files["lines"] = {pair_label(p): fill(rules.baseline.output.nc, pair=p, date=date)
                               for p, line in PAIRS.items() if line.base == pair}
-        if date != DAYS[-1]:
+        if date in OVERLAP_DAYS:
             files["overlap"] = fill(rules.baseline_overlap.output.nc, pair=pair, date=date)
         if simulated:
             files["range"] = fill(rules.range_check.output.nc, pair=pair, date=date)
@@ -448,9 +458,9 @@ def formation_summary_inputs(wildcards):
 
 
 def baseline_overlap_inputs(wildcards):
-    """The baseline solutions of a day and of the next campaign day, and the leader's float
+    """The baseline solutions of a day and of the next day, and the leader's float
     orbit of the day (RTN axes)."""
-    later = DAYS[DAYS.index(wildcards.date) + 1]
+    later = NEXT_DAY[wildcards.date]
     files = {"dynamic_a": fill(rules.baseline.output.nc, pair=wildcards.pair,
                                date=wildcards.date),
              "dynamic_b": fill(rules.baseline.output.nc, pair=wildcards.pair, date=later),
@@ -510,8 +520,8 @@ def pod_orbit(wildcards):
 
 
 def overlap_inputs(wildcards):
-    """The arcs of a day and of the next campaign day."""
-    later = DAYS[DAYS.index(wildcards.date) + 1]
+    """The arcs of a day and of the next day (NEXT_DAY)."""
+    later = NEXT_DAY[wildcards.date]
     orbit = pod_output(wildcards.solution, "orbit")
     return {
         "a": fill(orbit, sat=wildcards.sat, date=wildcards.date),
@@ -575,7 +585,8 @@ def summary_files(sat):
         if "fixed_pod" in solutions():
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {
-            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d) for d in DAYS[:-1]
+            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d)
+            for d in OVERLAP_DAYS
         }
         if reference_template(base):
             f["reference"] = {
@@ -617,7 +628,7 @@ def all_targets():
         per_day.append(rules.float_pod.output.sp3)
         if "fixed_pod" in solutions():
             per_day += [rules.ambiguity.output.table, rules.fixed_pod.output.sp3]
-    targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DAYS)
+    targets = expand([str(p) for p in per_day[:2]], sat=SATS, date=DATA_DAYS)
     targets += expand([str(p) for p in per_day[2:]], sat=LINES, date=DAYS)
     targets += expand(rules.code_bias.output.nc, sat=SATS, period=PERIODS)
     # inter-satellite DDs need no AR product: the float solutions of the pair are enough
@@ -628,16 +639,16 @@ def all_targets():
         simulated_pairs = [p for p, line in PAIRS.items()
                            if is_simulated(line.leader) and is_simulated(line.follower)]
         targets += expand(rules.range_check.output.nc, pair=simulated_pairs, date=DAYS)
-        if len(DAYS) > 1:
+        if OVERLAP_DAYS:
             targets += expand(rules.baseline_overlap.output.nc, pair=list(PAIRS),
-                              date=DAYS[:-1])
+                              date=OVERLAP_DAYS)
         targets += expand(rules.formation_summary.output.csv, pair=list(PAIRS))
     if CONFIG["kinematic"]["enabled"] and product_file("gnss_clock"):
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
     if solutions():
-        if len(DAYS) > 1:
+        if OVERLAP_DAYS:
             targets += expand(rules.overlap_summary.output.nc, sat=LINES)
         targets += expand(
             rules.reference_summary.output.nc,

@@ -31,7 +31,7 @@ rule overlap:
 # Fig. 13).
 rule overlap_summary:
     input:
-        unpack(per_day_validation(rules.overlap.output.nc, days=DAYS[:-1])),
+        unpack(per_day_validation(rules.overlap.output.nc, days=OVERLAP_DAYS)),
         code=library_code("overlap_summary"),
     output:
         nc="results/overlap/{sat}/summary.nc",
@@ -264,6 +264,7 @@ rule campaign_summary:
         title=sat_name,
         phases={x: CONFIG["signals"][x]["phase"] for x in CONFIG["signals"]},
         quality_gate=CONFIG["pod"]["quality_gate"],
+        excluded=excluded_days(CONFIG),
     script:
         "../../scripts/campaign_summary.py"
 

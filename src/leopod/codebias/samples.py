@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from leopod.io.netcdf import on_grid
+
 __all__ = ["MpSamples", "attitude_mode", "load_quality", "mp_samples"]
 
 #: Quality variables the maps need besides the multipath series.
@@ -122,7 +124,7 @@ def mp_samples(quality_days: list[xr.Dataset], code: str, *, yaw_flips=None,
     return MpSamples(*(np.concatenate(c) for c in zip(*parts, strict=True)))
 
 
-def load_quality(path, codes=None) -> xr.Dataset:
+def load_quality(path, codes=None, step_s: float | None = None) -> xr.Dataset:
     """Read only what the maps need from a quality output (geometry, passes, multipath).
 
     Parameters
@@ -131,8 +133,14 @@ def load_quality(path, codes=None) -> xr.Dataset:
         Quality netCDF file.
     codes : sequence of str, optional
         Codes whose multipath is read; None = all.
+    step_s : float, optional
+        Only the epochs on this time grid [s] are read (config ``code_bias.sampling_s``,
+        :func:`leopod.io.netcdf.on_grid`); None = every epoch.
     """
     with xr.open_dataset(path) as ds:
         names = [*_GEOMETRY, *(v for v in ds.data_vars if v.startswith("mp_")
                                and (codes is None or v[3:-2] in codes))]
-        return ds[names].load()
+        out = ds[names]
+        if step_s is not None:
+            out = out.isel(time=np.flatnonzero(on_grid(ds.time.values, step_s)))
+        return out.load()

@@ -149,7 +149,8 @@ class ArcData:
     manoeuvres: tuple[Manoeuvre, ...] = ()
 
     @classmethod
-    def read(cls, files: Mapping, signal_bias: Mapping | None = None) -> ArcData:
+    def read(cls, files: Mapping, signal_bias: Mapping | None = None,
+             sampling_s: float | None = None) -> ArcData:
         """Read the files of an arc: ``obs``, ``quality``, ``leo`` (daily netCDF), ``orbit``
         and ``clock`` (daily GNSS products) lists of paths, optional ``antenna`` (satellite
         antennas) and ``code_bias`` (maps) paths, optional ``signal_bias_osb`` and
@@ -161,14 +162,20 @@ class ArcData:
         (``.nc``), or the SP3, RINEX clock and ANTEX files themselves
         (:mod:`leopod.io.product_netcdf`). A damaged netCDF file (e.g. of an earlier run) is
         refused with a :class:`leopod.io.FormatError` naming it
-        (:func:`leopod.io.netcdf.load_netcdf`).
+        (:func:`leopod.io.netcdf.load_netcdf`). With ``sampling_s`` [s] (the POD sampling,
+        ``ArcSettings.sampling_s``) only the epochs on its grid are read from the daily
+        observation and quality files - those the POD uses
+        (:func:`leopod.estimation.inputs.pod_observations`) - so that 1-s data costs the memory
+        of the POD's sampling (the a-priori orbit, a few variables, is read whole: it is also
+        the reference at the output epochs); None reads every epoch.
         """
         obs, quality, leo = files["obs"], files["quality"], files["leo"]
         orbit, clock = files["orbit"], files["clock"]
         antenna, code_bias = files.get("antenna"), files.get("code_bias")
         manoeuvres = files.get("manoeuvres")
-        return cls(obs=[load_netcdf(p, "ingest observation") for p in obs],
-                   quality=[load_netcdf(p, "quality", lazy=True) for p in quality],
+        return cls(obs=[load_netcdf(p, "ingest observation", step_s=sampling_s) for p in obs],
+                   quality=[load_netcdf(p, "quality", lazy=True, step_s=sampling_s)
+                            for p in quality],
                    leo=[load_netcdf(p, "a-priori orbit") for p in leo],
                    orbit=merge_days([read_orbit_product(p) for p in orbit]),
                    clock=merge_days([read_clock_product(p) for p in clock]),

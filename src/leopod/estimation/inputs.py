@@ -22,6 +22,7 @@ from leopod.estimation.obsmodel import ReceiverAntenna
 from leopod.gnss.attitude import satellite_pco_if
 from leopod.gnss.combinations import ionosphere_free, narrow_lane_wavelength_m
 from leopod.gnss.leo_antenna import LeoAntenna, receiver_pcv_if
+from leopod.io.netcdf import on_grid
 from leopod.signals import SystemSignals
 
 __all__ = ["as_system_signals", "pod_observations", "receiver_antenna", "receiver_pco_if",
@@ -49,12 +50,6 @@ def as_system_signals(signal_cfg, systems) -> dict[str, SystemSignals]:
     if missing:
         raise KeyError(f"no signals (phase and pod_code pairs) for the systems {missing}")
     return {x: signal_cfg[x] for x in systems}
-
-
-def _on_grid(times: np.ndarray, sampling_s: float) -> np.ndarray:
-    ns = times.astype("datetime64[ns]").astype("int64")
-    step = round(sampling_s * 1e9)
-    return ns % step == 0
 
 
 def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
@@ -117,7 +112,7 @@ def pod_observations(obs_days: list[xr.Dataset], quality_days: list[xr.Dataset],
     start, end = np.datetime64(arc_start, "ns"), np.datetime64(arc_end, "ns")
     for obs, qual, leo in zip(obs_days, quality_days, leo_days, strict=True):
         t = obs.time.values
-        sel = (t >= start) & (t <= end) & _on_grid(t, sampling_s)
+        sel = (t >= start) & (t <= end) & on_grid(t, sampling_s)
         offsets, total = day_passes(qual)
         if not sel.any():
             pass_offset += total

@@ -18,7 +18,7 @@ import xarray as xr
 from leopod import __version__
 from leopod.io._text import FormatError
 
-__all__ = ["write_netcdf", "TIME_UNITS", "atomic_path", "load_netcdf"]
+__all__ = ["write_netcdf", "TIME_UNITS", "atomic_path", "load_netcdf", "on_grid"]
 
 #: Time encoding of every leopod netCDF file: float64 seconds since the GPS epoch (exact to
 #: well below 1 ns over decades), so files are stable and independent of the first sample.
@@ -134,14 +134,30 @@ def merge_days(datasets: list[xr.Dataset]) -> xr.Dataset:
     return ds.isel(time=np.sort(first))
 
 
+def on_grid(times: np.ndarray, step_s: float) -> np.ndarray:
+    """Epochs on a time grid of step ``step_s`` [s]: labels (datetime64) that are whole
+    multiples of the step since 1970-01-01 (for a step that divides the day, e.g. 1, 10 or
+    30 s: whole multiples since every midnight, as receivers sample).
+
+    Returns
+    -------
+    ndarray of bool, shape of ``times``
+    """
+    ns = np.asarray(times).astype("datetime64[ns]").astype("int64")
+    return ns % round(step_s * 1e9) == 0
+
+
 def load_netcdf(path: str | Path, what: str = "netCDF", required: Iterable[str] = (), *,
-                lazy: bool = False) -> xr.Dataset:
+                lazy: bool = False, step_s: float | None = None) -> xr.Dataset:
     """A netCDF file, loaded, with its ``required`` variables checked.
 
     A damaged file (e.g. an intermediate of an earlier run cut short or altered on disk) is
     refused with an error that names it and says what to do, instead of the HDF or xarray
     traceback. ``lazy``: open only (variables are read when used, so damage inside a variable's
-    data shows only then), for files of which a step reads a few variables.
+    data shows only then), for files of which a step reads a few variables. ``step_s`` [s]:
+    only the epochs of the ``time`` dimension on this grid (time labels that are multiples of
+    it, :func:`on_grid`) are read, so that a step decimating high-rate data never holds the
+    whole file (a 1-s day is 30 times its 30-s epochs).
 
     Raises
     ------
@@ -154,7 +170,14 @@ def load_netcdf(path: str | Path, what: str = "netCDF", required: Iterable[str] 
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: no such file")
     try:
-        ds = xr.open_dataset(path) if lazy else xr.load_dataset(path)
+        if step_s is None:
+            ds = xr.open_dataset(path) if lazy else xr.load_dataset(path)
+        else:
+            full = xr.open_dataset(path)
+            ds = full.isel(time=np.flatnonzero(on_grid(full.time.values, step_s)))
+            if not lazy:
+                ds = ds.load()
+                full.close()
     except (OSError, ValueError, RuntimeError) as err:
         raise FormatError(path, None, "netCDF",
                           f"cannot read the {what} file ({err}); if an earlier run wrote "

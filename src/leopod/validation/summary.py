@@ -73,7 +73,7 @@ from leopod.signals import system_of
 from leopod.validation.quality_gate import GateSettings, check, stamped_figures
 
 __all__ = ["COLUMNS", "COUNTS", "SECTIONS", "SYSTEM_COLUMNS", "campaign_table",
-           "column_meta", "day_row", "isb_series", "sections"]
+           "column_meta", "day_row", "excluded_row", "isb_series", "sections"]
 
 #: Column name -> (unit, description).
 COLUMNS = {
@@ -465,6 +465,23 @@ def day_row(date: str, solution: str, *, residuals: xr.Dataset,
         row["quality_gate"] = float(verdict.level)
         row["quality_gate_reasons"] = "; ".join(verdict.reasons)
     return row
+
+
+def excluded_row(date: str, solution: str, reason: str) -> dict:
+    """Row of a day left out of the campaign (config ``exclude_days``): no figures, the
+    quality gate failed (2) with ``reason``.
+
+    Parameters
+    ----------
+    date : str
+        Day ``YYYY-DDD``.
+    solution : str
+        POD step (``float_pod`` or ``fixed_pod``).
+    reason : str
+        Why the day was left out (e.g. the error of its failed step).
+    """
+    return {"date": date, "solution": solution, "quality_gate": 2.0,
+            "quality_gate_reasons": f"excluded from the campaign: {reason}"}
 
 
 def campaign_table(rows: list[dict]) -> pd.DataFrame:

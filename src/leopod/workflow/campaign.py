@@ -15,17 +15,79 @@ from pathlib import Path
 from leopod.gnss.signal_bias import signal_bias_mode
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
 
-__all__ = ["LOCATE_ROOT", "PRODUCED", "arc_days", "campaign_days", "expand_template", "input_references",
-           "input_templates", "is_daily_template", "library_root", "locate_inputs",
-           "located_source", "satellite_ids", "script_library_files", "signal_bias_inputs"]
+__all__ = ["LOCATE_ROOT", "PRODUCED", "arc_days", "campaign_days", "excluded_days",
+           "expand_template", "input_references", "input_templates", "is_daily_template",
+           "library_root", "locate_inputs", "located_source", "next_days", "pod_days",
+           "satellite_ids", "script_library_files", "signal_bias_inputs"]
 
 #: Folder that holds the imported ``leopod`` package (``src`` of a checkout, or site-packages).
 _ROOT = Path(__file__).resolve().parents[2]
 
 
 def campaign_days(config: dict) -> list[str]:
-    """Day identifiers ``YYYY-DDD`` of the campaign (start to end inclusive)."""
-    return days_between(config["start_date"], config["end_date"])
+    """Day identifiers ``YYYY-DDD`` of the campaign (start to end inclusive), without the
+    days of ``exclude_days`` (:func:`excluded_days`): the days whose data the steps use."""
+    excluded = _excluded(config, "exclude_days")
+    return [d for d in days_between(config["start_date"], config["end_date"])
+            if d not in excluded]
+
+
+def pod_days(config: dict) -> list[str]:
+    """The campaign days whose orbits the campaign computes: :func:`campaign_days` without the
+    days of ``exclude_pod_days`` (their data still serve the arcs of their neighbours and the
+    code-bias maps)."""
+    excluded = _excluded(config, "exclude_pod_days")
+    return [d for d in campaign_days(config) if d not in excluded]
+
+
+def _excluded(config: dict, key: str) -> dict[str, str]:
+    """Day ``YYYY-DDD`` -> reason of the config key ``key`` (``exclude_days`` or
+    ``exclude_pod_days``: day ``YYYY-DDD`` or ``YYYY-MM-DD`` -> reason).
+
+    Raises
+    ------
+    ValueError
+        If a key is no day or lies outside the campaign.
+    """
+    days = set(days_between(config["start_date"], config["end_date"]))
+    out = {}
+    for day, reason in (config.get(key) or {}).items():
+        found = date_id(parse_date_id(str(day)))
+        if found not in days:
+            raise ValueError(f"{key}: {day} is not a day of the campaign "
+                             f"({config['start_date']} to {config['end_date']})")
+        out[found] = str(reason)
+    return out
+
+
+def excluded_days(config: dict) -> dict[str, str]:
+    """Days left out of the campaign, with the reason, in time order: those of
+    ``exclude_days`` (their data unusable: no job, the arcs of their neighbours end at their
+    midnight, code-bias periods and overlaps do without them) and of ``exclude_pod_days``
+    (their data usable, their POD not: no POD job, their data serve the arcs of their
+    neighbours). The campaign summary lists them; ``leopod run --exclude-failed`` writes them.
+
+    Raises
+    ------
+    ValueError
+        If a key is no day or lies outside the campaign.
+    """
+    both = {**_excluded(config, "exclude_days"), **_excluded(config, "exclude_pod_days")}
+    return dict(sorted(both.items()))
+
+
+def next_days(config: dict) -> dict[str, str]:
+    """Day -> the next day with an orbit (:func:`pod_days`), for the days whose next calendar
+    day is one (their arcs overlap); the last day and a day before an excluded one have
+    none."""
+    days = pod_days(config)
+    present = set(days)
+    out = {}
+    for day in days:
+        later = date_id(parse_date_id(day) + _dt.timedelta(days=1))
+        if later in present:
+            out[day] = later
+    return out
 
 
 def satellite_ids(config: dict) -> list[str]:
