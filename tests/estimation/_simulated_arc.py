@@ -19,6 +19,7 @@ from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.estimation.arc import ArcData, run_arc, setup_arc
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
+from leopod.gnss.leo_antenna import antenna_frame_of
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
@@ -53,6 +54,31 @@ def simulated_gnss_world(folder: Path, sim: SimulationSettings, day: str = DAY,
                            clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
                            wl_bias=folder / "g.wsb", osb=folder / "g.bia")
     return truth, biases
+
+
+def float_pod_arc(folder: Path, cfg: dict, rinex: str, antenna, hours: tuple[float, float]):
+    """Ingest, quality and float POD of ``hours`` of the simulated RINEX file ``rinex`` in
+    ``folder`` (products of :func:`simulated_gnss_world`) with the LEO antenna ``antenna``
+    (a PCO table or a :class:`leopod.gnss.leo_antenna.LeoAntenna`), as scripts/ingest.py,
+    quality.py and float_pod.py do; the ArcOutputs."""
+    signals = signal_settings(cfg["signals"])
+    obs = canonical_observations(read_rinex_obs(folder / rinex), signals)
+    orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk")
+    products = GnssProducts.from_datasets(orbit, clock, T0, max_extrapolation_s=900.0)
+    gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
+    leo = apriori_from_spp(obs, products, signals, antenna)
+    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
+                            gnss.pos_m.values - leo.pos_m.values[:, None, :],
+                            antenna_frame_of(antenna))
+    sig = signals["G"]
+    quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
+                             QualitySettings.from_config(cfg["quality"]))
+    data = ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
+    settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
+    settings.pop("code_correction")
+    limits = tuple(T0 + np.timedelta64(round(3600 * h), "s") for h in hours)
+    return run_arc(DAY, data, settings["signals"], settings["arc"], settings["pod"],
+                   settings["forces"], antenna, limits=limits)
 
 
 def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
