@@ -24,7 +24,7 @@ import xarray as xr
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "estimation"))
 
 from _bds3_arc import orbit_rms_3d_m  # noqa: E402
-from _simulated_arc import DAY, SAT, float_pod_arc, simulated_gnss_world  # noqa: E402
+from _simulated_arc import DAY, SAT, float_pod_arc, goce_world  # noqa: E402
 
 from leopod.antenna.pcv import (  # noqa: E402
     PcvSettings,
@@ -32,13 +32,10 @@ from leopod.antenna.pcv import (  # noqa: E402
     map_rms_m,
     stack_residuals,
 )
-from leopod.gnss.leo_antenna import leo_antenna, receiver_pcv_if  # noqa: E402
+from leopod.gnss.leo_antenna import receiver_pcv_if  # noqa: E402
 from leopod.simulate.campaign import simulate_leo_day  # noqa: E402
-from leopod.simulate.settings import SimulationSettings  # noqa: E402
-from leopod.workflow.config import load_campaign, with_defaults  # noqa: E402
+from leopod.workflow.config import with_defaults  # noqa: E402
 
-REPO = Path(__file__).resolve().parents[2]
-GOCE = REPO.parent / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
 PAIR = ("L1C", "L2W")
 
 
@@ -51,7 +48,8 @@ def _truth_cell_means(residuals: xr.Dataset, goce, settings: PcvSettings) -> xr.
     """The true IF PCV stacked as residuals at the directions of the used residuals."""
     res = residuals.copy()
     used = np.isfinite(res.phase_residual_m.values)
-    true = np.where(used, _if_pcv(goce)(res.el_deg.values, res.az_deg.values), np.nan)
+    true = np.full(used.shape, np.nan)
+    true[used] = _if_pcv(goce)(res.el_deg.values[used], res.az_deg.values[used])
     res["phase_residual_m"] = (("time", "sv"), true)
     return stack_residuals([res], settings)
 
@@ -59,16 +57,13 @@ def _truth_cell_means(residuals: xr.Dataset, goce, settings: PcvSettings) -> xr.
 def pcv_loop(folder: Path, *, hours=(1.0, 5.0), steps=(10.0, 10.0), min_count: int = 30,
              iterations: int = 3, estimator: str = "bilinear") -> dict:
     """Run the loop; figures in a dict (module docstring): ``orbit_3d_m`` per case
-    (``none``, ``true``, ``estimated_<k>``), ``map_rms_m`` and ``map_rms_nodes_m`` per
-    iteration, ``maps``, ``seconds``."""
+    (``none``, ``true``, ``estimated_<k>``), ``map_rms_m``, ``map_rms_nodes_m`` and
+    ``map_rms_pco_z_m`` (a PCO-Z-like cos z removed too) per iteration, ``maps``,
+    ``truth_map``, ``seconds``."""
     clock = time.perf_counter()
-    cfg = load_campaign(REPO / "config" / "config.yaml")
-    cfg["satellites"][SAT].pop("antenna_pco_body_m")
-    goce = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
-    pco_only = {band: goce[band].tolist() for band in goce}          # same phase centres
-    sim = SimulationSettings.from_config(with_defaults("simulate",
-                                                       {"truth": {"gravity_degree": 30}}))
-    truth, biases = simulated_gnss_world(folder, sim)
+    world = goce_world(folder)
+    cfg, goce, pco_only, sim = world.cfg, world.antenna, world.pco_only, world.sim
+    truth, biases = world.truth, world.biases
     simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, goce, rinex3=folder / "pcv.rnx",
                      truth_sp3=folder / "pcv.sp3", truth_nc=folder / "pcv.nc")
     with xr.open_dataset(folder / "pcv.nc") as f:
@@ -76,7 +71,8 @@ def pcv_loop(folder: Path, *, hours=(1.0, 5.0), steps=(10.0, 10.0), min_count: i
     settings = PcvSettings.from_config(with_defaults("pcv", {
         "az_step_deg": steps[0], "zenith_step_deg": steps[1], "min_count": min_count,
         "estimator": estimator}))
-    out = {"orbit_3d_m": {}, "map_rms_m": [], "map_rms_nodes_m": [], "maps": []}
+    out = {"orbit_3d_m": {}, "map_rms_m": [], "map_rms_nodes_m": [], "map_rms_pco_z_m": [],
+           "maps": []}
     arc = float_pod_arc(folder, cfg, "pcv.rnx", goce, hours)
     out["orbit_3d_m"]["true"] = orbit_rms_3d_m(arc.orbit, truth_day)
     antenna = pco_only
@@ -96,6 +92,8 @@ def pcv_loop(folder: Path, *, hours=(1.0, 5.0), steps=(10.0, 10.0), min_count: i
         out["map_rms_m"].append(map_rms_m(total, truth_map.pcv_if_m.values,
                                           min_count=min_count))
         out["map_rms_nodes_m"].append(map_rms_m(total, truth_nodes, min_count=min_count))
+        out["map_rms_pco_z_m"].append(map_rms_m(total, truth_map.pcv_if_m.values,
+                                                min_count=min_count, pco_z=True))
         arc = float_pod_arc(folder, cfg, "pcv.rnx", antenna, hours)
         out["orbit_3d_m"][f"estimated_{k}"] = orbit_rms_3d_m(arc.orbit, truth_day)
     out["truth_map"] = truth_map

@@ -19,7 +19,7 @@ from leopod.ambiguity.products import ar_product
 from leopod.ambiguity.resolve import ArSettings, resolve_arc
 from leopod.estimation.arc import ArcData, run_arc, setup_arc
 from leopod.frames.attitude import antenna_angles, nominal_body_axes
-from leopod.gnss.leo_antenna import antenna_frame_of
+from leopod.gnss.leo_antenna import antenna_frame_of, leo_antenna
 from leopod.gnss.products import GnssProducts
 from leopod.gnss.quality import QualitySettings, assess_quality
 from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
@@ -38,6 +38,8 @@ from leopod.workflow.config import load_campaign, with_defaults
 from leopod.workflow.settings import pod_settings
 
 REPO = Path(__file__).resolve().parents[2]
+#: The real AIUB LEO antenna pattern of GOCE (Jäggi et al. 2009).
+GOCE = REPO.parent / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
 DAY, SAT = "2019-001", "hy2b-sim"
 T0 = np.datetime64("2019-01-01T00:00", "ns")
 
@@ -54,6 +56,22 @@ def simulated_gnss_world(folder: Path, sim: SimulationSettings, day: str = DAY,
                            clock=folder / "g.clk", integer_clock=folder / "g_int.clk",
                            wl_bias=folder / "g.wsb", osb=folder / "g.bia")
     return truth, biases
+
+
+def goce_world(folder: Path) -> SimpleNamespace:
+    """The default campaign (``cfg``, its satellite without a PCO table), the GOCE antenna
+    (``antenna``, a :class:`leopod.gnss.leo_antenna.LeoAntenna`), the same phase centres
+    without PCV (``pco_only``, a body-frame table), the simulation settings (degree-30
+    truth field, ``sim``) and the world of :func:`simulated_gnss_world` (``truth``,
+    ``biases``) with its products in ``folder``."""
+    cfg = load_campaign(REPO / "config" / "config.yaml")
+    cfg["satellites"][SAT].pop("antenna_pco_body_m")
+    antenna = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
+    sim = SimulationSettings.from_config(with_defaults("simulate",
+                                                       {"truth": {"gravity_degree": 30}}))
+    truth, biases = simulated_gnss_world(folder, sim)
+    return SimpleNamespace(cfg=cfg, antenna=antenna, sim=sim, truth=truth, biases=biases,
+                           pco_only={band: antenna[band].tolist() for band in antenna})
 
 
 def float_pod_arc(folder: Path, cfg: dict, rinex: str, antenna, hours: tuple[float, float]):

@@ -29,21 +29,15 @@ matters is the difference). About 20 s on one core.
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 from _bds3_arc import orbit_rms_3d_m
-from _simulated_arc import DAY, SAT, float_pod_arc, simulated_gnss_world
+from _simulated_arc import DAY, GOCE, SAT, float_pod_arc, goce_world
 
-from leopod.gnss.leo_antenna import leo_antenna
 from leopod.simulate.campaign import simulate_leo_day
-from leopod.simulate.settings import SimulationSettings
-from leopod.workflow.config import load_campaign, with_defaults
 
-REPO = Path(__file__).resolve().parents[2]
-GOCE = REPO.parent / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
 HOURS = (1.0, 5.0)
 
 pytestmark = pytest.mark.skipif(not GOCE.exists(), reason="needs ../shared/data/antex")
@@ -53,13 +47,9 @@ pytestmark = pytest.mark.skipif(not GOCE.exists(), reason="needs ../shared/data/
 def cases(tmp_path_factory):
     folder = tmp_path_factory.mktemp("leo_antenna")
     clock = time.perf_counter()
-    cfg = load_campaign(REPO / "config" / "config.yaml")
-    cfg["satellites"][SAT].pop("antenna_pco_body_m")
-    antenna = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
-    pco_only = {band: antenna[band].tolist() for band in antenna}      # same phase centres
-    sim = SimulationSettings.from_config(with_defaults("simulate",
-                                                       {"truth": {"gravity_degree": 30}}))
-    truth, biases = simulated_gnss_world(folder, sim)
+    world = goce_world(folder)
+    cfg, antenna, pco_only, sim = world.cfg, world.antenna, world.pco_only, world.sim
+    truth, biases = world.truth, world.biases
     for name, ant in (("pcv", antenna), ("nopcv", pco_only)):
         simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, ant,
                          rinex3=folder / f"{name}.rnx", truth_sp3=folder / f"{name}.sp3",

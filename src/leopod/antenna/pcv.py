@@ -306,7 +306,8 @@ def estimated_antenna(antenna, pcv_map: xr.Dataset) -> LeoAntenna:
                       source=f"estimated {ESTIMATED_TYPE} (a priori {leo.source})")
 
 
-def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int) -> float:
+def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int,
+              pco_z: bool = False) -> float:
     """RMS of estimate minus truth over the nodes with ``count >= min_count`` [m], the mean
     over those nodes removed from both (the datum, module docstring).
 
@@ -316,10 +317,17 @@ def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int) -
         Map Dataset (``pcv_if_m``, ``count``), shape (n_az, n_zen).
     truth_if_m : ndarray, shape (n_az, n_zen)
         True ionosphere-free PCV minus the PCV used, at the same nodes [m].
+    pco_z : bool
+        Also remove the least-squares ``b cos z`` of the difference: what a PCO-Z error of
+        ``-b`` gives a PCV (range change ``-ΔPCO_U cos z``), inseparable from it without a
+        PCO datum.
     """
     well = (estimate["count"].values >= min_count) & np.isfinite(estimate.pcv_if_m.values)
     # the zenith node appears once per azimuth in the rows: count it once
     well[1:, 0] = False
     d = estimate.pcv_if_m.values[well] - truth_if_m[well]
-    d = d - d.mean()
+    cos_z = np.broadcast_to(np.cos(np.radians(estimate.zenith_deg.values)),
+                            well.shape)[well]
+    basis = np.stack([np.ones_like(d), cos_z], axis=1) if pco_z else np.ones((d.size, 1))
+    d = d - basis @ np.linalg.lstsq(basis, d, rcond=None)[0]
     return float(np.sqrt(np.mean(d**2)))
