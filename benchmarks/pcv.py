@@ -4,8 +4,8 @@ Runs the closed loop of tests/antenna/_pcv_loop.py: a simulated day with the rea
 (../shared/data/antex/GOCE_MAIN_0001.ATX), float POD without PCV, the stacked residual map, and
 the POD again with the estimated ANTEX antenna, ``--iterations`` times. Prints the orbit 3D RMS
 against the truth without PCV / with the true PCV / with the estimated map of each iteration,
-the map RMS against the truth (cell means of the true pattern at the residual directions, and
-the pattern at the nodes; the mean over the nodes with ``--min-count`` residuals removed from
+the map RMS against the truth (the true pattern at the residual directions stacked as the
+residuals are, and the pattern at the nodes; the mean over the nodes with ``--min-count`` residuals removed from
 both; also with a PCO-Z-like cos z removed), the wall time and the peak memory.
 
     .venv/bin/python benchmarks/pcv.py [--hours 0 24] [--step 10 10] [--iterations 3]
@@ -47,8 +47,8 @@ def main() -> None:
         f"{k} {v * 1e3:.2f}" for k, v in out["orbit_3d_m"].items()))
     for k, (a, b, c) in enumerate(zip(out["map_rms_m"], out["map_rms_nodes_m"],
                                       out["map_rms_pco_z_m"]), 1):
-        print(f"iteration {k}: map RMS vs truth {a * 1e3:.2f} mm (cell means), "
-              f"{b * 1e3:.2f} mm (pattern at the nodes), {c * 1e3:.2f} mm (cell means, "
+        print(f"iteration {k}: map RMS vs truth {a * 1e3:.2f} mm (truth stacked like the "
+              f"residuals), {b * 1e3:.2f} mm (pattern at the nodes), {c * 1e3:.2f} mm (stacked, "
               "PCO-Z-like cos z removed too)")
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"wall time {out['seconds']:.1f} s, peak memory {peak_mb:.0f} MB")

@@ -6,10 +6,10 @@ default HY-2B-like day of tests/estimation/_simulated_arc.py; float POD WITHOUT 
 PCO as the body-frame table), the residual map stacked, the POD repeated with the estimated
 ANTEX antenna (PCO + map), ``iterations`` times (Wang et al. 2024: three).
 
-The truth of a map at a resolution is the true ionosphere-free PCV averaged over the same
-cells at the directions of the residuals (what the cell mean of a perfect POD gives); the
-true pattern sampled at the nodes is reported beside it (the GOCE pattern varies within a
-10° cell by several mm).
+The truth of a map at a resolution is the true ionosphere-free PCV at the directions of the
+residuals stacked as the residuals are (cell means, or the bilinear fit: what a perfect POD
+would give); the true pattern sampled at the nodes is reported beside it (the GOCE pattern
+varies within a 10° cell by several mm).
 """
 
 from __future__ import annotations

@@ -45,7 +45,8 @@ def _polar(fig, pos):
 
 
 def plot_pcv_map(ds: xr.Dataset, path, title: str = "") -> None:
-    """Estimated ΔPCV [mm] and residuals per node (two polar panels).
+    """Estimated ΔPCV [mm] and residuals per node (two polar panels); the colour scale of
+    ΔPCV is symmetric, to the 98th percentile of its magnitude.
 
     Parameters
     ----------
@@ -61,7 +62,7 @@ def plot_pcv_map(ds: xr.Dataset, path, title: str = "") -> None:
     theta, zen = _edges(ds)
     pcv = ds.pcv_if_m.values * _M_TO_MM
     finite = np.abs(pcv[np.isfinite(pcv)])
-    vmax = float(finite.max()) if finite.size and finite.max() > 0 else 1.0
+    vmax = float(np.percentile(finite, 98)) if finite.size and finite.max() > 0 else 1.0
     fig = plt.figure(figsize=(11, 5.4))
     ax = _polar(fig, 121)
     mesh = ax.pcolormesh(theta, zen, np.ma.masked_invalid(pcv.T), cmap="RdBu_r",
