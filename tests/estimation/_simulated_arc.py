@@ -74,11 +74,11 @@ def goce_world(folder: Path) -> SimpleNamespace:
                            pco_only={band: antenna[band].tolist() for band in antenna})
 
 
-def float_pod_arc(folder: Path, cfg: dict, rinex: str, antenna, hours: tuple[float, float]):
-    """Ingest, quality and float POD of ``hours`` of the simulated RINEX file ``rinex`` in
-    ``folder`` (products of :func:`simulated_gnss_world`) with the LEO antenna ``antenna``
-    (a PCO table or a :class:`leopod.gnss.leo_antenna.LeoAntenna`), as scripts/ingest.py,
-    quality.py and float_pod.py do; the ArcOutputs."""
+def ingested_arc_data(folder: Path, cfg: dict, rinex: str, antenna) -> SimpleNamespace:
+    """Ingest and quality of the simulated RINEX file ``rinex`` in ``folder`` (products of
+    :func:`simulated_gnss_world`) with the LEO antenna ``antenna`` (a PCO table or a
+    :class:`leopod.gnss.leo_antenna.LeoAntenna`), as scripts/ingest.py and quality.py do:
+    ``data`` (ArcData), ``obs`` and ``signals`` (the GPS signal settings)."""
     signals = signal_settings(cfg["signals"])
     obs = canonical_observations(read_rinex_obs(folder / rinex), signals)
     orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk")
@@ -91,7 +91,14 @@ def float_pod_arc(folder: Path, cfg: dict, rinex: str, antenna, hours: tuple[flo
     sig = signals["G"]
     quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
                              QualitySettings.from_config(cfg["quality"]))
-    data = ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
+    return SimpleNamespace(data=ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit,
+                                        clock=clock), obs=obs, signals=sig)
+
+
+def float_pod_arc(folder: Path, cfg: dict, rinex: str, antenna, hours: tuple[float, float]):
+    """Float POD of ``hours`` of the :func:`ingested_arc_data` of ``rinex`` with ``antenna``,
+    as scripts/float_pod.py does; the ArcOutputs."""
+    data = ingested_arc_data(folder, cfg, rinex, antenna).data
     settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     settings.pop("code_correction")
     limits = tuple(T0 + np.timedelta64(round(3600 * h), "s") for h in hours)
@@ -121,19 +128,10 @@ def simulated_arc(folder: Path, hours: tuple[float, float] = (1.0, 5.0), *,
     simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, pco, rinex3=folder / "o.rnx",
                      truth_sp3=folder / "t.sp3", truth_nc=folder / "t.nc")
     # ingest and quality (scripts/ingest.py, scripts/quality.py)
-    signals = signal_settings(cfg["signals"])
-    obs = canonical_observations(read_rinex_obs(folder / "o.rnx"), signals)
-    orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk")
-    products = GnssProducts.from_datasets(orbit, clock, T0, max_extrapolation_s=900.0)
-    gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
-    leo = apriori_from_spp(obs, products, signals, pco)
-    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
-                            gnss.pos_m.values - leo.pos_m.values[:, None, :])
-    sig = signals["G"]
-    quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
-                             QualitySettings.from_config(cfg["quality"]))
+    ingested = ingested_arc_data(folder, cfg, "o.rnx", pco)
+    obs, sig = ingested.obs, ingested.signals
     # float POD of the arc and its AR (scripts/float_pod.py, scripts/ambiguity.py)
-    data = ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
+    data = ingested.data
     settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     code_correction = settings.pop("code_correction")
     args = (DAY, data, settings["signals"], settings["arc"], settings["pod"],
