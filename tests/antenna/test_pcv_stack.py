@@ -16,7 +16,9 @@ from leopod.antenna.pcv import (
     PcvSettings,
     apriori_pattern,
     estimated_antenna,
+    map_differences,
     map_rms_m,
+    stack_maps,
     stack_residuals,
 )
 from leopod.codebias.grid import AntennaGrid
@@ -127,3 +129,37 @@ def test_estimated_antex_is_applied_as_the_pod_reads_it(tmp_path):
     again = estimated_antenna(back, m)
     np.testing.assert_allclose(receiver_pcv_if(again, "G", ("L1C", "L2W"))(90 - zz, aa),
                                2 * want, atol=2e-5)
+
+
+def test_stacked_periods_are_the_inverse_variance_mean():
+    res = _residuals()
+    s = _settings(estimator="mean", min_count=20)
+    half = res.sizes["time"] // 2
+    a = stack_residuals([res.isel(time=slice(0, half))], s, period="2019-01")
+    b = stack_residuals([res.isel(time=slice(half, None))], s, period="2019-02")
+    st = stack_maps([a, b], s)
+    assert st.attrs["period"] == "2019-01 2019-02"
+    np.testing.assert_array_equal(st["count"].values, a["count"].values + b["count"].values)
+    wa, wb = a.sigma_m.values ** -2, b.sigma_m.values ** -2
+    both = np.isfinite(a.pcv_if_m.values) & np.isfinite(b.pcv_if_m.values)
+    mean = (wa * a.pcv_if_m.values + wb * b.pcv_if_m.values) / (wa + wb)
+    mean = mean - np.nanmean(mean[both & _once(mean.shape)]) if both.all() else mean
+    d = st.pcv_if_m.values[both] - mean[both]
+    assert np.ptp(d) < 1e-12                 # equal up to the datum constant
+    np.testing.assert_allclose(st.sigma_m.values[both], (wa + wb)[both] ** -0.5)
+    ((pa, pb, rms, n),) = map_differences([a, b])
+    assert (pa, pb) == ("2019-01", "2019-02") and n > 0 and 0 < rms < 3e-3
+
+
+def test_maps_of_different_grids_are_not_stacked():
+    res = _residuals(50_000)
+    a = stack_residuals([res], _settings())
+    b = stack_residuals([res], _settings(az_step_deg=5.0, zenith_step_deg=5.0))
+    with pytest.raises(ValueError, match="cannot be stacked"):
+        stack_maps([a, b], _settings())
+
+
+def _once(shape):
+    m = np.ones(shape, dtype=bool)
+    m[1:, 0] = False
+    return m

@@ -321,10 +321,21 @@ def pcv_inputs(wildcards):
         raise ValueError(f"PCV period {wildcards.period} has no campaign day")
     files = {"residuals": [fill(pod_output(pcv_solution(wildcards), "residuals"),
                                 sat=wildcards.sat, date=d) for d in days]}
+    return {**files, **apriori_antex(wildcards, days[0])}
+
+
+def apriori_antex(wildcards, day):
+    """{'leo_antex': the ANTEX file of the satellite's antenna on ``day``} (the a-priori PCV
+    a PCV map adds to) or {} without one."""
     template = sat_file(satellite(wildcards), "antenna")
-    if template:
-        files["leo_antex"] = expand_template(template, days[0], satellite(wildcards))
-    return files
+    if not template:
+        return {}
+    return {"leo_antex": expand_template(template, day, satellite(wildcards))}
+
+
+def pcv_stack_inputs(wildcards):
+    """The ANTEX file of the satellite's antenna on the first campaign day, if any."""
+    return apriori_antex(wildcards, DAYS[0])
 
 
 def pcv_title(wildcards):
@@ -671,6 +682,8 @@ def all_targets():
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
     if CONFIG["pcv"]["enabled"] and solutions():
         targets += expand(rules.pcv.output.antex, sat=SATS, period=PCV_PERIODS)
+        if len(PCV_PERIODS) > 1:
+            targets += expand(rules.pcv_stack.output.antex, sat=SATS)
     if solutions():
         if len(DAYS) > 1:
             targets += expand(rules.overlap_summary.output.nc, sat=LINES)

@@ -33,3 +33,39 @@ rule pcv:
         title=pcv_title,
     script:
         "../../scripts/pcv.py"
+
+
+# pcv_stack: the maps of all PCV periods stacked (inverse-variance mean per node, the datum
+# applied again), with the differences between consecutive periods (map stability).
+rule pcv_stack:
+    input:
+        unpack(pcv_stack_inputs),
+        maps=expand(rules.pcv.output.nc, period=PCV_PERIODS, allow_missing=True),
+        code=library_code("pcv_stack"),
+    output:
+        nc="results/pcv/{sat}/stack.nc",
+        antex="results/pcv/{sat}/stack.atx",
+        differences="results/pcv/{sat}/stack_differences.csv",
+        map=report(
+            "results/pcv/{sat}/stack_map.png",
+            caption="../report/pcv_stack.rst",
+            category="Antenna PCV",
+            labels={"satellite": "{sat}", "period": "all", "figure": "stacked PCV map"},
+        ),
+    log:
+        "logs/pcv/{sat}/stack.log",
+    benchmark:
+        "logs/benchmarks/pcv/{sat}/stack.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    params:
+        settings=CONFIG["pcv"],
+        pco_body_m=sat_pco,
+        leo_antenna=sat_antenna,
+        title=sat_name,
+    script:
+        "../../scripts/pcv_stack.py"

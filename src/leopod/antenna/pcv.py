@@ -81,7 +81,7 @@ from leopod.io.antex import AntennaPattern
 from leopod.settings import Settings
 
 __all__ = ["PcvSettings", "apriori_pattern", "estimated_antenna", "estimated_pattern",
-           "map_rms_m", "stack_residuals"]
+           "map_differences", "map_rms_m", "stack_maps", "stack_residuals"]
 
 log = logging.getLogger(__name__)
 
@@ -246,6 +246,99 @@ def _bilinear_fit(grid: AntennaGrid, az, el, r, std, count):
     return values, sigma
 
 
+def _nodes_once(shape: tuple[int, int]) -> np.ndarray:
+    """Mask (n_az, n_zen) that counts the zenith node once (azimuth 0 of zenith 0)."""
+    once = np.ones(shape, dtype=bool)
+    once[1:, 0] = False
+    return once
+
+
+def _remove_datum(values: np.ndarray, datum: str) -> tuple[np.ndarray, float]:
+    """``values`` (n_az, n_zen) minus the datum constant of their finite nodes, and that
+    constant: the mean of the nodes (zenith once) or the zenith value."""
+    if datum == "zenith":
+        offset = float(values[0, 0])
+        if not np.isfinite(offset):
+            raise ValueError("zenith datum, but the zenith node is not estimated")
+    else:
+        offset = float(np.nanmean(values[_nodes_once(values.shape)]))
+    return values - offset, offset
+
+
+def stack_maps(maps: Sequence[xr.Dataset], settings: PcvSettings) -> xr.Dataset:
+    """Maps of several periods stacked: per node the inverse-variance mean of the periods
+    that estimated it, the datum applied again; ``count`` summed.
+
+    Parameters
+    ----------
+    maps : sequence of xarray.Dataset
+        Map Datasets of :func:`stack_residuals` in time order, on one grid, corrections of
+        the same a-priori antenna (attribute ``apriori_antenna``, when present).
+    settings : PcvSettings
+        Its ``datum`` is applied to the stack.
+
+    Returns
+    -------
+    xarray.Dataset
+        A map Dataset (module docstring) with the attributes of the first map and
+        ``period`` listing the periods.
+
+    Raises
+    ------
+    ValueError
+        If the maps differ in grid, estimator or a-priori antenna.
+    """
+    first = maps[0]
+    for m in maps[1:]:
+        same_grid = (np.array_equal(m.azimuth_deg.values, first.azimuth_deg.values)
+                     and np.array_equal(m.zenith_deg.values, first.zenith_deg.values))
+        if not same_grid or any(m.attrs.get(k) != first.attrs.get(k)
+                                for k in ("estimator", "apriori_antenna")):
+            raise ValueError(f"PCV maps of {first.attrs.get('period')} and "
+                             f"{m.attrs.get('period')} differ in grid, estimator or a-priori "
+                             "antenna: they cannot be stacked")
+    value = np.stack([m.pcv_if_m.values for m in maps])
+    sigma = np.stack([m.sigma_m.values for m in maps])
+    weight = np.zeros(value.shape)
+    usable = np.isfinite(value) & np.isfinite(sigma) & (sigma > 0)
+    weight[usable] = sigma[usable] ** -2.0
+    total = weight.sum(axis=0)
+    have = total > 0
+    mean = np.full(total.shape, np.nan)
+    mean[have] = (weight * np.nan_to_num(value)).sum(axis=0)[have] / total[have]
+    mean, offset = _remove_datum(mean, settings.datum)
+    out = first.copy()
+    out["pcv_if_m"] = (first.pcv_if_m.dims, mean, first.pcv_if_m.attrs)
+    out["sigma_m"] = (first.sigma_m.dims, np.where(have, 1.0 / np.sqrt(np.where(have, total,
+                                                                                  1.0)),
+                                                   np.nan), first.sigma_m.attrs)
+    out["count"] = sum(m["count"] for m in maps)
+    out["count"].attrs.update(first["count"].attrs)
+    out["residual_std_m"] = (first.residual_std_m.dims,
+                             np.sqrt(np.nanmean(np.stack([m.residual_std_m.values**2
+                                                          for m in maps]), axis=0)),
+                             {"units": "m", "long_name": "root mean square over the periods "
+                              "of the standard deviation of the node's residuals"})
+    out.attrs.update(period=" ".join(str(m.attrs.get("period", "?")) for m in maps),
+                     datum=settings.datum, datum_offset_m=offset,
+                     n_residuals=int(sum(int(m.attrs.get("n_residuals", 0)) for m in maps)),
+                     n_nodes_estimated=int(np.sum(have & _nodes_once(have.shape))))
+    return out
+
+
+def map_differences(maps: Sequence[xr.Dataset]) -> list[tuple[str, str, float, int]]:
+    """RMS of the differences of consecutive period maps over their common estimated nodes
+    (zenith once), the mean difference removed: ``(period_a, period_b, rms_m, n_nodes)``."""
+    out = []
+    for a, b in zip(maps[:-1], maps[1:]):
+        d = b.pcv_if_m.values - a.pcv_if_m.values
+        common = np.isfinite(d) & _nodes_once(d.shape)
+        rms = float(np.std(d[common])) if common.any() else float("nan")
+        out.append((str(a.attrs.get("period", "?")), str(b.attrs.get("period", "?")), rms,
+                    int(common.sum())))
+    return out
+
+
 def apriori_pattern(antenna) -> tuple[AntennaPattern, LeoAntenna | None]:
     """The receiver pattern a POD used, and the :class:`LeoAntenna` if it was one.
 
@@ -326,9 +419,8 @@ def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int,
         ``-b`` gives a PCV (range change ``-ΔPCO_U cos z``), inseparable from it without a
         PCO datum.
     """
-    well = (estimate["count"].values >= min_count) & np.isfinite(estimate.pcv_if_m.values)
-    # the zenith node appears once per azimuth in the rows: count it once
-    well[1:, 0] = False
+    well = ((estimate["count"].values >= min_count) & np.isfinite(estimate.pcv_if_m.values)
+            & _nodes_once(estimate.pcv_if_m.shape))
     d = estimate.pcv_if_m.values[well] - truth_if_m[well]
     cos_z = np.broadcast_to(np.cos(np.radians(estimate.zenith_deg.values)),
                             well.shape)[well]
