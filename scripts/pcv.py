@@ -43,8 +43,8 @@ def main(residual_paths, outputs: Mapping, *, antenna, settings: PcvSettings, sa
                 f"{settings.datum}",
                 "PCV = a-priori PCV + ionosphere-free residual map,",
                 "filled in for every frequency; PCO as a priori",
-                f"a priori: {pcv.attrs['apriori_antenna']}"[:60]]
-    write_antex(outputs["antex"], [pattern], comments=comments)
+                f"a priori: {pcv.attrs['apriori_antenna']}"]
+    write_antex(outputs["antex"], [pattern], comments=[c[:60] for c in comments])
     log.info("wrote %s (type %r) for satellites.%s.antenna", outputs["antex"],
              pattern.antenna_type, sat)
     plot_pcv_map(pcv, outputs["map"], title=title)

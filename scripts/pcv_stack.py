@@ -38,10 +38,11 @@ def main(map_paths, outputs: Mapping, *, antenna, settings: PcvSettings, sat: st
                  reference_frame="antenna", title=f"stacked PCV map {title}")
     apriori, _ = apriori_pattern(antenna)
     write_antex(outputs["antex"], [estimated_pattern(apriori, stacked, serial=sat[:20])],
-                comments=[f"leopod rule pcv_stack: {sat}, {len(maps)} periods",
-                          f"{stacked.attrs['period']}"[:60],
-                          "PCV = a-priori PCV + ionosphere-free residual map,",
-                          "filled in for every frequency; PCO as a priori"])
+                comments=[c[:60] for c in (
+                    f"leopod rule pcv_stack: {sat}, {len(maps)} periods",
+                    f"{stacked.attrs['period']}",
+                    "PCV = a-priori PCV + ionosphere-free residual map,",
+                    "filled in for every frequency; PCO as a priori")])
     lines = ["period_a,period_b,rms_difference_m,n_nodes"]
     for a, b, rms, n in map_differences(maps):
         lines.append(f"{a},{b},{rms:.5f},{n}")
