@@ -22,8 +22,8 @@ LAYERS = (
     ("foundation", ("constants", "settings", "signals", "numerics", "time", "astro", "frames")),
     ("io", ("io",)),
     ("models", ("gnss", "dynamics")),
-    ("solutions", ("estimation", "ambiguity", "codebias", "validation", "simulate", "ingest",
-                   "download")),
+    ("solutions", ("estimation", "ambiguity", "codebias", "antenna", "validation", "simulate",
+                   "ingest", "download")),
     ("application", ("plots", "workflow", "cli")),
 )
 LAYER_OF = {pkg: i for i, (_, pkgs) in enumerate(LAYERS) for pkg in pkgs}

@@ -29,71 +29,27 @@ matters is the difference). About 20 s on one core.
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 from _bds3_arc import orbit_rms_3d_m
-from _simulated_arc import DAY, SAT, T0, simulated_gnss_world
+from _simulated_arc import DAY, GOCE, SAT, float_pod_arc, goce_world
 
-from leopod.estimation.arc import ArcData, run_arc
-from leopod.frames.attitude import antenna_angles, nominal_body_axes
-from leopod.gnss.leo_antenna import antenna_frame_of, leo_antenna
-from leopod.gnss.products import GnssProducts
-from leopod.gnss.quality import QualitySettings, assess_quality
-from leopod.ingest import apriori_from_spp, canonical_observations, gnss_at_epochs
-from leopod.io.clock import read_rinex_clock
-from leopod.io.rinex_obs import read_rinex_obs
-from leopod.io.sp3 import read_sp3
-from leopod.signals import signal_settings
 from leopod.simulate.campaign import simulate_leo_day
-from leopod.simulate.settings import SimulationSettings
-from leopod.workflow.config import load_campaign, with_defaults
-from leopod.workflow.settings import pod_settings
 
-REPO = Path(__file__).resolve().parents[2]
-GOCE = REPO.parent / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
 HOURS = (1.0, 5.0)
 
 pytestmark = pytest.mark.skipif(not GOCE.exists(), reason="needs ../shared/data/antex")
-
-
-def _float_pod(folder: Path, cfg: dict, rinex: str, antenna) -> xr.Dataset:
-    """Ingest, quality and float POD of ``HOURS`` of the simulated RINEX file with the LEO
-    antenna ``antenna`` (as scripts/ingest.py, quality.py, float_pod.py); the float orbit."""
-    signals = signal_settings(cfg["signals"])
-    obs = canonical_observations(read_rinex_obs(folder / rinex), signals)
-    orbit, clock = read_sp3(folder / "g.sp3"), read_rinex_clock(folder / "g_int.clk")
-    products = GnssProducts.from_datasets(orbit, clock, T0, max_extrapolation_s=900.0)
-    gnss = gnss_at_epochs(products, obs.time.values).reindex(sv=obs.sv.values)
-    leo = apriori_from_spp(obs, products, signals, antenna)
-    el, az = antenna_angles(nominal_body_axes(leo.pos_m.values, leo.vel_m_s.values),
-                            gnss.pos_m.values - leo.pos_m.values[:, None, :],
-                            antenna_frame_of(antenna))
-    sig = signals["G"]
-    quality = assess_quality(obs, el, az, "G", sig.phase, sig.code, sig.pod_code,
-                             QualitySettings.from_config(cfg["quality"]))
-    data = ArcData(obs=[obs], quality=[quality], leo=[leo], orbit=orbit, clock=clock)
-    settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
-    settings.pop("code_correction")
-    limits = tuple(T0 + np.timedelta64(round(3600 * h), "s") for h in HOURS)
-    arc = run_arc(DAY, data, settings["signals"], settings["arc"], settings["pod"],
-                  settings["forces"], antenna, limits=limits)
-    return arc
 
 
 @pytest.fixture(scope="module")
 def cases(tmp_path_factory):
     folder = tmp_path_factory.mktemp("leo_antenna")
     clock = time.perf_counter()
-    cfg = load_campaign(REPO / "config" / "config.yaml")
-    cfg["satellites"][SAT].pop("antenna_pco_body_m")
-    antenna = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
-    pco_only = {band: antenna[band].tolist() for band in antenna}      # same phase centres
-    sim = SimulationSettings.from_config(with_defaults("simulate",
-                                                       {"truth": {"gravity_degree": 30}}))
-    truth, biases = simulated_gnss_world(folder, sim)
+    world = goce_world(folder)
+    cfg, antenna, pco_only, sim = world.cfg, world.antenna, world.pco_only, world.sim
+    truth, biases = world.truth, world.biases
     for name, ant in (("pcv", antenna), ("nopcv", pco_only)):
         simulate_leo_day(DAY, SAT, sim, DAY, DAY, truth, biases, ant,
                          rinex3=folder / f"{name}.rnx", truth_sp3=folder / f"{name}.sp3",
@@ -105,7 +61,7 @@ def cases(tmp_path_factory):
             "unmodelled": ("pcv.rnx", pco_only)}      # GOCE PCV simulated, not modelled
     out = {}
     for case, (rinex, ant) in runs.items():
-        arc = _float_pod(folder, cfg, rinex, ant)
+        arc = float_pod_arc(folder, cfg, rinex, ant, HOURS)
         res = arc.residuals.phase_residual_m.values
         out[case] = {"orbit_3d_m": orbit_rms_3d_m(arc.orbit, truth_day),
                      "phase_rms_m": float(np.sqrt(np.nanmean(res**2))),

@@ -73,3 +73,30 @@ def test_both_antenna_definitions_stop_the_campaign(tmp_path, monkeypatch):
     monkeypatch.chdir(Path.cwd())
     with pytest.raises(Exception, match="either antenna_pco_body_m"):
         mock_snakemake("float_pod", configfiles=[path], sat=SAT, date="2019-002")
+
+
+@pytest.fixture(scope="module")
+def truth_campaign(tmp_path_factory):
+    """The simulator with the GOCE pattern (simulate_antenna), the POD with a PCO table, and
+    the PCV map on (the truth set-up of an in-flight PCV estimation, rule pcv)."""
+    cfg = default_config()
+    cfg["satellites"][SAT]["simulate_antenna"] = {"antex": str(GOCE), "type": "GOCE"}
+    cfg["pcv"] = {"enabled": True}
+    path = tmp_path_factory.mktemp("sim_ant") / "campaign.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+def test_the_simulate_antenna_reaches_the_simulator_only(truth_campaign, monkeypatch):
+    monkeypatch.chdir(Path.cwd())
+    located = f"resources/locate/satellites.{SAT}.simulate_antenna/GOCE_MAIN_0001.ATX"
+    sim = mock_snakemake("simulate", configfiles=[truth_campaign], sat=SAT, date="2019-002")
+    assert plain(sim.input)["leo_antex"] == located
+    assert sim.params.leo_antenna["type"] == "GOCE" and not sim.params.pco_body_m
+    pod = mock_snakemake("float_pod", configfiles=[truth_campaign], sat=SAT, date="2019-002")
+    assert "leo_antex" not in plain(pod.input) and pod.params.pco_body_m
+    pcv = mock_snakemake("pcv", configfiles=[truth_campaign], sat=SAT, period="2019-01")
+    files = plain(pcv.input)
+    assert files["residuals"] == [f"results/fixed_pod/{SAT}/2019-00{d}_residuals.nc"
+                                  for d in (1, 2, 3)]
+    assert "leo_antex" not in files and pcv.params.solution == "fixed_pod"

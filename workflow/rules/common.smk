@@ -81,6 +81,8 @@ PAIRS = formation_pairs(CONFIG, SATS)
 #: The pair lines of the campaign's own solution (kinematic baselines, simulated ranges).
 BASE_PAIRS = [p for p, line in PAIRS.items() if line.variant is None]
 PERIODS = code_bias_periods(CONFIG)
+#: Periods of the PCV maps (pcv.period).
+PCV_PERIODS = code_bias_periods(CONFIG, "pcv")
 #: Folder of the leopod sources the rules depend on: src/ of the checkout beside the
 #: Snakefile (None: the imported package).
 LIBRARY_ROOT = library_root(workflow.basedir)
@@ -307,6 +309,48 @@ def code_bias_inputs(wildcards):
     if not days:
         raise ValueError(f"code-bias period {wildcards.period} has no campaign day")
     return {"quality": expand(rules.quality.output.nc, sat=wildcards.sat, date=days)}
+
+
+def pcv_solution(wildcards):
+    """POD solution whose residuals the PCV map stacks (pcv.solution; auto = fixed if the
+    campaign resolves ambiguities, else float)."""
+    chosen = CONFIG["pcv"]["solution"]
+    if chosen == "auto":
+        return "fixed_pod" if "fixed_pod" in solutions() else "float_pod"
+    if chosen not in solutions():
+        raise ValueError(f"pcv.solution {chosen}: the campaign has no such POD solution "
+                         f"({', '.join(solutions()) or 'none: no clock product'})")
+    return chosen
+
+
+def pcv_inputs(wildcards):
+    """Residuals of the POD days of a PCV period (the line's chosen solution) and the ANTEX
+    file of the satellite's antenna, if it has one (the a-priori PCV the map adds to)."""
+    days = period_days(CONFIG, wildcards.period, "pcv")
+    if not days:
+        raise ValueError(f"PCV period {wildcards.period} has no campaign day")
+    files = {"residuals": [fill(pod_output(pcv_solution(wildcards), "residuals"),
+                                sat=wildcards.sat, date=d) for d in days]}
+    return {**files, **apriori_antex(wildcards, days[0])}
+
+
+def apriori_antex(wildcards, day):
+    """{'leo_antex': the ANTEX file of the satellite's antenna on ``day``} (the a-priori PCV
+    a PCV map adds to) or {} without one."""
+    template = sat_file(satellite(wildcards), "antenna")
+    if not template:
+        return {}
+    return {"leo_antex": expand_template(template, day, satellite(wildcards))}
+
+
+def pcv_stack_inputs(wildcards):
+    """The ANTEX file of the satellite's antenna on the first campaign day, if any."""
+    return apriori_antex(wildcards, DAYS[0])
+
+
+def pcv_title(wildcards):
+    """Title of a satellite line's PCV period for figures."""
+    return f"{sat_name(wildcards)} {wildcards.period}"
 
 
 def signal_bias_files(wildcards, days):
@@ -647,6 +691,10 @@ def all_targets():
         targets += expand(rules.kinematic_pod.output.sp3, sat=LINES, date=DAYS)
     if len(PERIODS) > 1:
         targets += expand(rules.code_bias_stack.output.nc, sat=SATS)
+    if CONFIG["pcv"]["enabled"] and solutions():
+        targets += expand(rules.pcv.output.antex, sat=SATS, period=PCV_PERIODS)
+        if len(PCV_PERIODS) > 1:
+            targets += expand(rules.pcv_stack.output.antex, sat=SATS)
     if solutions():
         if OVERLAP_DAYS:
             targets += expand(rules.overlap_summary.output.nc, sat=LINES)
@@ -754,6 +802,34 @@ def antenna_inputs(wildcards):
     if not template:
         return {}
     return {"leo_antex": expand_template(template, wildcards.date, sat)}
+
+
+def sim_antenna_block(wildcards):
+    """satellites.<sat>.simulate_antenna if it names an ANTEX file, else None."""
+    block = sat_config(wildcards).get("simulate_antenna") or {}
+    return dict(block) if block.get("antex") is not None else None
+
+
+def sim_pco(wildcards):
+    """PCO table of the simulator: none when satellites.<sat>.simulate_antenna replaces the
+    satellite's antenna."""
+    return {} if sim_antenna_block(wildcards) else sat_pco(wildcards)
+
+
+def sim_antenna(wildcards):
+    """Antenna block of the simulator: satellites.<sat>.simulate_antenna, else the
+    satellite's antenna."""
+    return sim_antenna_block(wildcards) or sat_antenna(wildcards)
+
+
+def sim_antenna_inputs(wildcards):
+    """{'leo_antex': the simulator's ANTEX file} (simulate_antenna, else the satellite's
+    antenna: antenna_inputs) or {}."""
+    if not sim_antenna_block(wildcards):
+        return antenna_inputs(wildcards)
+    sat = satellite(wildcards)
+    return {"leo_antex": expand_template(sat_file(sat, "simulate_antenna"), wildcards.date,
+                                         sat)}
 
 
 def sat_attitude(wildcards):

@@ -97,7 +97,7 @@ rule simulate_gnss:
 rule simulate:
     input:
         unpack(attitude_inputs),
-        unpack(antenna_inputs),
+        unpack(sim_antenna_inputs),
         truth=rules.simulate_truth.output.truth,
         biases=rules.simulate_world.output.biases,
         gnss_products=simulation_product_files,
@@ -124,8 +124,8 @@ rule simulate:
         settings=CONFIG["simulate"],
         world_start=CONFIG["start_date"],
         world_end=CONFIG["end_date"],
-        pco_body_m=sat_pco,
-        leo_antenna=sat_antenna,
+        pco_body_m=sim_pco,
+        leo_antenna=sim_antenna,
         attitude=sat_attitude,
     script:
         "../../scripts/simulate.py"

@@ -102,6 +102,22 @@ class AntennaGrid:
         w = np.stack([(1 - u) * (1 - t), u * (1 - t), (1 - u) * t, u * t], axis=1)
         return nodes, w
 
+    def nearest(self, az_deg, el_deg) -> np.ndarray:
+        """Node whose neighbourhood (± half a step in azimuth and elevation) holds each
+        direction, shape (n,); −1 below −half an elevation step or not finite.
+
+        The neighbourhood of the zenith node is the cap above the highest ring's upper half
+        step: every azimuth there belongs to it (the residual method's cell of a node,
+        :mod:`leopod.antenna.pcv`).
+        """
+        az = np.asarray(az_deg, dtype=float)
+        el = np.asarray(el_deg, dtype=float)
+        ok = np.isfinite(az) & np.isfinite(el) & (el >= -0.5 * self.el_step_deg)
+        ring = np.clip(np.rint(np.where(ok, el, 0.0) / self.el_step_deg), 0, self.n_rings)
+        ia = np.rint(np.mod(np.where(ok, az, 0.0), 360.0) / self.az_step_deg) % self.n_az
+        node = np.where(ring == self.n_rings, self.n_nodes - 1, ring * self.n_az + ia)
+        return np.where(ok, node, -1).astype(np.int64)
+
     def design(self, az_deg, el_deg) -> sp.csr_matrix:
         """Sparse interpolation matrix (n, n_nodes): ``values_at_directions = A @ node_values``."""
         nodes, w = self.weights(az_deg, el_deg)

@@ -153,6 +153,9 @@ def input_references(config: dict):
         # the ANTEX file of the LEO antenna: satellites.<sat>.antenna.antex
         if isinstance(block.get("antenna"), dict):
             yield f"satellites.{sat}.antenna", block["antenna"], "antex"
+        # the simulator's own ANTEX antenna: satellites.<sat>.simulate_antenna.antex
+        if isinstance(block.get("simulate_antenna"), dict):
+            yield (f"satellites.{sat}.simulate_antenna", block["simulate_antenna"], "antex")
 
 
 def is_daily_template(template: str) -> bool:
@@ -340,21 +343,23 @@ def arc_days(config: dict, date: str) -> list[str]:
     return [d for d in out if d in days]
 
 
-def code_bias_period(config: dict, date: str) -> str:
-    """Code-bias period of a day: ``YYYY-MM`` (``code_bias.period: month``) or ``campaign``."""
-    if config.get("code_bias", {}).get("period", "month") == "campaign":
+def code_bias_period(config: dict, date: str, section: str = "code_bias") -> str:
+    """Period of a day: ``YYYY-MM`` (``<section>.period: month``) or ``campaign``; the
+    section is ``code_bias`` (code-bias maps) or ``pcv`` (PCV maps)."""
+    if config.get(section, {}).get("period", "month") == "campaign":
         return "campaign"
     return parse_date_id(date).strftime("%Y-%m")
 
 
-def code_bias_periods(config: dict) -> list[str]:
-    """Code-bias periods of the campaign, in time order."""
-    return list(dict.fromkeys(code_bias_period(config, d) for d in campaign_days(config)))
+def code_bias_periods(config: dict, section: str = "code_bias") -> list[str]:
+    """Periods of the campaign of ``section`` (:func:`code_bias_period`), in time order."""
+    return list(dict.fromkeys(code_bias_period(config, d, section)
+                              for d in campaign_days(config)))
 
 
-def period_days(config: dict, period: str) -> list[str]:
-    """Campaign days of a code-bias period."""
-    return [d for d in campaign_days(config) if code_bias_period(config, d) == period]
+def period_days(config: dict, period: str, section: str = "code_bias") -> list[str]:
+    """Campaign days of a period of ``section`` (:func:`code_bias_period`)."""
+    return [d for d in campaign_days(config) if code_bias_period(config, d, section) == period]
 
 
 def applied_code_bias_period(config: dict, date: str) -> str | None:

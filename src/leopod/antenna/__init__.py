@@ -1,0 +1,1 @@
+"""In-flight calibration of the LEO receiver antenna (PCV by the residual method: ``pcv``)."""

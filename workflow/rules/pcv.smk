@@ -1,0 +1,71 @@
+# pcv: receiver phase-centre variations of one satellite line and period by the residual method
+# (Wang et al. 2024, eqs. 12-13): the ionosphere-free phase residuals of the POD days stacked on
+# an antenna-frame grid (pcv.enabled). The ANTEX it writes (the POD's PCO and PCV + the map) is
+# applied by a further campaign through satellites.<sat>.antenna (type "LEOPOD PCV").
+rule pcv:
+    input:
+        unpack(pcv_inputs),
+        code=library_code("pcv"),
+    output:
+        nc="results/pcv/{sat}/{period}.nc",
+        antex="results/pcv/{sat}/{period}.atx",
+        map=report(
+            "results/pcv/{sat}/{period}_map.png",
+            caption="../report/pcv_map.rst",
+            category="Antenna PCV",
+            labels={"satellite": "{sat}", "period": "{period}", "figure": "PCV map"},
+        ),
+    log:
+        "logs/pcv/{sat}/{period}.log",
+    benchmark:
+        "logs/benchmarks/pcv/{sat}/{period}.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=3000,
+        runtime=10,
+    params:
+        settings=CONFIG["pcv"],
+        solution=pcv_solution,
+        pco_body_m=sat_pco,
+        leo_antenna=sat_antenna,
+        title=pcv_title,
+    script:
+        "../../scripts/pcv.py"
+
+
+# pcv_stack: the maps of all PCV periods stacked (inverse-variance mean per node, the datum
+# applied again), with the differences between consecutive periods (map stability).
+rule pcv_stack:
+    input:
+        unpack(pcv_stack_inputs),
+        maps=expand(rules.pcv.output.nc, period=PCV_PERIODS, allow_missing=True),
+        code=library_code("pcv_stack"),
+    output:
+        nc="results/pcv/{sat}/stack.nc",
+        antex="results/pcv/{sat}/stack.atx",
+        differences="results/pcv/{sat}/stack_differences.csv",
+        map=report(
+            "results/pcv/{sat}/stack_map.png",
+            caption="../report/pcv_stack.rst",
+            category="Antenna PCV",
+            labels={"satellite": "{sat}", "period": "all", "figure": "stacked PCV map"},
+        ),
+    log:
+        "logs/pcv/{sat}/stack.log",
+    benchmark:
+        "logs/benchmarks/pcv/{sat}/stack.tsv"
+    conda:
+        "../../envs/leopod.yaml"
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    params:
+        settings=CONFIG["pcv"],
+        pco_body_m=sat_pco,
+        leo_antenna=sat_antenna,
+        title=sat_name,
+    script:
+        "../../scripts/pcv_stack.py"
