@@ -19,3 +19,13 @@ def default_config(**changes) -> dict:
             node = node[key]
         node[keys[-1]] = value
     return cfg
+
+
+def output_digests(work: Path) -> dict[str, str]:
+    """SHA-256 of every file the jobs of a run in ``work`` wrote to results/ and resources/
+    (the report, a separate command, aside)."""
+    import hashlib
+
+    return {str(p.relative_to(work)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for folder in ("results", "resources") for p in sorted((work / folder).rglob("*"))
+            if p.is_file() and p.name != "report.html"}

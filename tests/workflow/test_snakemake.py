@@ -5,7 +5,6 @@ These tests call the ``snakemake`` command of the environment that runs pytest.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
 import shutil
@@ -20,7 +19,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 import yaml
-from _campaign_config import default_config
+from _campaign_config import default_config, output_digests
 
 from leopod.codebias.products import grid_of, node_vector
 from leopod.io.sp3 import read_sp3
@@ -309,21 +308,14 @@ def test_one_simulated_day_end_to_end(tmp_path):
     # scratch (same config, same seed) and must write the same bytes, files of the
     # simulation included (their header times come from the data, not the wall clock);
     # this time without the worker, so a job in a fork writes what a job alone writes.
-    before = _digests(tmp_path)
+    before = output_digests(tmp_path)
     _run(["--cores", "2", "--forceall", "--directory", str(tmp_path), "--configfile", str(cfg)],
          check=True, env={"LEOPOD_WORKER": "off"})
     assert not any("worker job finished" in p.read_text()
                    for p in (tmp_path / "logs").rglob("*.log"))
-    after = _digests(tmp_path)
+    after = output_digests(tmp_path)
     assert len(before) > 60 and before.keys() == after.keys()
     assert [name for name in before if before[name] != after[name]] == []
-
-
-def _digests(work: Path) -> dict[str, str]:
-    """SHA-256 of every file the jobs wrote (the report, a separate command, aside)."""
-    return {str(p.relative_to(work)): hashlib.sha256(p.read_bytes()).hexdigest()
-            for folder in ("results", "resources") for p in sorted((work / folder).rglob("*"))
-            if p.is_file() and p.name != "report.html"}
 
 
 @pytest.mark.slow
