@@ -2,9 +2,20 @@
 #   snakemake --cores 2                                   # default campaign (config/config.yaml)
 #   snakemake --cores 2 --configfile config/<campaign>.yaml
 # Results: results/<step>/<sat>/<YYYY-DDD>.*, logs/<step>/..., logs/benchmarks/<step>/...
+import os
+
 from snakemake.utils import min_version
 
 min_version("8.20")
+
+
+# Jobs import leopod from this checkout (PYTHONPATH): in a --use-conda environment
+# (envs/leopod.yaml holds leopod's dependencies only) because Snakemake builds it from a copy
+# of the env file, where no relative pip path would find the checkout; elsewhere it is the
+# same source that `make setup` installs in editable mode.
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    p for p in (f"{workflow.basedir}/src", os.environ.get("PYTHONPATH")) if p
+)
 
 
 # --configfile replaces the default campaign instead of being merged into it
