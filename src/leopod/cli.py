@@ -314,7 +314,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     p = sub.add_parser("init", help="write a new campaign file",
                        description="write NAME.yaml: a commented campaign whose inputs are "
                                    "download families of the catalogue")
-    p.add_argument("name", help="campaign name (letters, digits, '-', '_')")
+    p.add_argument("name", help="campaign name (letters, digits, '-', '_', '.')")
     p.add_argument("--satellite", required=True,
                    help="satellite key (config/satellites.yaml knows grace-a, grace-b, hy-2b, "
                         "hy-2d; others get placeholders)")
