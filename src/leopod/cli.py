@@ -1,12 +1,22 @@
-"""The ``leopod`` command: check a campaign, run it, build its report (over Snakemake).
+"""The ``leopod`` command: write, check and run a campaign, build its report (over Snakemake).
 
 ::
 
+    leopod init NAME --satellite SAT --start YYYY-MM-DD --end YYYY-MM-DD [--system G]
+                [--products cod] [--directory D] [--force]
+                                              NAME.yaml in D: a commented campaign with every
+                                              input as download:<family> of the catalogue and
+                                              the satellite's facts from config/satellites.yaml
+                                              (leopod.workflow.init)
     leopod check CAMPAIGN [--directory D]     the campaign against the schema (one line per
                                               problem, did-you-mean for misspelt keys) and the
                                               input files it names, per entry and day
     leopod run CAMPAIGN [--directory D] [--cores N] [--profile P] [--exclude-failed]
-                        [-- SNAKEMAKE OPTIONS]     (e.g. ``-- -n`` for a dry run)
+                        [--progress on|off|auto] [-- SNAKEMAKE OPTIONS]   (``-- -n``: dry run)
+                                              with progress (default: on a terminal) one line
+                                              per started and finished job, jobs done / total,
+                                              errors; Snakemake's whole log stays in
+                                              .snakemake/log/ (leopod.workflow.progress)
                                               with --exclude-failed: keep going past failed
                                               jobs, then leave the days with a failed job out
                                               (results/failed_days.yaml: config exclude_days,
@@ -28,7 +38,7 @@ Relative input paths of a campaign are relative to the working directory ``D`` (
 current directory), as for Snakemake. ``check`` exits with 2 when the campaign does not conform
 to the schema, 1 when input files are missing, 0 otherwise; it reports inputs that the workflow
 writes itself (simulated data, downloads) as such. ``run --exclude-failed`` exits with 1 when
-it left days out, ``status`` when a job failed (leopod.workflow.status). ``compare`` exits with
+it left days out, ``init`` with 2 on a bad argument or an existing file, ``status`` when a job failed (leopod.workflow.status). ``compare`` exits with
 1 when a file cannot be read or the two orbits have no common span.
 """
 
@@ -143,7 +153,7 @@ def _run(args) -> int:
         extra.append("--keep-going")
     cmd = _snakemake(args, [*extra, *args.snakemake])
     print(" ".join(cmd), flush=True)
-    status = subprocess.run(cmd).returncode
+    status = _execute(cmd, args.progress)
     if status == 0 or not args.exclude_failed:
         return status
     import yaml
@@ -176,9 +186,47 @@ def _run(args) -> int:
             args.campaign = [*args.campaign, overlay]
         cmd = _snakemake(args, [*extra, *args.snakemake])
         print(" ".join(cmd), flush=True)
-        status = subprocess.run(cmd).returncode
+        status = _execute(cmd, args.progress)
     _status(args)
     return status or int(found)
+
+
+def _execute(cmd: list[str], progress: str) -> int:
+    """Run Snakemake: its own output, or with ``progress`` (``on``, or ``auto`` on a
+    terminal) the compact lines of :mod:`leopod.workflow.progress`."""
+    if progress == "on" or (progress == "auto" and sys.stdout.isatty()):
+        from leopod.workflow.progress import run_with_progress
+
+        return run_with_progress(cmd)
+    return subprocess.run(cmd).returncode
+
+
+def _init(args) -> int:
+    import datetime as dt
+
+    from leopod.download.catalogue import Catalogue
+    from leopod.workflow.init import campaign_text, read_satellites, write_campaign
+
+    try:
+        start, end = (dt.date.fromisoformat(value) for value in (args.start, args.end))
+    except ValueError as error:
+        print(f"leopod init: --start/--end: {error} (expected YYYY-MM-DD)", file=sys.stderr)
+        return 2
+    try:
+        text, notes = campaign_text(
+            args.name, args.satellite, start, end, system=args.system, products=args.products,
+            catalogue=Catalogue.from_yaml(REPO / "config" / "catalogue.yaml"),
+            satellites=read_satellites(REPO / "config" / "satellites.yaml"))
+        path = write_campaign(args.directory / f"{args.name}.yaml", text,
+                              overwrite=args.force)
+    except (ValueError, FileExistsError) as error:
+        print(f"leopod init: {error}", file=sys.stderr)
+        return 2
+    print(f"wrote {path}")
+    for note in notes:
+        print(f"  note: {note}")
+    print(f"next: leopod check {path}; leopod run {path}")
+    return 0
 
 
 def _status(args) -> int:
@@ -263,6 +311,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``leopod`` command (module docstring); returns the exit status."""
     parser = argparse.ArgumentParser(prog="leopod", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("init", help="write a new campaign file",
+                       description="write NAME.yaml: a commented campaign whose inputs are "
+                                   "download families of the catalogue")
+    p.add_argument("name", help="campaign name (letters, digits, '-', '_', '.')")
+    p.add_argument("--satellite", required=True,
+                   help="satellite key (config/satellites.yaml knows grace-a, grace-b, hy-2b, "
+                        "hy-2d; others get placeholders)")
+    p.add_argument("--start", required=True, help="first day, YYYY-MM-DD (GPS time)")
+    p.add_argument("--end", required=True, help="last day, YYYY-MM-DD (inclusive)")
+    p.add_argument("--system", default="G",
+                   help="GNSS of the POD: G, C, E or several letters for a combined POD")
+    p.add_argument("--products", default="cod",
+                   help="product set: cod, cod-osb, grg, wum, whu (leopod.workflow.init)")
+    p.add_argument("--directory", "-d", type=Path, default=Path.cwd(),
+                   help="folder of the new file (default: the current one)")
+    p.add_argument("--force", action="store_true", help="replace an existing file")
     for name, text in (("check", "check a campaign and its input files"),
                        ("run", "run a campaign (Snakemake)"),
                        ("status", "the days with an orbit and the failed jobs of a run"),
@@ -276,6 +340,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             p.add_argument("--profile", default=None,
                            help="Snakemake profile: a folder of the checkout's profiles/ "
                                 "(e.g. slurm) or a path")
+            p.add_argument("--progress", choices=("on", "off", "auto"), default="auto",
+                           help="one line per started and finished job instead of "
+                                "Snakemake's output (auto: on a terminal)")
             p.add_argument("--exclude-failed", action="store_true",
                            help="keep going past failed jobs, then run again without the "
                                 "days that have one (results/failed_days.yaml)")
@@ -295,7 +362,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
     args.snakemake = extra
-    return {"check": _check, "run": _run, "status": _status, "report": _report,
+    return {"init": _init, "check": _check, "run": _run, "status": _status, "report": _report,
             "compare": _compare}[args.command](args)
 
 

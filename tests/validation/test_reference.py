@@ -84,3 +84,13 @@ def test_reference_outside_the_day_is_an_error(tmp_path):
                     "2019-005")
     with pytest.raises(ValueError, match="unknown reference-orbit format"):
         read_reference_orbit([tmp_path / "ref.txt"])
+
+
+def test_a_netcdf_without_an_orbit_is_refused_naming_file_and_variable(tmp_path):
+    # an ingest file: positions as pos_m, not the orbit variable pos_itrf_m of a POD product
+    path = tmp_path / "2007-080_leo.nc"
+    xr.Dataset({"pos_m": (("time", "xyz"), np.zeros((2, 3)))},
+               coords={"time": np.array(["2007-03-21T00:00", "2007-03-21T00:00:10"],
+                                        dtype="datetime64[ns]")}).to_netcdf(path)
+    with pytest.raises(ValueError, match=r"2007-080_leo\.nc: no orbit variable pos_itrf_m"):
+        read_reference_orbit([path])

@@ -43,6 +43,9 @@ def _one(path: Path, sv: str | None) -> xr.Dataset:
         return read_grace_orbit_csv(path)
     if kind == "netcdf":
         ds = xr.load_dataset(path)
+        if "pos_itrf_m" not in ds or "time" not in ds.coords:
+            raise ValueError(f"{path}: no orbit variable pos_itrf_m (time, xyz) [m]; a leopod "
+                             "orbit file is <step>/<sat>/<day>_orbit.nc")
         return ds[[v for v in ("pos_itrf_m", "vel_itrf_m_s") if v in ds]]
     sp3 = read_sp3(path)
     ids = [str(s) for s in sp3.sv.values]
