@@ -1,14 +1,24 @@
 """Earth radiation pressure (ERP): reflected sunlight (albedo) and emitted infrared.
 
 Model of Knocke, Ries & Tapley (1988, "Earth radiation pressure effects on satellites",
-AIAA 88-4292): the visible cap of a spherical Earth (radius R, central angle up to
-λ = acos(R/r) from the sub-satellite point) is cut into a central cap and ``rings`` rings of
-6, 12, … elements of equal area ΔA = 2π R² (1 − cos λ) / N, N = 1 + 3 n (n + 1) (n = 2
-gives Knocke's 19 elements). An element at unit vector d from the geocentre, seen from the
-satellite at distance ρ along s = r − R d, with cos α = d·s/ρ, emits as a Lambertian surface
-of exitance E (in units of the solar flux at the Earth) the irradiance at the satellite::
+AIAA 88-4292): the cap of a spherical Earth (radius R) seen from the satellite at distance r
+is cut into a central element and ``rings`` rings of 6, 12, … elements (N = 1 + 3 n (n + 1);
+n = 2 gives Knocke's 19) of equal *projected, attenuated* area, i.e. of equal share of the
+view factor. A surface element dA at central angle ψ from the sub-satellite point, at distance
+ρ (ρ² = q = r² + R² − 2 r R cos ψ), with cos α (at the element) and cos β (at the satellite,
+from nadir), radiating as a Lambertian surface of exitance E (in units of the solar flux)
+gives the satellite the irradiance ``E cos α dA / (π ρ²)`` from its direction; its radial part
+integrates in closed form (with D = r² − R², h = r − R)::
 
-    w = E cos α ΔA / (π ρ²),   E = a(φ) max(0, d·e☉)  (albedo),   E = e(φ) / 4  (infrared)
+    F(q) = ∫ cos α cos β dA / (π ρ²) = [D² (1/h² − 1/q) − (q − h²)] / (4 r²)
+
+from F(h²) = 0 at nadir to F(D) = (R/r)² at the horizon (the view factor of a sphere; M&G
+2000, sec. 3.4.3). Ring boundaries split F evenly, the elements sit at the middle of their
+ring's share of F (the central one at nadir) and evenly in azimuth, and each element of
+radial share F_tot/N contributes the irradiance ``E F_tot / (N cos β)`` from its direction, E
+at its centre::
+
+    E = a(φ) max(0, d·e☉)  (albedo),      E = e(φ) / 4  (infrared)
 
 with the latitude-dependent albedo and emissivity (second-degree zonal model, Knocke et al.
 1988)::
@@ -25,10 +35,9 @@ acts as sunlight does:
 * on flat plates the plate formula of :mod:`leopod.dynamics.srp` per element and plate, with
   the visible reflectivities for the albedo and the infrared ones for the emission.
 
-For a uniform Earth (a, e constant, emission only) the sum tends to the analytic irradiance
-of a Lambertian sphere, ``E (R/r)²`` radially (the view factor of a sphere; M&G 2000,
-sec. 3.4.3): ``a = −s P C_R (A/m) (e/4) (R/r)² (−e_r)``, ~5e-9 m/s² for GRACE at 480 km;
-the discretisation error falls with the rings (tests/dynamics/test_earth_radiation.py).
+For a uniform Earth (a, e constant, emission only) the sum is exact for any number of rings:
+``a = s P C_R (A/m) (e/4) (R/r)²`` radially outward, ~5e-9 m/s² for GRACE at 480 km; the
+rings resolve the terminator and the latitude terms (tests/dynamics/test_earth_radiation.py).
 The ring elements are placed in the frame of the along-track direction (velocity projected
 on the horizontal plane), which turns smoothly along any orbit, also over the poles.
 
@@ -111,35 +120,38 @@ def _erp(pos, vel, sun, pole, season, coefficients, rings, r_earth, coef, normal
     dsun = np.sqrt(sun[0] ** 2 + sun[1] ** 2 + sun[2] ** 2)
     e_sun = sun / dsun
     pressure = SOLAR_PRESSURE_1AU_N_M2 * (AU_M / dsun) ** 2
-    cap = 1.0 - r_earth / r                        # 1 − cos λ
+    h2 = (r - r_earth) ** 2
+    dd = r * r - r_earth * r_earth
+    f_total = (r_earth / r) ** 2
     n_total = 1 + 3 * rings * (rings + 1)
-    d_area = 2.0 * np.pi * r_earth * r_earth * cap / n_total
+    share = f_total / n_total
     acc = np.zeros(3)
     e = np.empty(3)
     d = np.empty(3)
     previous = 0
     for ring in range(rings + 1):
         count = 1 if ring == 0 else 6 * ring
-        cumulative = previous + count
-        one_minus_cos = cap * (previous + cumulative) / (2.0 * n_total) if ring else 0.0
-        cos_psi = 1.0 - one_minus_cos
+        if ring == 0:
+            q = h2
+        else:           # F⁻¹ at the middle of the ring's share: the smaller root in q
+            middle = (previous + 0.5 * count) / n_total
+            b = 4.0 * r * r * f_total * middle - dd * dd / h2 - h2
+            q = 0.5 * (-b - np.sqrt(max(b * b - 4.0 * dd * dd, 0.0)))
+        previous += count
+        rho = np.sqrt(q)
+        cos_psi = (r * r + r_earth * r_earth - q) / (2.0 * r * r_earth)
         sin_psi = np.sqrt(max(0.0, 1.0 - cos_psi * cos_psi))
-        previous = cumulative
+        cos_beta = (r - r_earth * cos_psi) / rho
+        view = pressure * share / cos_beta
         for m in range(count):
             az = 2.0 * np.pi * (m + 0.5) / count
             ca, sa = np.cos(az), np.sin(az)
             for i in range(3):
                 d[i] = cos_psi * up[i] + sin_psi * (ca * along[i] + sa * side[i])
-            s0, s1, s2 = pos[0] - r_earth * d[0], pos[1] - r_earth * d[1], pos[2] - r_earth * d[2]
-            rho = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
-            cos_alpha = (d[0] * s0 + d[1] * s1 + d[2] * s2) / rho
-            if cos_alpha <= 0.0:
-                continue
-            e[0], e[1], e[2] = -s0 / rho, -s1 / rho, -s2 / rho      # towards the element
+                e[i] = (r_earth * d[i] - pos[i]) / rho        # towards the element
             sin_lat = d[0] * pole[0] + d[1] * pole[1] + d[2] * pole[2]
             albedo, emissivity = _albedo_emissivity(sin_lat, season, coefficients)
             cos_sun = d[0] * e_sun[0] + d[1] * e_sun[1] + d[2] * e_sun[2]
-            view = pressure * cos_alpha * d_area / (np.pi * rho * rho)
             visible = view * albedo * max(cos_sun, 0.0)
             infrared = view * emissivity / 4.0
             if normals.shape[0] == 0:
