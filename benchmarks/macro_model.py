@@ -7,12 +7,14 @@ Earth radiation) and with ``satellites.grace-a.macro_model: {builtin: grace}`` a
 For each it prints the post-fit phase residual RMS, the drag / SRP / empirical estimates with
 their formal sigmas, the sub-arc overlap (00-14 h against 10-24 h, RTN RMS over 10-14 h and
 its central 11-13 h) and, between the two, the RTN difference (RMS and mean) of the 24-h
-orbits. The ingest and quality outputs come from a workflow run of the campaign in
+orbits (``--split``: also the plates without Earth radiation and Earth radiation on the
+cannonball, each against the cannonball). The ingest and quality outputs come from a workflow run of the campaign in
 ``--results`` (made there if missing):
 
     snakemake results/quality/grace-a/2007-080.nc --cores 1 --snakefile <repo>/Snakefile \\
         --directory <scratch> --configfile <repo>/config/grace-a-2007.yaml
-    .venv/bin/python benchmarks/macro_model.py --results <scratch>/results [--no-overlap]
+    .venv/bin/python benchmarks/macro_model.py --results <scratch>/results [--no-overlap] \\
+        [--split]
 """
 
 from __future__ import annotations
@@ -24,42 +26,32 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 import yaml
+from float_pod import CONFIG, DATA, DATE, _inputs
 
 from leopod.estimation.arc import ArcData, run_arc
 from leopod.frames.leo_attitude import LeoAttitude
-from leopod.io.antex import read_antex
-from leopod.io.clock import read_rinex_clock
-from leopod.io.sp3 import read_sp3
 from leopod.validation.compare import difference_rtn, rms_rtn
 from leopod.workflow.config import validated
 from leopod.workflow.settings import pod_settings
 
-REPO = Path(__file__).resolve().parents[1]
-DATA = REPO.parent / "shared" / "data" / "grace-a_2007-080"
-CONFIG = REPO / "config" / "grace-a-2007.yaml"
-DATE = "2007-080"
 MASS_KG = 480.0            # the campaign's cannonball mass
 
 
-def _inputs(results: Path) -> ArcData:
-    def load(step, suffix):
-        return [xr.load_dataset(results / step / "grace-a" / f"{DATE}{suffix}.nc")]
-    return ArcData(obs=load("ingest", "_obs"), quality=load("quality", ""),
-                   leo=load("ingest", "_leo"), orbit=read_sp3(DATA / "cod14193.sp3.gz"),
-                   clock=read_rinex_clock(DATA / "cod14193.clk.gz"),
-                   antex=read_antex(DATA / "igs05_1402.atx.gz"))
-
-
-def _macro(cfg: dict) -> dict:
-    """The campaign with the GRACE plates for drag and SRP and Earth radiation on them."""
+def _macro(cfg: dict, plates: bool = True, erp: bool = True) -> dict:
+    """The campaign with the GRACE plates for drag and SRP (``plates``) and Earth radiation
+    (``erp``: on the plates, or on the campaign's SRP cannonball without them)."""
     cfg = copy.deepcopy(cfg)
-    cfg["satellites"]["grace-a"]["macro_model"] = {"builtin": "grace", "mass_kg": MASS_KG}
     forces = cfg["pod"]["forces"]
-    forces["drag"]["plates"] = True
-    forces["srp"]["plates"] = True
-    forces["earth_radiation"] = {"plates": True}
+    if plates:
+        cfg["satellites"]["grace-a"]["macro_model"] = {"builtin": "grace", "mass_kg": MASS_KG}
+        forces["drag"]["plates"] = True
+        forces["srp"]["plates"] = True
+    if erp:
+        srp = forces["srp"]
+        forces["earth_radiation"] = ({"plates": True} if plates else
+                                     {k: srp[k] for k in ("area_m2", "mass_kg",
+                                                          "reflectivity_coefficient")})
     return cfg
 
 
@@ -116,6 +108,8 @@ def main() -> None:
                         help="results/ of a workflow run of the campaign (ingest, quality)")
     parser.add_argument("--no-overlap", action="store_true", help="skip the sub-arcs")
     parser.add_argument("--save", type=Path, help="write both orbits here (netCDF prefix)")
+    parser.add_argument("--split", action="store_true",
+                        help="also the macro model without ERP and the cannonball with ERP")
     args = parser.parse_args()
     if not DATA.exists():
         sys.exit(f"{DATA} is absent: this benchmark needs the real GRACE-A day")
@@ -125,6 +119,11 @@ def main() -> None:
     ball = _solve("cannonball", cfg, data, not args.no_overlap)
     plates = _solve("GRACE macro model + ERP", _macro(cfg), data, not args.no_overlap)
     _rtn("macro model - cannonball, 00-24 h", plates.orbit, ball.orbit)
+    if args.split:
+        for label, variant in (("macro model without ERP", _macro(cfg, erp=False)),
+                               ("cannonball + ERP", _macro(cfg, plates=False))):
+            arc = _solve(label, variant, data, False)
+            _rtn(f"{label} - cannonball, 00-24 h", arc.orbit, ball.orbit)
     if args.save:
         ball.orbit.to_netcdf(f"{args.save}_cannonball.nc")
         plates.orbit.to_netcdf(f"{args.save}_macro.nc")

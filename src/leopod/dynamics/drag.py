@@ -552,11 +552,10 @@ class Drag(_Scaled):
 
     def __init__(self, env, density, cd_area_mass_m2_kg: float, edges_s, *, plates=None,
                  **kwargs):
-        super().__init__(env, edges_s, "drag_scale", **kwargs)
+        super().__init__(env, edges_s, "drag_scale", plates=plates, **kwargs)
         self.density = density
         self.cd_area_mass_m2_kg = float(cd_area_mass_m2_kg)
         self.along_orbit: DensityAlongOrbit | None = None
-        self.plates = plates
 
     def follow(self, positions, step_s: float = 30.0) -> None:
         """Take the density (and the attitude of the plates) along a reference orbit from now
@@ -573,13 +572,12 @@ class Drag(_Scaled):
         n = max(int(np.ceil((hi - lo) / step_s - 1e-9)), _TABLE_POINTS - 1) + 1
         t = np.linspace(lo, hi, n)
         self.along_orbit = DensityAlongOrbit(self.density, self.env, t, positions(t))
-        if self.plates is not None:
-            self.plates.follow(positions)
+        super().follow(positions)
 
     @property
     def ready(self) -> bool:
         """True once the density (and the plates' attitude) follow a reference orbit."""
-        return self.along_orbit is not None and (self.plates is None or self.plates.ready)
+        return self.along_orbit is not None and super().ready
 
     def kernel_data(self) -> tuple:
         """``(edges_s, C_D A/m, density table, plates?, plate data)`` for the compiled force

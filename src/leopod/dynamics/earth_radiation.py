@@ -259,19 +259,9 @@ class EarthRadiation(_Scaled):
                  r_earth_m: float = R_EARTH_EQUATOR_M, plates: Plates | None = None,
                  **kwargs):
         kwargs.setdefault("estimate", False)
-        super().__init__(env, edges_s, "erp_scale", **kwargs)
+        super().__init__(env, edges_s, "erp_scale", plates=plates, **kwargs)
         self.cr_area_mass_m2_kg = float(cr_area_mass_m2_kg)
-        self.rings, self.r_earth_m, self.plates = int(rings), float(r_earth_m), plates
-
-    def follow(self, positions) -> None:
-        """Tabulate the attitude of the plates along a reference orbit (:class:`Plates`)."""
-        if self.plates is not None:
-            self.plates.follow(positions)
-
-    @property
-    def ready(self) -> bool:
-        """True unless plates still wait for their reference orbit."""
-        return self.plates is None or self.plates.ready
+        self.rings, self.r_earth_m = int(rings), float(r_earth_m)
 
     def kernel_data(self) -> tuple:
         """``(edges_s, (tt_ref, C_R A/m, rings, R, coefficients, plates?, plate data))``."""

@@ -403,20 +403,9 @@ class SolarRadiation(_Scaled):
     def __init__(self, env, cr_area_mass_m2_kg: float, edges_s, *, shadow: bool = True,
                  r_earth_m: float = R_EARTH_EQUATOR_M, plates=None, **kwargs):
         kwargs.setdefault("estimate", False)
-        super().__init__(env, edges_s, "srp_scale", **kwargs)
+        super().__init__(env, edges_s, "srp_scale", plates=plates, **kwargs)
         self.cr_area_mass_m2_kg = float(cr_area_mass_m2_kg)
         self.shadow, self.r_earth_m = bool(shadow), float(r_earth_m)
-        self.plates = plates
-
-    def follow(self, positions) -> None:
-        """Tabulate the attitude of the plates along a reference orbit."""
-        if self.plates is not None:
-            self.plates.follow(positions)
-
-    @property
-    def ready(self) -> bool:
-        """True unless plates still wait for their reference orbit."""
-        return self.plates is None or self.plates.ready
 
     def kernel_data(self) -> tuple:
         """``(edges_s, C_R A/m, Earth radius, shadow, plates?, plate data)`` (compiled force
