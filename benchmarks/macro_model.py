@@ -8,13 +8,14 @@ For each it prints the post-fit phase residual RMS, the drag / SRP / empirical e
 their formal sigmas, the sub-arc overlap (00-14 h against 10-24 h, RTN RMS over 10-14 h and
 its central 11-13 h) and, between the two, the RTN difference (RMS and mean) of the 24-h
 orbits (``--split``: also the plates without Earth radiation and Earth radiation on the
-cannonball, each against the cannonball). The ingest and quality outputs come from a workflow run of the campaign in
+cannonball, each against the cannonball; ``--fixed-srp``: both with the SRP scale fixed at 1,
+against their estimated-scale orbits). The ingest and quality outputs come from a workflow run of the campaign in
 ``--results`` (made there if missing):
 
     snakemake results/quality/grace-a/2007-080.nc --cores 1 --snakefile <repo>/Snakefile \\
         --directory <scratch> --configfile <repo>/config/grace-a-2007.yaml
     .venv/bin/python benchmarks/macro_model.py --results <scratch>/results [--no-overlap] \\
-        [--split]
+        [--split] [--fixed-srp]
 """
 
 from __future__ import annotations
@@ -110,6 +111,8 @@ def main() -> None:
     parser.add_argument("--save", type=Path, help="write both orbits here (netCDF prefix)")
     parser.add_argument("--split", action="store_true",
                         help="also the macro model without ERP and the cannonball with ERP")
+    parser.add_argument("--fixed-srp", action="store_true",
+                        help="also both models with the SRP scale fixed at 1 (not estimated)")
     args = parser.parse_args()
     if not DATA.exists():
         sys.exit(f"{DATA} is absent: this benchmark needs the real GRACE-A day")
@@ -119,6 +122,13 @@ def main() -> None:
     ball = _solve("cannonball", cfg, data, not args.no_overlap)
     plates = _solve("GRACE macro model + ERP", _macro(cfg), data, not args.no_overlap)
     _rtn("macro model - cannonball, 00-24 h", plates.orbit, ball.orbit)
+    if args.fixed_srp:
+        for label, variant, estimated in (("cannonball", cfg, ball),
+                                          ("GRACE macro model + ERP", _macro(cfg), plates)):
+            variant = copy.deepcopy(variant)
+            variant["pod"]["forces"]["srp"]["estimate"] = False
+            arc = _solve(f"{label}, SRP scale fixed at 1", variant, data, False)
+            _rtn(f"{label}: SRP fixed - SRP estimated, 00-24 h", arc.orbit, estimated.orbit)
     if args.split:
         for label, variant in (("macro model without ERP", _macro(cfg, erp=False)),
                                ("cannonball + ERP", _macro(cfg, plates=False))):
