@@ -491,4 +491,8 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
     model = ForceModel(forces)
     logger.info("force model: %s; %d parameters", ", ".join(type(f).__name__ for f in forces),
                 model.n_params)
+    on_plates = [type(f).__name__ for f in forces if getattr(f, "plates", None) is not None]
+    if on_plates:
+        logger.info("%s on the %d plates of the macro model, attitude %s", ", ".join(on_plates),
+                    macro.area_m2.size, "nominal" if attitude is None else attitude.describe())
     return model
