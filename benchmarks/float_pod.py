@@ -54,9 +54,11 @@ def _prepare() -> None:
                        cwd=REPO, check=True)
 
 
-def _inputs():
+def _inputs(results: Path = RESULTS) -> ArcData:
+    """The arc's inputs: ingest and quality outputs of a workflow run in ``results``, the
+    CODE products of the day."""
     def load(step, suffix):
-        return [xr.load_dataset(RESULTS / step / "grace-a" / f"{DATE}{suffix}.nc")]
+        return [xr.load_dataset(results / step / "grace-a" / f"{DATE}{suffix}.nc")]
     return ArcData(obs=load("ingest", "_obs"), quality=load("quality", ""),
                    leo=load("ingest", "_leo"), orbit=read_sp3(DATA / "cod14193.sp3.gz"),
                    clock=read_rinex_clock(DATA / "cod14193.clk.gz"),

@@ -64,7 +64,8 @@ def run(sm) -> None:
     configure_logging(sm)
     p = sm.params
     main(sm.wildcards.date, plain(sm.input), plain(sm.output),
-         **pod_settings(p.signals, p.pod, p.code_bias), pco_body_m=leo_antenna_of(p.pco_body_m, p.leo_antenna, plain(sm.input)),
+         **pod_settings(p.signals, p.pod, p.code_bias, p.macro_model),
+         pco_body_m=leo_antenna_of(p.pco_body_m, p.leo_antenna, plain(sm.input)),
          yaw_flips=p.yaw_flips, ambiguity=ArSettings.from_config(p.settings), title=p.title,
          sp3_id=p.sp3_id, signal_bias=getattr(p, "signal_bias", None),
          attitude=load_leo_attitude(p.attitude, attitude_files(sm)),

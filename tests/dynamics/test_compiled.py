@@ -2,7 +2,8 @@
 reference orbit (leopod.dynamics.drag.DensityAlongOrbit) and pulses without restart in the
 Gauss–Jackson integrator.
 
-Authorities: the per-force implementation (:meth:`ForceModel.evaluate`, each force's own
+Authorities: the per-force implementation (for the plate forces too, whose Python path calls
+the same kernels through each force's own adapter) (:meth:`ForceModel.evaluate`, each force's own
 kernel and Python glue, tested against its references in test_force_model.py) for the
 compiled sums; the density models evaluated directly (NRLMSISE-00 through pymsis, modified
 Harris–Priester) for the tabulated density; the restarted integration (a new start-up at
@@ -10,6 +11,8 @@ each pulse, the previous method) for the pulses applied through the first sum.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 import pytest
@@ -22,9 +25,14 @@ from leopod.dynamics.force_config import ForceModelSettings, build_force_model
 from leopod.dynamics.forces import ForceModel, PointMassGravity, apriori_parameters
 from leopod.dynamics.integrator import apply_pulses, integrate
 from leopod.dynamics.model_files import resolve_model_paths
+from leopod.dynamics.srp import MacroModel
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.frames.rtn import rtn_basis
 
 T_REF = np.datetime64("2023-03-01T00:00:00", "ns")
+#: The nominal law turned by a constant yaw, pitch and roll (the plates see every axis).
+YAWED = LeoAttitude.of({"attitude_offset": {"yaw_deg": 30.0, "pitch_deg": -5.0,
+                                            "roll_deg": 3.0}})
 ARC_S = 3 * 3600.0
 RADIUS_M = 6878e3
 
@@ -44,8 +52,22 @@ def _state(t_s: float) -> np.ndarray:
     return np.concatenate([pos, vel])
 
 
-def _forces(density: str, degree: int = 40) -> ForceModelSettings:
-    drag = {"area_m2": 1.0, "mass_kg": 500.0, "density": density, "interval_s": 3600.0}
+#: A box with a Sun-tracking array (both faces) and distinct infrared coefficients.
+BOX_WING = MacroModel(
+    normal_body=[[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1],
+                 [0, 0, 1], [0, 0, -1]],
+    area_m2=[1.0, 1.1, 2.0, 2.1, 3.0, 3.1, 9.0, 9.0],
+    specular=[0.2, 0.2, 0.3, 0.3, 0.1, 0.1, 0.05, 0.0],
+    diffuse=[0.1, 0.1, 0.2, 0.2, 0.3, 0.3, 0.05, 0.1],
+    specular_ir=[0.1, 0.1, 0.1, 0.1, 0.0, 0.0, 0.02, 0.0],
+    diffuse_ir=[0.2, 0.2, 0.1, 0.1, 0.2, 0.2, 0.1, 0.1],
+    drag_coefficient=[2.2, 2.2, 2.3, 2.3, 2.4, 2.4, 2.5, 2.5], mass_kg=500.0,
+    panel=[0, 0, 0, 0, 0, 0, 1, -1])
+
+
+def _forces(density: str, degree: int = 40, plates: bool = False) -> ForceModelSettings:
+    drag = {"area_m2": 1.0, "mass_kg": 500.0, "density": density, "interval_s": 3600.0,
+            "plates": plates}
     if density == "msis":
         drag["space_weather"] = "satkit:SW-All.csv"
     return ForceModelSettings.from_config(resolve_model_paths({
@@ -54,14 +76,19 @@ def _forces(density: str, degree: int = 40) -> ForceModelSettings:
         "third_body": {"sun": True, "moon": True},
         "relativity": {"lense_thirring": True, "de_sitter": True},
         "drag": drag,
-        "srp": {"area_m2": 2.0, "mass_kg": 500.0, "interval_s": 5400.0, "estimate": True},
+        "srp": {"area_m2": 2.0, "mass_kg": 500.0, "interval_s": 5400.0, "estimate": True,
+                "plates": plates},
+        "earth_radiation": {"area_m2": 2.0, "mass_kg": 500.0, "interval_s": 5400.0,
+                            "estimate": True, "plates": plates},
         "empirical": {"interval_s": 3600.0, "directions": ["R", "T", "N"],
                       "terms": ["const", "cos", "sin"]},
-    }))
+    }), macro_model=BOX_WING if plates else None)
 
 
-def _model(density: str, degree: int = 40) -> tuple[ForceModel, np.ndarray]:
-    model = build_force_model(_forces(density, degree), T_REF, 0.0, ARC_S)
+def _model(density: str, degree: int = 40, plates: bool = False) -> tuple[ForceModel,
+                                                                          np.ndarray]:
+    model = build_force_model(_forces(density, degree, plates), T_REF, 0.0, ARC_S,
+                              attitude=YAWED if plates else None)
     model.follow(_circular)
     params = apriori_parameters(model)
     rng = np.random.default_rng(7)
@@ -71,14 +98,18 @@ def _model(density: str, degree: int = 40) -> tuple[ForceModel, np.ndarray]:
     return model, params
 
 
-@pytest.mark.parametrize("density", ["msis", "harris_priester"])
-def test_compiled_sum_equals_the_per_force_model(density):
+@pytest.mark.parametrize(("density", "plates"), [("msis", False), ("harris_priester", False),
+                                                ("harris_priester", True)])
+def test_compiled_sum_equals_the_per_force_model(density, plates):
     """Accelerations and all partials of the compiled sum equal ForceModel.evaluate to 1e-12
-    (relative to the largest element of each), off the reference orbit by up to 2 km."""
-    model, params = _model(density)
+    (relative to the largest element of each), off the reference orbit by up to 2 km: with
+    cannonball forces and with drag, SRP and Earth radiation on a box-wing flown with an
+    offset attitude law (issue 18's agreement for the plate forces)."""
+    model, params = _model(density, plates=plates)
     compiled = CompiledForceModel.of(model)
     assert compiled is not None
     rng = np.random.default_rng(11)
+    acted = np.zeros(model.n_params)
     for t in np.concatenate([[0.0, ARC_S, 3600.0], rng.uniform(0.0, ARC_S, 20)]):
         state = _state(t)
         state[:3] += rng.uniform(-2000.0, 2000.0, 3)
@@ -89,6 +120,38 @@ def test_compiled_sum_equals_the_per_force_model(density):
             scale = np.abs(e).max()
             assert np.abs(g - e).max() <= 1e-12 * scale, (name, t)
         assert np.count_nonzero(got[3]) > 0
+        acted += np.abs(got[3]).max(axis=0)
+    for prefix in ("drag_scale", "srp_scale", "erp_scale"):     # each force acted (SRP: lit)
+        assert max(a for a, n in zip(acted, model.parameters) if n.startswith(prefix)) > 0.0
+
+
+def test_plate_forces_differ_from_the_cannonball():
+    """The plate forces are not the cannonball ones in disguise: the unscaled drag, SRP and
+    Earth radiation of the box-wing differ from the cannonball's by more than 10 % (areas
+    and coefficients differ), and drag stays along −v_r (no lift, M&G 2000 sec. 3.5.1)."""
+    ball, _ = _model("harris_priester")
+    box, _ = _model("harris_priester", plates=True)
+
+    def unscaled(model, t, state):
+        _, _, _, da_dp = CompiledForceModel.of(model).evaluate(t, state[:3], state[3:],
+                                                                apriori_parameters(model))
+        return {p: da_dp[:, [i for i, n in enumerate(model.parameters)
+                             if n.startswith(p)]].sum(axis=1)
+                for p in ("drag_scale", "srp_scale", "erp_scale")}
+    lit = (t for t in np.arange(0.0, ARC_S, 300.0)
+           if np.any(unscaled(ball, t, _state(t))["srp_scale"]))
+    t = next(lit)
+    state = _state(t)
+    got = {"ball": unscaled(ball, t, state), "box": unscaled(box, t, state)}
+    for p in got["ball"]:
+        a, b = got["ball"][p], got["box"][p]
+        assert np.linalg.norm(a - b) > 0.1 * np.linalg.norm(a), p
+    drag = got["box"]["drag_scale"]
+    rot = box.forces[0].env.rotation(t)[0]
+    vrel = state[3:] - np.cross(7.292115e-5 * rot[:, 2], state[:3])
+    assert np.linalg.norm(np.cross(drag, vrel)) < 1e-9 * np.linalg.norm(drag) * np.linalg.norm(
+        vrel)
+    assert drag @ vrel < 0.0
 
 
 def test_no_compiled_form_without_kernels_or_reference_orbit():
@@ -98,6 +161,18 @@ def test_no_compiled_form_without_kernels_or_reference_orbit():
     assert CompiledForceModel.of(model) is None
     model.follow(_circular)
     assert CompiledForceModel.of(model) is not None
+    plated = build_force_model(_forces("harris_priester", plates=True), T_REF, 0.0, ARC_S)
+    assert CompiledForceModel.of(plated) is None       # no attitude table yet
+    plated.follow(_circular)
+    assert CompiledForceModel.of(plated) is not None
+
+
+def test_plates_need_a_macro_model():
+    """plates: true without satellites.<sat>.macro_model is a clear error naming both."""
+    settings = _forces("harris_priester", plates=True)
+    settings = dataclasses.replace(settings, macro_model=None)
+    with pytest.raises(ValueError, match="drag.*macro_model"):
+        build_force_model(settings, T_REF, 0.0, ARC_S)
 
 
 @pytest.fixture

@@ -841,6 +841,11 @@ def sat_attitude(wildcards):
             for key in ("attitude", "yaw_steering", "attitude_offset", "attitude_file")}
 
 
+def sat_macro_model(wildcards):
+    """The satellite's macro model section (plates of pod.forces.<force>.plates), or None."""
+    return sat_config(wildcards)["macro_model"]
+
+
 def attitude_inputs(wildcards):
     """{'attitude': the satellite's attitude files of the days the job's arc reaches} for the
     'file' attitude law (a daily step reads its neighbours too: a day's last epochs lie

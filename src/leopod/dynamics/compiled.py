@@ -3,8 +3,8 @@
 :class:`leopod.dynamics.forces.ForceModel` sums Python force objects, each calling its own
 jitted kernel: ~100 µs of Python glue per evaluation on top of the kernels. Here the forces
 of :func:`leopod.dynamics.force_config.build_force_model` (Earth gravity with tides, Sun and
-Moon, relativity, drag, solar radiation pressure, empirical accelerations,
-manoeuvres) are evaluated by one
+Moon, relativity, drag, solar radiation pressure, Earth radiation pressure, empirical
+accelerations, manoeuvres; drag and radiation on a cannonball or on plates) are evaluated by one
 numba function, :func:`force_sum`, from the data of the force objects (their
 ``kernel_data()``): the same kernels, the same interpolated Earth rotation, Sun and Moon, the
 same sums in the same order, so accelerations and partials equal those of
@@ -13,8 +13,10 @@ integrator calls it from compiled code (:func:`leopod.dynamics.gauss_jackson.gau
 
 Drag needs its density along a reference orbit (:meth:`leopod.dynamics.drag.Drag.follow`):
 the density models are Python (pymsis), so they are tabulated per arc instead of called per
-evaluation. A force model holding any other force (e.g. the point-mass field of the tests,
-:class:`leopod.dynamics.forces.ConstantAcceleration`), or drag without a reference orbit, has
+evaluation; plate forces likewise need the attitude along it
+(:class:`leopod.dynamics.plates.Plates`). A force model holding any other force (e.g. the
+point-mass field of the tests, :class:`leopod.dynamics.forces.ConstantAcceleration`), or drag
+or plates without a reference orbit, has
 no compiled form (:meth:`CompiledForceModel.of` returns None) and is integrated through the
 Python path.
 """
@@ -25,19 +27,22 @@ import numba
 import numpy as np
 
 from leopod.constants import OMEGA_EARTH_RAD_S
-from leopod.dynamics.drag import Drag, _density_at, _drag_kernel
+from leopod.dynamics.drag import Drag, _density_at, _drag_kernel, _facing_area
+from leopod.dynamics.earth_radiation import EarthRadiation, erp_kernel
 from leopod.dynamics.empirical import Empirical, _local_partials
 from leopod.dynamics.forces import ForceModel
 from leopod.dynamics.gravity_field import EarthGravity, _gravity_kernel
 from leopod.dynamics.manoeuvre import Manoeuvres
+from leopod.dynamics.plates import plate_normals_at
 from leopod.dynamics.relativity import Relativity, _relativity_kernel
-from leopod.dynamics.srp import SolarRadiation, _cannonball
+from leopod.dynamics.srp import SolarRadiation, _cannonball, _plates, absent_plates
 from leopod.dynamics.third_body import ThirdBodies, _third_body_kernel
 from leopod.numerics.interpolate import lagrange_equidistant
 
 __all__ = ["CompiledForceModel", "fill_acceleration", "force_sum"]
 
-_OPTIONAL = (ThirdBodies, Relativity, Drag, SolarRadiation, Empirical, Manoeuvres)
+_OPTIONAL = (ThirdBodies, Relativity, Drag, SolarRadiation, EarthRadiation, Empirical,
+             Manoeuvres)
 
 
 @numba.njit(cache=True)
@@ -63,7 +68,7 @@ def force_sum(t, pos, vel, params, data, acc, da_dr, da_dv, da_dp):  # pragma: n
     Arguments and results (filled in place) as :meth:`leopod.dynamics.forces.ForceModel.evaluate`:
     ``acc`` (3,), ``da_dr`` and ``da_dv`` (3, 3), ``da_dp`` (3, P).
     """
-    gravity, third, relativity, drag, srp, empirical, manoeuvre = data
+    gravity, third, relativity, drag, srp, erp, empirical, manoeuvre = data
     zero3 = np.zeros((3, 3))
     acc[:] = 0.0
     da_dr[:, :] = 0.0
@@ -94,7 +99,15 @@ def force_sum(t, pos, vel, params, data, acc, da_dr, da_dv, da_dp):  # pragma: n
         skew = np.array([[0.0, -omega[2], omega[1]], [omega[2], 0.0, -omega[0]],
                          [-omega[1], omega[0], 0.0]])
         rho, grad_rho = _density_at(t, pos, table)
-        a0, dr0, dv0 = _drag_kernel(vrel, rho, grad_rho, np.zeros(3), True, coef, skew)
+        if drag[5]:             # plates: facing area along the flow, 1/m
+            plates = drag[6]
+            bodies = np.empty(9)
+            lagrange_equidistant(t, third[1][0], third[1][1], third[1][2], third[1][3], bodies)
+            normals = plate_normals_at(t, pos, bodies[0:3].copy(), plates)
+            w = _facing_area(normals, vrel, plates[10], plates[1])
+            a0, dr0, dv0 = _drag_kernel(vrel, rho, grad_rho, w, False, 1.0 / plates[9], skew)
+        else:
+            a0, dr0, dv0 = _drag_kernel(vrel, rho, grad_rho, np.zeros(3), True, coef, skew)
         _add(acc, da_dr, da_dv, a0, dr0, dv0, params[offset + k])
         da_dp[:, offset + k] = a0
     if srp[0]:
@@ -103,8 +116,21 @@ def force_sum(t, pos, vel, params, data, acc, da_dr, da_dv, da_dp):  # pragma: n
         bodies = np.empty(9)
         grid = third[1]
         lagrange_equidistant(t, grid[0], grid[1], grid[2], grid[3], bodies)
-        a0, g0 = _cannonball(pos, bodies[0:3], coef, r_earth, shadow)
+        sun = bodies[0:3].copy()
+        if srp[6]:
+            plates = srp[7]
+            normals = plate_normals_at(t, pos, sun, plates)
+            a0, g0 = _plates(pos, sun, normals, plates[1], plates[2], plates[3], plates[9],
+                             r_earth, shadow)
+        else:
+            a0, g0 = _cannonball(pos, sun, coef, r_earth, shadow)
         _add(acc, da_dr, da_dv, a0, g0, zero3, params[offset + k])
+        da_dp[:, offset + k] = a0
+    if erp[0]:
+        offset, edges = erp[1], erp[2]
+        k = _interval(edges, t)
+        a0 = erp_kernel(t, pos, vel, gravity[0], third[1], erp[3])
+        _add(acc, da_dr, da_dv, a0, zero3, zero3, params[offset + k])
         da_dp[:, offset + k] = a0
     if empirical[0]:
         offset, bounds, dir_idx, term_idx = empirical[1], empirical[2], empirical[3], empirical[4]
@@ -160,8 +186,11 @@ def _absent(force_type: type, body_grid: tuple) -> tuple:
     edges = np.zeros(2)
     return {ThirdBodies: (False, body_grid, np.zeros(2)),
             Relativity: (False, body_grid, False, False),
-            Drag: (False, 0, edges, 0.0, (0.0, 1.0, 2, np.zeros((2, 7)))),
-            SolarRadiation: (False, 0, edges, 0.0, 0.0, False),
+            Drag: (False, 0, edges, 0.0, (0.0, 1.0, 2, np.zeros((2, 7))), False,
+                   absent_plates()),
+            SolarRadiation: (False, 0, edges, 0.0, 0.0, False, False, absent_plates()),
+            EarthRadiation: (False, 0, edges, (0.0, 0.0, 2, 0.0, np.zeros(6), False,
+                                               absent_plates())),
             Empirical: (False, 0, edges, np.zeros(1, np.int64), np.zeros(1, np.int64)),
             Manoeuvres: (False, 0, edges, edges),
             }[force_type]
@@ -174,7 +203,8 @@ class CompiledForceModel:
     ----------
     force_model : ForceModel
     data : tuple
-        ``(gravity, third_body, relativity, drag, srp, empirical, manoeuvre)`` kernel data.
+        ``(gravity, third_body, relativity, drag, srp, erp, empirical, manoeuvre)`` kernel
+        data.
     env : ArcEnvironment
         The grids the forces interpolate (their span limits the integration).
     """
@@ -194,7 +224,7 @@ class CompiledForceModel:
         env = gravity.env
         if any(getattr(f, "env", env) is not env for f in forces):
             return None
-        if any(isinstance(f, Drag) and f.along_orbit is None for f in forces):
+        if not all(getattr(f, "ready", True) for f in forces):
             return None
         body_grid = env.body_grid.args()
         slots = {k: _absent(k, body_grid) for k in _OPTIONAL}

@@ -42,7 +42,8 @@ atmosphere along G. For MSIS the gradient is vertical (above), so a deviation of
 reference orbit errs by about (δ/H)²/2 × |dH/dh| in ln ρ (H ≈ 60 km at 500 km: ~3e-7 for
 δ = 100 m). The 3-hourly ap and daily F10.7 steps of MSIS are smoothed over ± 4 nodes.
 
-:class:`Drag` is the cannonball force of the orbit integrator, a scale factor per interval.
+:class:`Drag` is the force of the orbit integrator (cannonball or plates), a scale factor per
+interval.
 """
 
 from __future__ import annotations
@@ -54,6 +55,7 @@ import xarray as xr
 
 from leopod.constants import GPST_MINUS_TAI_S, OMEGA_EARTH_RAD_S, TT_MINUS_TAI_S
 from leopod.dynamics.forces import _Scaled
+from leopod.dynamics.srp import absent_plates
 from leopod.numerics.interpolate import lagrange_equidistant
 from leopod.time.calendar import J2000_TT
 from leopod.time.scales import tai_minus_utc_s
@@ -207,12 +209,21 @@ def drag_plates(pos_m, vel_m_s, density_kg_m3: float, grad_density_kg_m4, normal
         As :func:`drag_cannonball`.
     """
     pos, vel, omega = _state(pos_m, vel_m_s, omega_rad_s)
-    normals = np.asarray(normals, dtype=float)
-    facing = normals @ _relative_velocity(pos, vel, omega) > 0.0
-    cd_area = model.drag_coefficient * model.area_m2
-    w = cd_area[facing] @ normals[facing]
+    w = _facing_area(np.ascontiguousarray(normals, dtype=float),
+                     _relative_velocity(pos, vel, omega), model.drag_coefficient, model.area_m2)
     return _drag(pos, vel, density_kg_m3, grad_density_kg_m4, w, False,
                  1.0 / float(model.mass_kg), scale, omega)
+
+
+@numba.njit(cache=True)
+def _facing_area(normals, vrel, cd, area):  # pragma: no cover - numba
+    """``w = Σ C_D,i A_i n_i`` over the plates facing the flow (n_i·v_r > 0) [m²]."""
+    w = np.zeros(3)
+    for p in range(normals.shape[0]):
+        if normals[p, 0] * vrel[0] + normals[p, 1] * vrel[1] + normals[p, 2] * vrel[2] > 0.0:
+            for i in range(3):
+                w[i] += cd[p] * area[p] * normals[p, i]
+    return w
 
 
 # ---------------------------------------------------------------------------- geodetic helper
@@ -516,10 +527,12 @@ class DensityAlongOrbit:
 
 
 class Drag(_Scaled):
-    """Atmospheric drag on a cannonball, one scale factor per interval (M&G 2000, sec. 3.5).
+    """Atmospheric drag on a cannonball or on the plates of a macro model, one scale factor
+    per interval (M&G 2000, sec. 3.5).
 
-    ``a = −½ s_k ρ (C_D A/m) |v_r| v_r``, ``v_r = v − ω × r`` with ω the Earth's rotation
-    about the CIP (``ω_E R ẑ``, R the ITRF -> GCRF matrix); ρ and ∇ρ from ``density``
+    ``a = −½ s_k ρ (C_D A/m) |v_r| v_r`` (cannonball) or ``a = −½ s_k (ρ/m) (wᵀ v_r) v_r``
+    (plates, :func:`drag_plates`), ``v_r = v − ω × r`` with ω the Earth's rotation about the
+    CIP (``ω_E R ẑ``, R the ITRF -> GCRF matrix); ρ and ∇ρ from ``density``
     (:class:`leopod.dynamics.drag.HarrisPriesterDensity` or ``MsisDensity``).
 
     Parameters
@@ -528,21 +541,25 @@ class Drag(_Scaled):
     density : callable
         ``density(t_tt_j2000_s, pos_gcrf_m, rot_gcrf_to_itrf, sun_gcrf_m) -> (ρ, ∇ρ)``.
     cd_area_mass_m2_kg : float
-        C_D A/m [m²/kg].
+        C_D A/m [m²/kg] of the cannonball (unused with ``plates``).
     edges_s : array_like, shape (n + 1,)
         Interval boundaries [s] of the scale factors ``drag_scale_k``.
+    plates : leopod.dynamics.plates.Plates, optional
+        Macro model and attitude (None: cannonball).
     apriori, estimate, sigma
         A priori scale, whether it is estimated, a priori constraint (None: free).
     """
 
-    def __init__(self, env, density, cd_area_mass_m2_kg: float, edges_s, **kwargs):
-        super().__init__(env, edges_s, "drag_scale", **kwargs)
+    def __init__(self, env, density, cd_area_mass_m2_kg: float, edges_s, *, plates=None,
+                 **kwargs):
+        super().__init__(env, edges_s, "drag_scale", plates=plates, **kwargs)
         self.density = density
         self.cd_area_mass_m2_kg = float(cd_area_mass_m2_kg)
         self.along_orbit: DensityAlongOrbit | None = None
 
     def follow(self, positions, step_s: float = 30.0) -> None:
-        """Take the density along a reference orbit from now on (:class:`DensityAlongOrbit`).
+        """Take the density (and the attitude of the plates) along a reference orbit from now
+        on (:class:`DensityAlongOrbit`, :class:`leopod.dynamics.plates.Plates`).
 
         Parameters
         ----------
@@ -555,23 +572,33 @@ class Drag(_Scaled):
         n = max(int(np.ceil((hi - lo) / step_s - 1e-9)), _TABLE_POINTS - 1) + 1
         t = np.linspace(lo, hi, n)
         self.along_orbit = DensityAlongOrbit(self.density, self.env, t, positions(t))
+        super().follow(positions)
+
+    @property
+    def ready(self) -> bool:
+        """True once the density (and the plates' attitude) follow a reference orbit."""
+        return self.along_orbit is not None and super().ready
 
     def kernel_data(self) -> tuple:
-        """``(edges_s, C_D A/m, density table)`` for the compiled force model (needs
-        :meth:`follow` first)."""
+        """``(edges_s, C_D A/m, density table, plates?, plate data)`` for the compiled force
+        model (needs :meth:`follow` first)."""
         if self.along_orbit is None:
             raise ValueError("drag: no reference orbit to take the density along (follow())")
-        return self.edges_s, self.cd_area_mass_m2_kg, self.along_orbit.args()
+        plates = absent_plates() if self.plates is None else self.plates.kernel_data()
+        return (self.edges_s, self.cd_area_mass_m2_kg, self.along_orbit.args(),
+                self.plates is not None, plates)
 
     def _unscaled(self, t_s, pos, vel, scale):
         rot = self.env.rotation(t_s)[0]
+        bodies = self.env.body_grid(t_s)[0]
         if self.along_orbit is not None:
             rho, grad_rho = self.along_orbit(t_s, pos)
         else:
-            bodies = self.env.body_grid(t_s)[0]
             rho, grad_rho = self.density(self.env.tt_j2000_ref_s + t_s, pos, rot.T,
                                          bodies[0:3])
-        acc, da_dr, da_dv, a0 = drag_cannonball(pos, vel, rho, grad_rho, self.cd_area_mass_m2_kg,
-                                                scale, omega_rad_s=OMEGA_EARTH_RAD_S * rot[:, 2])
-        return acc, da_dr, da_dv, a0
-
+        omega = OMEGA_EARTH_RAD_S * rot[:, 2]
+        if self.plates is None:
+            return drag_cannonball(pos, vel, rho, grad_rho, self.cd_area_mass_m2_kg, scale,
+                                   omega_rad_s=omega)
+        return drag_plates(pos, vel, rho, grad_rho, self.plates.normals(t_s, pos, bodies[0:3]),
+                           self.plates.model, scale, omega_rad_s=omega)

@@ -16,8 +16,14 @@ TT − GPST is constant, ``t_s`` is also GPS seconds since ``t_ref``):
   neglected, ~1e-9 relative);
 * :class:`leopod.dynamics.drag.Drag` — cannonball, Harris–Priester or NRLMSISE-00 density, a
   scale factor per interval (M&G 2000, sec. 3.5);
+
+drag, SRP and Earth radiation act on the plates of the satellite's macro model instead of a
+cannonball when their section says ``plates: true`` (``ForceModelSettings.macro_model`` and
+the ``attitude`` of :func:`build_force_model`; :mod:`leopod.dynamics.plates`);
 * :class:`leopod.dynamics.srp.SolarRadiation` — cannonball with the conical Earth shadow, scale
   factor(s) (M&G 2000, sec. 3.4);
+* :class:`leopod.dynamics.earth_radiation.EarthRadiation` — albedo and infrared of the Earth
+  (Knocke et al. 1988), scale factor(s);
 * :class:`leopod.dynamics.empirical.Empirical` — constant + once-per-revolution accelerations
   per interval;
 * :class:`leopod.dynamics.manoeuvre.Manoeuvres` — a constant R/T/N acceleration over each burn
@@ -32,14 +38,14 @@ with its gradient): gravity ~40 µs, MSIS drag ~50 µs (Harris–Priester ~30 µ
 Configuration: :class:`ForceModelSettings`, one typed section per force
 (:class:`GravitySettings`, :class:`TideSettings`, :class:`ThirdBodySettings`,
 :class:`RelativitySettings`, :class:`DragSettings`, :class:`SrpSettings`,
-:class:`EmpiricalSettings`, :class:`ManoeuvreSettings`) and the grids of :class:`EnvironmentSettings`, built with
+:class:`EarthRadiationSettings`, :class:`EmpiricalSettings`, :class:`ManoeuvreSettings`) and the grids of :class:`EnvironmentSettings`, built with
 :meth:`ForceModelSettings.from_config` from the ``pod.forces`` section of a campaign (or any
 mapping of that shape). A force is off when its section is absent, ``None``, ``False`` or has
 ``enabled: False``; the keys of a section present default to the campaign schema's
 (``$defs/force_*``). Model files are paths (``satkit:`` names are resolved before, at the
 script boundary, :func:`leopod.dynamics.model_files.resolve_model_paths`); the gravity field
-may also be an xarray Dataset of :func:`leopod.io.icgem.read_icgem`. In the drag, srp and
-empirical sections ``apriori``, ``estimate`` and ``sigma`` (a-priori constraint, None = free)
+may also be an xarray Dataset of :func:`leopod.io.icgem.read_icgem`. In the drag, srp,
+earth_radiation and empirical sections ``apriori``, ``estimate`` and ``sigma`` (a-priori constraint, None = free)
 are read by :func:`leopod.dynamics.forces.apriori_parameters`,
 :func:`~leopod.dynamics.forces.estimated_parameters` and
 :func:`~leopod.dynamics.forces.constraint_sigmas`.
@@ -58,23 +64,27 @@ import xarray as xr
 
 from leopod.astro.ephemeris import Ephemeris
 from leopod.dynamics.drag import Drag, HarrisPriesterDensity, MsisDensity
+from leopod.dynamics.earth_radiation import EarthRadiation
 from leopod.dynamics.empirical import Empirical, EmpiricalModel
 from leopod.dynamics.environment import ArcEnvironment
 from leopod.dynamics.forces import Force, ForceModel, PointMassGravity, interval_edges
 from leopod.dynamics.gravity_field import EarthGravity, GravityField, decimal_year
 from leopod.dynamics.manoeuvre import Manoeuvres
 from leopod.dynamics.ocean_tides import OceanTides
+from leopod.dynamics.plates import Plates
 from leopod.dynamics.relativity import Relativity
-from leopod.dynamics.srp import SolarRadiation
+from leopod.dynamics.srp import MacroModel, SolarRadiation
 from leopod.dynamics.third_body import ThirdBodies
 from leopod.dynamics.tides import TideModel
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.icgem import read_icgem
 from leopod.io.manoeuvre import Manoeuvre
 from leopod.io.space_weather import read_space_weather
 from leopod.settings import Settings
 from leopod.time.eop import EarthOrientation
 
-__all__ = ["DragSettings", "EmpiricalSettings", "EnvironmentSettings", "ForceModelSettings",
+__all__ = ["DragSettings", "EarthRadiationSettings", "EmpiricalSettings", "EnvironmentSettings",
+           "ForceModelSettings",
            "GravitySettings", "ManoeuvreSettings", "RelativitySettings", "SrpSettings", "ThirdBodySettings",
            "TideSettings", "arc_environment", "build_force_model"]
 
@@ -141,7 +151,8 @@ class RelativitySettings(Settings):
 
 @dataclass(frozen=True)
 class DragSettings(Settings):
-    """Cannonball drag (C_D A/m or coefficient × area / mass), density model, scale factors."""
+    """Drag on a cannonball (C_D A/m or coefficient × area / mass) or on the satellite's
+    plates, density model, scale factors."""
 
     SCHEMA_DEF = "force_drag"
 
@@ -149,6 +160,7 @@ class DragSettings(Settings):
     drag_coefficient: float
     area_m2: float | None
     mass_kg: float | None
+    plates: bool
     density: str | None
     space_weather: str | None
     msis_version: float
@@ -161,7 +173,8 @@ class DragSettings(Settings):
 
 @dataclass(frozen=True)
 class SrpSettings(Settings):
-    """Cannonball SRP (C_R A/m or coefficient × area / mass), shadow, scale factors."""
+    """SRP on a cannonball (C_R A/m or coefficient × area / mass) or on the satellite's
+    plates, shadow, scale factors."""
 
     SCHEMA_DEF = "force_srp"
 
@@ -169,7 +182,28 @@ class SrpSettings(Settings):
     reflectivity_coefficient: float
     area_m2: float | None
     mass_kg: float | None
+    plates: bool
     shadow: bool
+    r_earth_m: float
+    interval_s: float | None
+    apriori: float
+    estimate: bool
+    sigma: float | None
+
+
+@dataclass(frozen=True)
+class EarthRadiationSettings(Settings):
+    """Earth radiation pressure (albedo + infrared) on a cannonball (C_R A/m or coefficient ×
+    area / mass) or the plates, rings of the visible cap, scale factors."""
+
+    SCHEMA_DEF = "force_earth_radiation"
+
+    cr_area_mass_m2_kg: float | None
+    reflectivity_coefficient: float
+    area_m2: float | None
+    mass_kg: float | None
+    plates: bool
+    rings: int
     r_earth_m: float
     interval_s: float | None
     apriori: float
@@ -203,13 +237,15 @@ class ManoeuvreSettings(Settings):
 
 _SECTIONS = {"gravity": GravitySettings, "tides": TideSettings,
              "third_body": ThirdBodySettings, "relativity": RelativitySettings,
-             "drag": DragSettings, "srp": SrpSettings, "empirical": EmpiricalSettings,
+             "drag": DragSettings, "srp": SrpSettings,
+             "earth_radiation": EarthRadiationSettings, "empirical": EmpiricalSettings,
              "manoeuvre": ManoeuvreSettings}
 
 
 @dataclass(frozen=True)
 class ForceModelSettings:
-    """The force model of an arc: one section per force (None: off) and the environment."""
+    """The force model of an arc: one section per force (None: off), the environment and
+    the satellite's plates (None: none)."""
 
     environment: EnvironmentSettings
     gravity: GravitySettings | None
@@ -218,12 +254,17 @@ class ForceModelSettings:
     relativity: RelativitySettings | None
     drag: DragSettings | None
     srp: SrpSettings | None
+    earth_radiation: EarthRadiationSettings | None
     empirical: EmpiricalSettings | None
     manoeuvre: ManoeuvreSettings | None
+    macro_model: MacroModel | None = None
 
     @classmethod
-    def from_config(cls, section: Mapping) -> ForceModelSettings:
-        """Settings from a ``pod.forces``-shaped mapping (module docstring).
+    def from_config(cls, section: Mapping,
+                    macro_model: MacroModel | None = None) -> ForceModelSettings:
+        """Settings from a ``pod.forces``-shaped mapping (module docstring), with the plates
+        of the satellite (``satellites.<sat>.macro_model``,
+        :func:`leopod.dynamics.plates.macro_model_from_config`) for the forces on plates.
 
         Raises
         ------
@@ -237,7 +278,7 @@ class ForceModelSettings:
             raise ValueError(f"force config: unknown sections {unknown} "
                              f"(known: {sorted([*_SECTIONS, 'environment'])})")
         return cls(environment=_typed("environment", section.get("environment") or {},
-                                      EnvironmentSettings),
+                                      EnvironmentSettings), macro_model=macro_model,
                    **{name: _typed(name, section.get(name), kind)
                       for name, kind in _SECTIONS.items()})
 
@@ -318,7 +359,24 @@ def _gravity(cfg: GravitySettings, tides_cfg: TideSettings | None,
     return EarthGravity(field, env, tides, gradient_field=gradient_field, **grid)
 
 
-def _drag(cfg: DragSettings, env: ArcEnvironment) -> Drag:
+def _plates(name: str, cfg, plates: Plates | None) -> Plates | None:
+    """The plates of a force whose section asks for them (``plates: true``), else None."""
+    if not cfg.plates:
+        return None
+    if plates is None:
+        raise ValueError(f"force config '{name}': plates: true, but the satellite has no "
+                         "macro_model (satellites.<sat>.macro_model)")
+    return plates
+
+
+def _cannonball(name: str, cfg, value: float | None, coefficient: float,
+                plates: Plates | None) -> float:
+    """C A/m of a cannonball force [m²/kg] (:func:`_area_mass`; 0 when it acts on plates)."""
+    return 0.0 if plates is not None else _area_mass(name, value, coefficient, cfg.area_m2,
+                                                     cfg.mass_kg)
+
+
+def _drag(cfg: DragSettings, env: ArcEnvironment, plates: Plates | None) -> Drag:
     kind = cfg.density or ("msis" if cfg.space_weather is not None else "harris_priester")
     if kind == "msis":
         if cfg.space_weather is None:
@@ -331,18 +389,28 @@ def _drag(cfg: DragSettings, env: ArcEnvironment) -> Drag:
         raise ValueError(f"force config 'drag': unknown density '{kind}' "
                          "(harris_priester or msis)")
     edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
-    return Drag(env, density, _area_mass("drag", cfg.cd_area_mass_m2_kg, cfg.drag_coefficient,
-                                         cfg.area_m2, cfg.mass_kg), edges,
-                apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
+    plates = _plates("drag", cfg, plates)
+    coef = _cannonball("drag", cfg, cfg.cd_area_mass_m2_kg, cfg.drag_coefficient, plates)
+    return Drag(env, density, coef, edges,
+                plates=plates, apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
-def _srp(cfg: SrpSettings, env: ArcEnvironment) -> SolarRadiation:
+def _srp(cfg: SrpSettings, env: ArcEnvironment, plates: Plates | None) -> SolarRadiation:
     edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
-    return SolarRadiation(env, _area_mass("srp", cfg.cr_area_mass_m2_kg,
-                                          cfg.reflectivity_coefficient, cfg.area_m2,
-                                          cfg.mass_kg), edges,
-                          shadow=cfg.shadow, r_earth_m=cfg.r_earth_m, apriori=cfg.apriori,
-                          estimate=cfg.estimate, sigma=cfg.sigma)
+    plates = _plates("srp", cfg, plates)
+    coef = _cannonball("srp", cfg, cfg.cr_area_mass_m2_kg, cfg.reflectivity_coefficient, plates)
+    return SolarRadiation(env, coef, edges, shadow=cfg.shadow, r_earth_m=cfg.r_earth_m, plates=plates,
+                          apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
+
+
+def _earth_radiation(cfg: EarthRadiationSettings, env: ArcEnvironment,
+                     plates: Plates | None) -> EarthRadiation:
+    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+    plates = _plates("earth_radiation", cfg, plates)
+    coef = _cannonball("earth_radiation", cfg, cfg.cr_area_mass_m2_kg,
+                       cfg.reflectivity_coefficient, plates)
+    return EarthRadiation(env, coef, edges, rings=cfg.rings, r_earth_m=cfg.r_earth_m, plates=plates,
+                          apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
 def _empirical(cfg: EmpiricalSettings, env: ArcEnvironment) -> Empirical:
@@ -365,7 +433,8 @@ def arc_environment(settings: ForceModelSettings, t_ref, t_start_s: float, t_end
 def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_end_s: float, *,
                       eop: EarthOrientation | None = None,
                       environment: ArcEnvironment | None = None,
-                      manoeuvres: Sequence[Manoeuvre] = ()) -> ForceModel:
+                      manoeuvres: Sequence[Manoeuvre] = (),
+                      attitude: LeoAttitude | None = None) -> ForceModel:
     """Force model of an arc (module docstring).
 
     Parameters
@@ -382,12 +451,14 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
     manoeuvres : sequence of Manoeuvre, optional
         Burns of the satellite (:func:`leopod.io.manoeuvre.read_manoeuvres`; epochs GPS time);
         those acting inside the arc are modelled when ``settings.manoeuvre`` is on.
+    attitude : LeoAttitude, optional
+        Attitude law flown by the plates of ``settings.macro_model`` (None: nominal).
 
     Returns
     -------
     ForceModel
-        Forces in the order gravity, third bodies, relativity, drag, SRP, empirical,
-        manoeuvres.
+        Forces in the order gravity, third bodies, relativity, drag, SRP, Earth radiation,
+        empirical, manoeuvres.
     """
     env = (arc_environment(settings, t_ref, t_start_s, t_end_s, eop=eop) if environment is None
            else environment)
@@ -399,10 +470,14 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
     if settings.relativity is not None:
         forces.append(Relativity(env, settings.relativity.lense_thirring,
                                  settings.relativity.de_sitter))
+    macro = settings.macro_model
+    plates = None if macro is None else Plates(macro, attitude, env)
     for cfg, make in ((settings.drag, _drag), (settings.srp, _srp),
-                      (settings.empirical, _empirical)):
+                      (settings.earth_radiation, _earth_radiation)):
         if cfg is not None:
-            forces.append(make(cfg, env))
+            forces.append(make(cfg, env, plates))
+    if settings.empirical is not None:
+        forces.append(_empirical(settings.empirical, env))
     burns = None
     if settings.manoeuvre is not None:
         burns = Manoeuvres.of(manoeuvres, t_ref, t_start_s, t_end_s,
@@ -416,4 +491,8 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
     model = ForceModel(forces)
     logger.info("force model: %s; %d parameters", ", ".join(type(f).__name__ for f in forces),
                 model.n_params)
+    on_plates = [type(f).__name__ for f in forces if getattr(f, "plates", None) is not None]
+    if on_plates:
+        logger.info("%s on the %d plates of the macro model, attitude %s", ", ".join(on_plates),
+                    macro.area_m2.size, "nominal" if attitude is None else attitude.describe())
     return model

@@ -395,15 +395,20 @@ def interval_edges(t_start_s: float, t_end_s: float, interval_s: float | None) -
 
 
 class _Scaled(Force):
-    """Force ``s_k a0(t, r, v)`` with a scale factor per interval (shared by drag and SRP).
+    """Force ``s_k a0(t, r, v)`` with a scale factor per interval (shared by drag, SRP and
+    Earth radiation), on a cannonball or on ``plates``.
 
     Parameters ``f"{prefix}_{k}"``; the interval k holding t is clipped to the first and
     last (the integrator may step just outside the arc); interior edges are breakpoints.
     """
 
     def __init__(self, env: ArcEnvironment, edges_s: np.ndarray, prefix: str, *,
-                 apriori: float = 1.0, estimate: bool = True, sigma: float | None = None):
+                 apriori: float = 1.0, estimate: bool = True, sigma: float | None = None,
+                 plates=None):
         self.env = env
+        #: The macro model flown with an attitude (:class:`leopod.dynamics.plates.Plates`),
+        #: or None for a cannonball.
+        self.plates = plates
         self.edges_s = np.asarray(edges_s, dtype=float)
         n = self.edges_s.size - 1
         self.parameters = [f"{prefix}_{k}" for k in range(n)]
@@ -414,6 +419,17 @@ class _Scaled(Force):
     @property
     def breakpoints_s(self) -> np.ndarray:
         return self.edges_s[1:-1]
+
+    def follow(self, positions) -> None:
+        """Tabulate the attitude of the plates (if any) along a reference orbit
+        ``positions(t_s (n,)) -> (n, 3)`` (GCRF [m])."""
+        if self.plates is not None:
+            self.plates.follow(positions)
+
+    @property
+    def ready(self) -> bool:
+        """False while plates wait for their reference orbit (no compiled form yet)."""
+        return self.plates is None or self.plates.ready
 
     def interval(self, t_s: float) -> int:
         k = int(np.searchsorted(self.edges_s, t_s, side="right")) - 1

@@ -195,7 +195,7 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
               max_iterations: int = 10, tolerance: float = 0.01,
               eop: EarthOrientation | None = None, step_s: float = DEFAULT_STEP_S,
               environment: ArcEnvironment | None = None,
-              manoeuvres: Sequence[Manoeuvre] = ()) -> FitResult:
+              manoeuvres: Sequence[Manoeuvre] = (), attitude=None) -> FitResult:
     """Fit a dynamic orbit to positions by batch least squares (module docstring).
 
     Parameters
@@ -231,6 +231,8 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
     manoeuvres : sequence of Manoeuvre, optional
         Burns of the satellite, modelled with ``force_settings.manoeuvre``
         (:func:`leopod.dynamics.force_config.build_force_model`).
+    attitude : leopod.frames.leo_attitude.LeoAttitude, optional
+        Attitude law of the plate forces (``force_settings.macro_model``; None: nominal).
 
     Returns
     -------
@@ -243,7 +245,8 @@ def fit_orbit(times, pos_m, force_settings: ForceModelSettings, *, frame: str = 
     t_s = seconds_since(times, t_ref)
     # from t_ref on: the state is propagated back to it if the first epochs are missing
     force_model = build_force_model(force_settings, t_ref, min(0.0, t_s[0]), t_s[-1], eop=eop,
-                                    environment=environment, manoeuvres=manoeuvres)
+                                    environment=environment, manoeuvres=manoeuvres,
+                                    attitude=attitude)
     if state0_gcrf is not None:
         state = np.asarray(state0_gcrf, dtype=float).copy()
     elif vel is not None and np.isfinite(vel[0]).all():

@@ -29,11 +29,16 @@ through the Sun direction and distance is analytic, with the attitude (plate nor
 shadow function held fixed (in the penumbra |∂ν/∂r| ~ 1/(60 km) gives ≲ 2e-12 s⁻², 1e-6 of
 the gravity gradient); ``∂a/∂v = 0``.
 
+The plate forces of the POD (:class:`SolarRadiation` with ``plates``) take the normals from
+the satellite's attitude law tabulated along a reference orbit
+(:class:`leopod.dynamics.plates.Plates`).
+
 Box-wing solar arrays that rotate about a body axis y to face the Sun have the normal
 ``e_panel = y × (e☉ × y)`` (Jiang et al. 2023, eq. 4), i.e. the Sun direction projected on the plane
 orthogonal to y; see :class:`MacroModel` and :func:`plate_normals`.
 
-:class:`SolarRadiation` is the cannonball force of the orbit integrator, with scale factor(s).
+:class:`SolarRadiation` is the force of the orbit integrator (cannonball or plates), with scale
+factor(s).
 """
 
 from __future__ import annotations
@@ -52,6 +57,7 @@ __all__ = [
     "SOLAR_PRESSURE_1AU_N_M2",
     "MacroModel",
     "SolarRadiation",
+    "absent_plates",
     "plate_normals",
     "shadow_function",
     "srp_cannonball",
@@ -82,6 +88,10 @@ class MacroModel:
         about ``panel_axis_body`` to face the Sun (Jiang et al. 2023, eq. 4). Default: all 0.
     panel_axis_body : array_like, shape (3,)
         Rotation axis of the solar arrays in the body frame (default +Y).
+    specular_ir, diffuse_ir : array_like, shape (k,), optional
+        Specular and diffuse reflectivities in the infrared [1] (Earth's emitted radiation,
+        :mod:`leopod.dynamics.earth_radiation`); absorption, the emissivity, is the rest.
+        Default: those of the visible (a grey surface).
     """
 
     normal_body: np.ndarray
@@ -92,6 +102,8 @@ class MacroModel:
     mass_kg: float
     panel: np.ndarray | None = None
     panel_axis_body: np.ndarray = field(default_factory=lambda: np.array([0.0, 1.0, 0.0]))
+    specular_ir: np.ndarray | None = None
+    diffuse_ir: np.ndarray | None = None
 
     def __post_init__(self):
         normal = np.atleast_2d(np.asarray(self.normal_body, dtype=float))
@@ -103,13 +115,19 @@ class MacroModel:
         if np.any((norm[:, 0] == 0.0) & (panel == 0)):
             raise ValueError("a body-fixed plate has a zero normal")
         values = {}
-        for name in ("area_m2", "specular", "diffuse", "drag_coefficient"):
-            values[name] = np.broadcast_to(np.asarray(getattr(self, name), dtype=float), (k,))
+        for name in ("area_m2", "specular", "diffuse", "drag_coefficient", "specular_ir",
+                     "diffuse_ir"):
+            value = getattr(self, name)
+            if value is None:       # infrared: as the visible
+                value = values[name[:-3]]
+            values[name] = np.broadcast_to(np.asarray(value, dtype=float), (k,))
         if np.any(values["area_m2"] < 0.0):
             raise ValueError("plate areas must not be negative")
-        reflect = values["specular"] + values["diffuse"]
-        if np.any((values["specular"] < 0) | (values["diffuse"] < 0) | (reflect > 1.0)):
-            raise ValueError("reflectivities must be >= 0 with specular + diffuse <= 1")
+        for band in ("", "_ir"):
+            spec, diff = values["specular" + band], values["diffuse" + band]
+            if np.any((spec < 0) | (diff < 0) | (spec + diff > 1.0)):
+                raise ValueError(f"reflectivities{band or ''} must be >= 0 with specular + "
+                                 "diffuse <= 1")
         if not np.all(np.isin(panel, (-1, 0, 1))) or panel.shape != (k,):
             raise ValueError("panel must hold one of -1, 0, +1 per plate")
         if self.mass_kg <= 0.0:
@@ -141,18 +159,42 @@ def plate_normals(model: MacroModel, rot_gcrf_to_body: np.ndarray, pos_m: np.nda
         (Jiang et al. 2023, eq. 4), or its body-fixed normal when the Sun is along the rotation
         axis y.
     """
-    rot = np.asarray(rot_gcrf_to_body, dtype=float)
-    normals = model.normal_body @ rot
-    if np.any(model.panel):
-        axis = model.panel_axis_body @ rot
-        e_sun = np.asarray(sun_m, dtype=float) - np.asarray(pos_m, dtype=float)
-        e_sun /= np.linalg.norm(e_sun)
-        tracked = e_sun - np.dot(e_sun, axis) * axis
-        size = np.linalg.norm(tracked)
-        if size > 1e-12:
-            sel = model.panel != 0
-            normals[sel] = model.panel[sel, None] * (tracked / size)
+    return _plate_normals(np.ascontiguousarray(rot_gcrf_to_body, dtype=float),
+                          model.normal_body, model.panel, model.panel_axis_body,
+                          np.asarray(pos_m, dtype=float), np.asarray(sun_m, dtype=float))
+
+
+@numba.njit(cache=True)
+def _plate_normals(rot, normal_body, panel, axis_body, pos, sun):  # pragma: no cover - numba
+    """:func:`plate_normals` for the compiled force model: rot (3, 3) GCRF → body."""
+    k = normal_body.shape[0]
+    normals = normal_body @ rot
+    any_panel = False
+    for p in range(k):
+        if panel[p] != 0:
+            any_panel = True
+    if not any_panel:
+        return normals
+    axis = axis_body @ rot
+    d = sun - pos
+    e = d / np.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2)
+    along = e[0] * axis[0] + e[1] * axis[1] + e[2] * axis[2]
+    tracked = e - along * axis
+    size = np.sqrt(tracked[0] ** 2 + tracked[1] ** 2 + tracked[2] ** 2)
+    if size > 1e-12:
+        for p in range(k):
+            if panel[p] != 0:
+                for i in range(3):
+                    normals[p, i] = panel[p] * tracked[i] / size
     return normals
+
+
+def absent_plates() -> tuple:
+    """Kernel data of no plates (a cannonball) with the numba types of the plate data of
+    :meth:`leopod.dynamics.plates.Plates.kernel_data`."""
+    one = np.zeros(1)
+    return (np.zeros((1, 3)), one, one, one, one, one, np.zeros(1, np.int64),
+            np.array([0.0, 1.0, 0.0]), (0.0, 1.0, 2, np.zeros((2, 9))), 1.0, one)
 
 
 @numba.njit(cache=True)
@@ -337,37 +379,45 @@ def srp_plates(pos_m, sun_m, normals, model: MacroModel, scale: float = 1.0, *,
 
 
 class SolarRadiation(_Scaled):
-    """Solar radiation pressure on a cannonball with the conical Earth shadow, scale
-    factor(s) ``srp_scale_k`` (M&G 2000, sec. 3.4; :func:`leopod.dynamics.srp.srp_cannonball`).
+    """Solar radiation pressure with the conical Earth shadow on a cannonball or on the plates
+    of a macro model, scale factor(s) ``srp_scale_k`` (M&G 2000, sec. 3.4;
+    :func:`srp_cannonball`, :func:`srp_plates`).
 
     Parameters
     ----------
     env : ArcEnvironment
     cr_area_mass_m2_kg : float
-        C_R A/m [m²/kg].
+        C_R A/m [m²/kg] of the cannonball (unused with ``plates``).
     edges_s : array_like, shape (n + 1,)
         Interval boundaries [s] of the scale factors.
     shadow : bool
         Apply the conical shadow.
     r_earth_m : float
         Radius of the occulting Earth [m].
+    plates : leopod.dynamics.plates.Plates, optional
+        Macro model and attitude (None: cannonball).
     apriori, estimate, sigma
         As :class:`leopod.dynamics.drag.Drag` (default: not estimated).
     """
 
     def __init__(self, env, cr_area_mass_m2_kg: float, edges_s, *, shadow: bool = True,
-                 r_earth_m: float = R_EARTH_EQUATOR_M, **kwargs):
+                 r_earth_m: float = R_EARTH_EQUATOR_M, plates=None, **kwargs):
         kwargs.setdefault("estimate", False)
-        super().__init__(env, edges_s, "srp_scale", **kwargs)
+        super().__init__(env, edges_s, "srp_scale", plates=plates, **kwargs)
         self.cr_area_mass_m2_kg = float(cr_area_mass_m2_kg)
         self.shadow, self.r_earth_m = bool(shadow), float(r_earth_m)
 
     def kernel_data(self) -> tuple:
-        """``(edges_s, C_R A/m, Earth radius, shadow)`` (compiled force model)."""
-        return self.edges_s, self.cr_area_mass_m2_kg, self.r_earth_m, self.shadow
+        """``(edges_s, C_R A/m, Earth radius, shadow, plates?, plate data)`` (compiled force
+        model; :meth:`leopod.dynamics.plates.Plates.kernel_data`)."""
+        plates = absent_plates() if self.plates is None else self.plates.kernel_data()
+        return (self.edges_s, self.cr_area_mass_m2_kg, self.r_earth_m, self.shadow,
+                self.plates is not None, plates)
 
     def _unscaled(self, t_s, pos, vel, scale):
         sun = self.env.body_grid(t_s)[0, 0:3]
-        return srp_cannonball(pos, sun, self.cr_area_mass_m2_kg, scale,
-                              r_earth_m=self.r_earth_m, shadow=self.shadow)
-
+        if self.plates is None:
+            return srp_cannonball(pos, sun, self.cr_area_mass_m2_kg, scale,
+                                  r_earth_m=self.r_earth_m, shadow=self.shadow)
+        return srp_plates(pos, sun, self.plates.normals(t_s, pos, sun), self.plates.model,
+                          scale, r_earth_m=self.r_earth_m, shadow=self.shadow)

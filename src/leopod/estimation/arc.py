@@ -334,7 +334,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
     t_s = seconds_since(po.times, t_ref)
     environment = arc_environment(forces, t_ref, t_s[0], t_s[-1], eop=eop)
     force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop,
-                                    environment=environment, manoeuvres=data.manoeuvres)
+                                    environment=environment, manoeuvres=data.manoeuvres,
+                                    attitude=attitude)
     if apriori_orbit is None:
         apriori = xr.concat([leo.pos_m for leo in data.leo], dim="time")
         _, first = np.unique(apriori.time.values, return_index=True)
@@ -392,7 +393,8 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
     fit = fit_orbit(po.times, problem.apriori_itrf_m.reindex(time=po.times).values,
                     starting_forces(forces, degree), t_ref=problem.t_ref,
                     sigma_obs_m=float(arc.apriori_fit_sigma_m), eop=eop,
-                    step_s=starting_step_s(degree), environment=problem.environment)
+                    step_s=starting_step_s(degree), environment=problem.environment,
+                    attitude=attitude)
     log.info("initial dynamic fit to the a-priori orbit (gravity to degree %d, %d force "
              "parameters, %.0f-s step): RMS R %.2f T %.2f N %.2f m; %d integrations, %d force "
              "evaluations", degree, fit.force_model.n_params, starting_step_s(degree),
