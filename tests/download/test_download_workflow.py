@@ -18,7 +18,7 @@ import pytest
 import yaml
 from _download_servers import HttpArchive
 
-from leopod.workflow.downloads import ROOT
+from leopod.workflow.layout import DOWNLOAD_ROOT as ROOT
 
 REPO = Path(__file__).resolve().parents[2]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
