@@ -158,9 +158,8 @@ def _run(args) -> int:
     import yaml
 
     from leopod.workflow.campaign import pod_days
-    from leopod.workflow.status import failed_days, failures
-
     from leopod.workflow.layout import Layout
+    from leopod.workflow.status import failed_days, failures
 
     config = _campaign(args)
     layout = Layout.of(config)

@@ -100,5 +100,6 @@ def test_gate_verdicts_are_those_of_the_pod_logs(tmp_path):
     _log(tmp_path, "float_pod/sat/2019-002.log", "float_pod", {"sat": "sat", "date": "2019-002"},
          f"{STAMP} WARNING leopod.estimation.write: float POD 2019-002: quality gate failed "
          "(coverage_pct 8.3 < 16)")
-    assert gate_verdicts(tmp_path, LAYOUT, "float_pod", "sat", ["2019-001", "2019-002", "2019-003"]) \
-        == {"2019-002": "failed (coverage_pct 8.3 < 16)"}
+    days = ["2019-001", "2019-002", "2019-003"]
+    assert gate_verdicts(tmp_path, LAYOUT, "float_pod", "sat", days) == {
+        "2019-002": "failed (coverage_pct 8.3 < 16)"}

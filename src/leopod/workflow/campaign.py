@@ -259,8 +259,8 @@ def located_source(located: dict[str, str], entry: str, path: str) -> str:
     entry : str
         Config entry (``products.gnss_orbit``).
     path : str
-        The located file's path below ``resources/<campaign>/locate/<entry>/`` (``YYYY-DDD/<name>`` for
-        daily inputs).
+        The located file's path below ``resources/<campaign>/locate/<entry>/``
+        (``YYYY-DDD/<name>`` for daily inputs).
     """
     template = located[entry]
     sat = entry.split(".")[1] if entry.startswith("satellites.") else None

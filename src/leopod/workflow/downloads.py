@@ -2,10 +2,11 @@
 ``download_<family>`` rule writes under ``resources/download/`` (a cache shared by the campaigns
 of a working directory, keyed by family and day: :mod:`leopod.workflow.layout`).
 
-A campaign names its inputs by path template (``products.gnss_orbit: "/data/cod{gpsweek}{dow}.sp3"``)
-or by product family of the catalogue (``products.gnss_orbit: "download:cod_orbit"``). The second
-form is rewritten here, before any rule sees the config, into the path the family's download
-rule produces, so every other rule reads downloaded and local files alike.
+A campaign names its inputs by path template
+(``products.gnss_orbit: "/data/cod{gpsweek}{dow}.sp3"``) or by product family of the catalogue
+(``products.gnss_orbit: "download:cod_orbit"``). The second form is rewritten here, before any
+rule sees the config, into the path the family's download rule produces, so every other rule
+reads downloaded and local files alike.
 """
 
 from __future__ import annotations
