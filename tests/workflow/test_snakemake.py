@@ -81,7 +81,7 @@ def test_default_dry_run_has_three_days(tmp_path):
     proc = _run(["-n", "--directory", str(tmp_path)], check=True)
     out = proc.stdout + proc.stderr
     for day in ("2019-001", "2019-002", "2019-003"):
-        assert f"results/hy2b-sim/hy2b-sim/quality/hy2b-sim/{day}.nc" in out
+        assert f"results/hy2b-sim/quality/hy2b-sim/{day}.nc" in out
     # Snakemake's benchmark files go beside the campaign's logs, apart from the scripts of
     # benchmarks/
     benchmarks = re.findall(r"^\s*benchmark: (\S+)$", out, flags=re.M)
@@ -257,6 +257,7 @@ def test_two_satellite_month_overlay_plans_every_satellite_day(tmp_path):
     ("quality.max_gap_s", -5.0, "max_gap_s"),
     ("signals.G.phase", ["L1C"], "phase"),
     ("start_date", "2019/01/01", "start_date"),
+    ("campaign", "../x", "campaign"),          # the name of the campaign's folders
 ])
 def test_bad_config_stops_before_any_job(tmp_path, key, value, named):
     cfg = _write_config(tmp_path / "bad.yaml", **{key: value})

@@ -81,8 +81,8 @@ def test_the_dag_runs_the_pod_per_line_and_the_upstream_steps_per_satellite(tmp_
     assert stats["float_pod"] == stats["ambiguity"] == stats["fixed_pod"] == "9"
     assert stats["campaign_summary"] == "3" and stats["variant_comparison"] == "1"
     for line in ("hy2d-sim", "hy2d-sim_G", "hy2d-sim_C"):
-        assert f"results/hy2d-sim/fixed_pod/{line}/2021-193.sp3" in proc.stdout
-    assert "results/hy2d-sim/quality/hy2d-sim_G" not in proc.stdout
+        assert f"results/hy2d-sim-gc/fixed_pod/{line}/2021-193.sp3" in proc.stdout
+    assert "results/hy2d-sim-gc/quality/hy2d-sim_G" not in proc.stdout
     # a campaign without variants plans no comparison
     raw = read_yaml(GC)
     raw.pop("variants")
