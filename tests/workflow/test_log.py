@@ -70,3 +70,16 @@ def test_the_step_declares_its_job_and_logs_the_campaign_hash(step_log):
     assert job.rule == "float_pod" and job.config_sha256 == digest
     assert job.script == "scripts/float_pod.py" and job.inputs == ()
     assert f"campaign config sha256 {digest}" in path.read_text()
+
+
+def test_the_job_s_inputs_leave_out_the_library_code_and_the_script():
+    # the code a step runs is named by the version (source) and the script (history); the
+    # data files are listed in the order of the rule's inputs, each once
+    from leopod.workflow.provenance import job_provenance
+
+    sm = SimpleNamespace(rule="float_pod", params={"pod": {"a": 1}}, config={},
+                         input={"obs": ["o1.nc", "o2.nc"], "code": ["/src/leopod/x.py"],
+                                "script": "/repo/scripts/float_pod.py", "leo": "o1.nc"})
+    job = job_provenance(sm)
+    assert job.inputs == ("o1.nc", "o2.nc")
+    assert job.settings == '{"pod": {"a": 1}}'

@@ -4,8 +4,8 @@
 of every script's ``run``) turns the Snakemake object of the job into a
 :class:`leopod.io.provenance.JobProvenance`: the rule and its script, the complete settings
 of the step (its ``params``, which carry every setting the step uses), the input files (the
-library code files left out: the ``source`` attribute names the leopod version) and the hash
-of the campaign. The netCDF and SP3 writers add them to every product.
+library code and the rule's script, inputs ``code`` and ``script``, left out: ``source`` and
+``history`` name the leopod version and the script) and the hash of the campaign. The netCDF and SP3 writers add them to every product.
 """
 
 from __future__ import annotations
@@ -63,10 +63,11 @@ def config_sha256(config: Mapping) -> str:
 
 
 def _files(named: Mapping) -> list[str]:
-    """Paths of a Snakemake input container without its library ``code`` files."""
+    """Paths of a Snakemake input container without its ``code`` (library) and ``script``
+    entries."""
     out: list[str] = []
     for key, value in named.items():
-        if key == "code":
+        if key in ("code", "script"):
             continue
         out += [str(value)] if isinstance(value, str | os.PathLike) else [str(v) for v in value]
     return list(dict.fromkeys(out))
