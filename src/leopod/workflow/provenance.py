@@ -5,7 +5,8 @@ of every script's ``run``) turns the Snakemake object of the job into a
 :class:`leopod.io.provenance.JobProvenance`: the rule and its script, the complete settings
 of the step (its ``params``, which carry every setting the step uses), the input files (the
 library code and the rule's script, inputs ``code`` and ``script``, left out: ``source`` and
-``history`` name the leopod version and the script) and the hash of the campaign. The netCDF and SP3 writers add them to every product.
+``history`` name the leopod version and the script) and the hash of the campaign. The netCDF
+and SP3 writers add them to every product.
 """
 
 from __future__ import annotations
