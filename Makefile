@@ -1,5 +1,6 @@
 # leopod: two commands.
-#   make run   set up .venv, install leopod, run the default campaign end to end (offline)
+#   make run   set up .venv, install leopod, run the default campaign end to end (offline);
+#              the report is results/<campaign>/report.html
 #   make test  set up .venv, install leopod, run the test suite
 PYTHON ?= python3
 VENV   := .venv
@@ -22,8 +23,11 @@ setup: $(VENV)/.installed
 
 run: setup
 	$(BIN)/snakemake --cores $(CORES) --configfile $(CONFIG)
-	$(BIN)/snakemake --cores $(CORES) --configfile $(CONFIG) --report results/report.html
-	@echo "report: results/report.html"
+	@report=$$($(BIN)/python -c "from leopod.workflow.config import load_campaign; \
+	from leopod.workflow.layout import Layout; \
+	print(Layout.of(load_campaign(*'$(CONFIG)'.split())).report)") && \
+	$(BIN)/snakemake --cores $(CORES) --configfile $(CONFIG) --report $$report && \
+	echo "report: $$report"
 
 test: setup
 	$(BIN)/python -m pytest

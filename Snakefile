@@ -1,7 +1,9 @@
 # leopod: precise orbit determination of LEO satellites from onboard GNSS.
 #   snakemake --cores 2                                   # default campaign (config/config.yaml)
 #   snakemake --cores 2 --configfile config/<campaign>.yaml
-# Results: results/<step>/<sat>/<YYYY-DDD>.*, logs/<step>/..., logs/benchmarks/<step>/...
+# Results: results/<campaign>/<step>/<sat>/<YYYY-DDD>.*, logs/<campaign>/<step>/...,
+# logs/<campaign>/benchmarks/<step>/..., inputs under resources/<campaign>/
+# (leopod.workflow.layout; downloads shared: resources/download/).
 import os
 
 from snakemake.utils import min_version
@@ -37,7 +39,7 @@ WORKER = []
 
 onstart:
     if workflow.local_exec:
-        WORKER.append(worker.start("logs/worker.log"))
+        WORKER.append(worker.start(log_path("worker.log")))
 
 
 onsuccess:

@@ -1,11 +1,11 @@
 """Ambiguity resolution and fixed POD of the simulated default campaign against its truth (issue 7).
 
-Run ``make run`` first (or ``snakemake --cores 2``). For every day this prints the fixing
-rates (Jiang et al. 2023: fixed independent / all independent) and the share of fixed
-pairs, the wrong fixes counted against the simulated integers, float and fixed RMS errors
-(R/T/N/3D over the day) against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs
-from Snakemake's benchmark files (logs/benchmarks/). With ``--codes`` it re-solves the arc of
-one day in-process with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W)
+Run ``make run`` first (or ``snakemake --cores 2``). For every day this prints the fixing rates
+(Jiang et al. 2023: fixed independent / all independent) and the share of fixed pairs, the wrong
+fixes counted against the simulated integers, float and fixed RMS errors (R/T/N/3D over the day)
+against the truth orbit, and the wall times of the float_pod, ambiguity and fixed_pod jobs from
+Snakemake's benchmark files (logs/<campaign>/benchmarks/). With ``--codes`` it re-solves the arc
+of one day in-process with P1 (C1W) with and without the code-bias map and with C1 (C1C/C2W)
 instead, and prints the same figures for each (issue 6 and 7: the effect of the map on the
 fixing rates). With ``--wrong K`` it re-solves the fixed POD of one day with K of its
 constraints deliberately wrong by one narrow-lane cycle and reports whether the residual
@@ -43,11 +43,14 @@ from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 from leopod.validation.compare import difference_rtn, rms_rtn
 from leopod.workflow.campaign import arc_days, campaign_days
 from leopod.workflow.config import load_campaign
+from leopod.workflow.layout import Layout
 from leopod.workflow.settings import pod_settings
 
 REPO = Path(__file__).resolve().parents[1]
 SAT = "hy2b-sim"
-SIM = REPO / "resources" / "simulate"
+#: The default campaign's products and simulated files in the checkout (campaign hy2b-sim).
+RESULTS = REPO / "results" / "hy2b-sim"
+SIM = REPO / "resources" / "hy2b-sim" / "simulate"
 
 
 def _day_slice(date: str) -> slice:
@@ -71,14 +74,15 @@ def _summary(label, table, residuals, truth_days) -> None:
           f"(wrong {wrong['constrained_wrong']})")
 
 
-def _seconds(workdir: Path, step: str, date: str) -> float:
-    path = workdir / "logs" / "benchmarks" / step / SAT / f"{date}.tsv"
+def _seconds(benchmarks: Path, step: str, date: str) -> float:
+    path = benchmarks / step / SAT / f"{date}.tsv"
     return float(path.read_text().splitlines()[1].split("\t")[0]) if path.exists() else np.nan
 
 
 def campaign(cfg: dict, workdir: Path) -> None:
-    res = workdir / "results"
-    sim = workdir / "resources" / "simulate"
+    layout = Layout.of(cfg)
+    res = workdir / layout.results
+    sim = workdir / layout.resources / "simulate"
     truth = xr.load_dataset(sim / SAT / "truth_orbit.nc")
     label = "+".join(cfg["signals"]["G"]["pod_code"]) + (
         " + map on " + "+".join(cfg["code_bias"]["apply"]) if cfg["code_bias"].get("apply")
@@ -92,14 +96,14 @@ def campaign(cfg: dict, workdir: Path) -> None:
         for kind in ("float", "fixed"):
             orbit = xr.load_dataset(res / f"{kind}_pod" / SAT / f"{date}_orbit.nc")
             print(f"  {kind} vs truth: {_rms_cm(orbit, truth, date)}")
-        times = {step: _seconds(workdir, step, date)
+        times = {step: _seconds(workdir / layout.benchmarks, step, date)
                  for step in ("float_pod", "ambiguity", "fixed_pod")}
         print("  wall time: " + ", ".join(f"{k} {v:.1f} s" for k, v in times.items()))
 
 
 def _arc_inputs(days: list[str]):
     """Ingest/quality files, GNSS products and the code-bias map of an arc's days."""
-    res = REPO / "results"
+    res = RESULTS
     obs = [xr.load_dataset(res / "ingest" / SAT / f"{d}_obs.nc") for d in days]
     quality = [xr.load_dataset(res / "quality" / SAT / f"{d}.nc") for d in days]
     leo = [xr.load_dataset(res / "ingest" / SAT / f"{d}_leo.nc") for d in days]
@@ -142,7 +146,7 @@ def code_variants(cfg: dict, date: str) -> None:
 
 def wrong_fix_screening(cfg: dict, date: str, k: int) -> None:
     days = arc_days(cfg, date)
-    res = REPO / "results"
+    res = RESULTS
     data = _arc_inputs(days)
     settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     base = res / "float_pod" / SAT / date

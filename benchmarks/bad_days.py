@@ -111,12 +111,12 @@ def main() -> None:
     print(f"simulation of {args.days} days: {wall / 60:.1f} min")
     files = work / "files"
     shutil.rmtree(files, ignore_errors=True)
-    shutil.copytree(work / "resources/simulate", files)
+    shutil.copytree(work / "resources/hy2b-sim/simulate", files)
     for day, what in break_days(files).items():
         print(f"  broken: {day}  {what}")
     campaign = work / "campaign.yaml"
     campaign.write_text(yaml.safe_dump(_config(args.days, files)))
-    (work / "results/failed_days.yaml").unlink(missing_ok=True)
+    (work / "results/hy2b-sim/failed_days.yaml").unlink(missing_ok=True)
     wall, code, out = _timed([str(BIN / "leopod"), "run", str(campaign), "--directory", str(work),
                               "--cores", str(args.cores), "--exclude-failed"], work / "run.log")
     passes = re.findall(r"(\d+) of (\d+) steps \((\d+)%\) done", out)
@@ -127,7 +127,7 @@ def main() -> None:
     print("\n".join(line for line in out.splitlines()
                     if re.match(r"^\s+\d{4}-\d{3}\s|^\d+ day\(s\) failed|^campaign |"
                                 r"^\s+\S+ (float|fixed)_pod: ", line)))
-    html = work / f"results/summary/{SAT}.html"
+    html = work / f"results/hy2b-sim/summary/{SAT}.html"
     if html.exists():
         items = re.findall(r"<li>(.*?)</li>", html.read_text())
         print(f"\ncampaign summary ({html}): {len(items)} day(s) in the quality-gate list")

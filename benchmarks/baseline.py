@@ -18,13 +18,14 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from _jobs import BENCHMARKS, job_figures
+from _jobs import benchmark_folder, job_figures
 
 from leopod.io.manoeuvre import read_manoeuvres
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
 from leopod.validation.formation import burn_windows
 from leopod.workflow.campaign import arc_days
 from leopod.workflow.config import load_campaign
+from leopod.workflow.layout import Layout
 from leopod.workflow.variants import SEPARATOR
 
 REPO = Path(__file__).resolve().parents[1]
@@ -32,20 +33,23 @@ REPO = Path(__file__).resolve().parents[1]
 
 def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     """One line of figures of a pair-day."""
-    base = xr.load_dataset(run / "results" / "baseline" / pair / f"{date}.nc")
-    table = xr.load_dataset(run / "results" / "baseline" / pair / f"{date}_dd.nc")
+    layout = Layout.of(config)
+    results, resources = run / layout.results, run / layout.resources
+    base = xr.load_dataset(results / "baseline" / pair / f"{date}.nc")
+    table = xr.load_dataset(results / "baseline" / pair / f"{date}_dd.nc")
     # POD lines (<sat> or <sat>_<variant>) and their satellites
     a, b = base.attrs["leader"], base.attrs["follower"]
     sats = [line.split(SEPARATOR)[0] for line in (a, b)]
     days = arc_days(config, date)
-    truth = [[xr.load_dataset(run / "resources" / "simulate" / s / f"{d}_truth.nc")
+    truth = [[xr.load_dataset(resources / "simulate" / s / f"{d}_truth.nc")
               for d in days] for s in sats]
-    res = [xr.load_dataset(run / "results" / "float_pod" / s / f"{date}_residuals.nc")
+    res = [xr.load_dataset(results / "float_pod" / s / f"{date}_residuals.nc")
            for s in (a, b)]
     phases = {x: config["signals"][x]["phase"] for x in base.attrs["systems"].split()}
     wl, nl = true_double_differences(table, res[0], res[1], truth[0], truth[1], phases)
     wrong = wrong_dd_fixes(table, wl, nl)
-    wall, peak = job_figures(run, run / BENCHMARKS / "baseline" / pair / f"{date}.tsv")
+    wall, peak = job_figures(run, benchmark_folder(run, layout.campaign) / "baseline" / pair
+                             / f"{date}.tsv")
     t = base.attrs
     parts = [f"{pair} {date}: DD WL {100 * t['wl_fixing_rate']:.1f} % / "
              f"NL {100 * t['nl_fixing_rate']:.1f} % (graph rank), share "
@@ -61,7 +65,7 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     for label in ("float", "fixed"):
         parts.append(f"  {label} baseline vs truth RMS R/T/N/3D: " + " / ".join(
             f"{1e3 * t[f'{label}_rms_{c}_m']:.2f}" for c in ("r", "t", "n", "3d")) + " mm")
-    parts.append(_burn_windows(run, sats[1], base))
+    parts.append(_burn_windows(resources, sats[1], base))
     if "fixed_minus_float_rms_3d_m" in t:
         parts.append(f"  DD-fixed minus float baseline 3D RMS "
                      f"{1e3 * t['fixed_minus_float_rms_3d_m']:.2f} mm; DD constraint residuals "
@@ -74,10 +78,11 @@ def day_report(run: Path, config: dict, pair: str, date: str) -> str:
     return "\n".join(parts)
 
 
-def _burn_windows(run: Path, follower: str, base: xr.Dataset, half_s: float = 1800.0) -> str:
+def _burn_windows(resources: Path, follower: str, base: xr.Dataset,
+                  half_s: float = 1800.0) -> str:
     """DD-fixed baseline vs truth RMS R/T/N/3D within ±``half_s`` of any burn of the
-    follower and elsewhere."""
-    path = run / "resources" / "simulate" / follower / "manoeuvres.txt"
+    follower and elsewhere (``resources``: the campaign's resources folder)."""
+    path = resources / "simulate" / follower / "manoeuvres.txt"
     t = base.time.values
     near = burn_windows(t, read_manoeuvres(path)[0] if path.exists() else (), half_s)
     err = 1e3 * base["error_rtn_m"].values
@@ -99,7 +104,7 @@ def main() -> None:
     parser.add_argument("--configfile", default=str(REPO / "config" / "lt1-sim.yaml"))
     args = parser.parse_args()
     config = load_campaign(args.configfile)
-    for path in sorted((args.run / "results" / "baseline").glob("*/*_dd.nc")):
+    for path in sorted((args.run / Layout.of(config).results / "baseline").glob("*/*_dd.nc")):
         print(day_report(args.run, config, path.parent.name, path.name.removesuffix("_dd.nc")))
 
 

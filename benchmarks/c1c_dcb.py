@@ -43,7 +43,8 @@ def campaign(dcb: bool, guard: bool) -> dict:
     config = copy.deepcopy(config)
     config["start_date"] = config["end_date"] = "2019-01-01"
     config["signals"]["G"]["pod_code"] = ["C1C", "C2W"]
-    config["products"]["dcb_p1c1"] = "resources/simulate/gnss/{date}_p1c1.dcb" if dcb else None
+    config["products"]["dcb_p1c1"] = ("resources/{campaign}/simulate/gnss/{date}_p1c1.dcb"
+                                      if dcb else None)
     if not guard:
         config["ambiguity"]["product_guard"] = False
         config["ambiguity"]["nl_max_shift_sigma"] = 1e9
@@ -58,7 +59,7 @@ def run_case(root: Path, name: str, first: Path | None) -> Path:
     (work / "campaign.yaml").write_text(yaml.safe_dump(campaign(*CASES[name]), sort_keys=False))
     if first is not None and not (work / "resources").exists():
         shutil.copytree(first / "resources", work / "resources", symlinks=True)
-    target = f"results/ambiguity/hy2b-sim/{DAY}.nc"
+    target = f"results/hy2b-sim/ambiguity/hy2b-sim/{DAY}.nc"
     subprocess.run([SNAKEMAKE, "--snakefile", str(REPO / "Snakefile"), "--cores", "1",
                     "--directory", str(work), target, "--configfile",
                     str(work / "campaign.yaml")], check=True, cwd=work)
@@ -69,9 +70,9 @@ def count(work: Path) -> dict:
     """Fixing rates and wrong fixes of the case's ambiguity table."""
     from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
 
-    table = xr.load_dataset(work / f"results/ambiguity/hy2b-sim/{DAY}.nc")
-    residuals = xr.load_dataset(work / f"results/float_pod/hy2b-sim/{DAY}_residuals.nc")
-    truth = xr.load_dataset(work / f"resources/simulate/hy2b-sim/{DAY}_truth.nc")
+    table = xr.load_dataset(work / f"results/hy2b-sim/ambiguity/hy2b-sim/{DAY}.nc")
+    residuals = xr.load_dataset(work / f"results/hy2b-sim/float_pod/hy2b-sim/{DAY}_residuals.nc")
+    truth = xr.load_dataset(work / f"resources/hy2b-sim/simulate/hy2b-sim/{DAY}_truth.nc")
     out = wrong_fixes(table, *true_single_differences(table, residuals, [truth]))
     out.update(wl_rate=round(float(table.attrs["wl_fixing_rate"]), 4),
                nl_rate=round(float(table.attrs["nl_fixing_rate"]), 4),

@@ -1,16 +1,16 @@
 """Campaign-scale benchmark (issue 9): simulated campaigns of 1, 7 and 30 days, all stages.
 
-Each campaign is the default one (config/config.yaml: one simulated HY-2B-like satellite,
-30-s data, simulation -> ingest -> quality -> monthly code-bias map -> float POD -> ambiguity
-fixing -> fixed POD -> overlaps, SLR and truth-orbit validation -> summary -> HTML report)
-over N days from 2019-01-01 (code_bias.min_count 40 instead of 200, as a one-day map needs),
-run from scratch in its own working directory with
-``snakemake --cores C``. Printed per campaign: wall time of the workflow and of the report,
-wall time per day, and per rule the number of jobs, mean and max run time and peak memory
-(the rules' Snakemake benchmark files, logs/benchmarks/<rule>/...; the memory of a job the warm
-worker ran is its fork's, from the job's log; the job count includes the target rule "all").
-Then the scaling fit ``T(N) = a + b N``, the check "7 days take < 7/30 of 30 days plus a
-constant", the largest job memory, and the projected cost of 10 years x 3 satellites.
+Each campaign is the default one (config/config.yaml: one simulated HY-2B-like satellite, 30-s
+data, simulation -> ingest -> quality -> monthly code-bias map -> float POD -> ambiguity fixing
+-> fixed POD -> overlaps, SLR and truth-orbit validation -> summary -> HTML report) over N days
+from 2019-01-01 (code_bias.min_count 40 instead of 200, as a one-day map needs), run from
+scratch in its own working directory with ``snakemake --cores C``. Printed per campaign: wall
+time of the workflow and of the report, wall time per day, and per rule the number of jobs, mean
+and max run time and peak memory (the rules' Snakemake benchmark files,
+logs/<campaign>/benchmarks/<rule>/...; the memory of a job the warm worker ran is its fork's,
+from the job's log; the job count includes the target rule "all"). Then the scaling fit ``T(N) =
+a + b N``, the check "7 days take < 7/30 of 30 days plus a constant", the largest job memory,
+and the projected cost of 10 years x 3 satellites.
 
     .venv/bin/python benchmarks/campaign.py [--days 1 7 30] [--cores 2] [--root ../bench]
                                             [--reuse]
@@ -34,13 +34,17 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
-from _jobs import BENCHMARKS, job_figures
+from _jobs import benchmark_folder, job_figures
+
+from leopod.workflow.layout import Layout
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 START = dt.date(2019, 1, 1)
 # GHOST (DLR): 5-10 min per 24-30 h arc on a desktop (../shared/ANCHORS.md)
 GHOST_MIN_PER_ARC = (5.0, 10.0)
+#: The folders of the default campaign (config/config.yaml), whose copies run here.
+LAYOUT = Layout.of(yaml.safe_load((REPO / "config" / "config.yaml").read_text()))
 
 
 def _config(days: int) -> dict:
@@ -69,8 +73,9 @@ def _snakemake(work: Path, args: list[str]) -> tuple[float, int]:
 def _rule_table(work: Path) -> pd.DataFrame:
     """Per rule: jobs, mean/max run time [s], peak memory [MB] from the benchmark files."""
     rows = []
-    for tsv in (work / BENCHMARKS).rglob("*.tsv"):
-        rule = tsv.relative_to(work / BENCHMARKS).parts[0]
+    folder = benchmark_folder(work, LAYOUT.campaign)
+    for tsv in folder.rglob("*.tsv"):
+        rule = tsv.relative_to(folder).parts[0]
         wall, peak = job_figures(work, tsv)
         rows.append({"rule": rule, "s": wall, "max_rss_mb": peak})
     table = pd.DataFrame(rows).groupby("rule").agg(
@@ -89,7 +94,7 @@ def run_campaign(root: Path, days: int, cores: int, reuse: bool) -> dict:
     (work / "campaign.yaml").write_text(yaml.safe_dump(_config(days)))
     print(f"running the {days}-day campaign in {work} ...", flush=True)
     wall, jobs = _snakemake(work, ["--cores", str(cores)])
-    report, _ = _snakemake(work, ["--report", str(work / "results/report.html")])
+    report, _ = _snakemake(work, ["--report", str(work / LAYOUT.report)])
     table = _rule_table(work)
     figures = {"days": days, "cores": cores, "wall_s": wall, "report_s": report,
                "jobs": jobs, "cpu_s": float(table["sum_s"].sum()),

@@ -1,17 +1,17 @@
 """Benchmark of the code-bias map estimation for one month of 30-s data (issue 6).
 
 Prepares the quality outputs of the three simulated default-campaign days with the workflow if
-they are missing (``snakemake results/quality/hy2b-sim/2019-00{1,2,3}.nc``), writes 30 daily
-quality files to a temporary directory by repeating these days with their times shifted (the
-cost depends on the number of observations and passes, not on their content), and times what
-rule ``code_bias`` does for a monthly period: reading the 30 files and estimating the 5° × 5°
-maps of every code (C1C, C1W, C2W). Prints wall time, peak memory and the observation counts.
+they are missing (``snakemake results/hy2b-sim/quality/hy2b-sim/2019-00{1,2,3}.nc``), writes 30
+daily quality files to a temporary directory by repeating these days with their times shifted
+(the cost depends on the number of observations and passes, not on their content), and times
+what rule ``code_bias`` does for a monthly period: reading the 30 files and estimating the 5° ×
+5° maps of every code (C1C, C1W, C2W). Prints wall time, peak memory and the observation counts.
 
     .venv/bin/python benchmarks/code_bias.py [--days 30] [--truth]
 
 ``--truth`` also compares the monthly map of the default campaign
-(results/code_bias/hy2b-sim/2019-01.nc, made by ``make run``) with the simulated HY-2B P1 map
-over the nodes with at least 200 observations (issue 6; the constant is removed) and prints
+(results/hy2b-sim/code_bias/hy2b-sim/2019-01.nc, made by ``make run``) with the simulated HY-2B
+P1 map over the nodes with at least 200 observations (issue 6; the constant is removed) and prints
 the C1W multipath RMS before and after the correction.
 """
 
@@ -37,7 +37,9 @@ from leopod.workflow.config import load_campaign
 
 REPO = Path(__file__).resolve().parents[1]
 DAYS = ("2019-001", "2019-002", "2019-003")
-QUALITY = REPO / "results" / "quality" / "hy2b-sim"
+#: The products of the default campaign (config/config.yaml: campaign hy2b-sim).
+RESULTS = REPO / "results" / "hy2b-sim"
+QUALITY = RESULTS / "quality" / "hy2b-sim"
 
 
 def _prepare() -> None:
@@ -65,7 +67,7 @@ def _month(tmp: Path, n_days: int) -> list[Path]:
 
 
 def _truth_check() -> None:
-    path = REPO / "results" / "code_bias" / "hy2b-sim" / "2019-01.nc"
+    path = RESULTS / "code_bias" / "hy2b-sim" / "2019-01.nc"
     maps = xr.load_dataset(path)
     grid = grid_of(maps)
     est = node_vector(maps, "C1W", 0)

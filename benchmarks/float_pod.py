@@ -1,7 +1,8 @@
 """Benchmark and figures of the float POD on the real GRACE-A day 2007-03-21 (issue 5).
 
 Prepares the ingest and quality outputs with the workflow if they are missing
-(``snakemake results/quality/grace-a/2007-080.nc --configfile config/grace-a-2007.yaml``),
+(``snakemake results/grace-a-2007/quality/grace-a/2007-080.nc --configfile
+config/grace-a-2007.yaml``),
 then runs the float POD step's library call (:func:`leopod.estimation.arc.run_arc`) with the
 campaign settings of config/grace-a-2007.yaml at 30-s sampling over the 24 h of data and
 prints its wall time, peak memory, post-fit residual RMS, passes, rejections, and the orbit
@@ -41,7 +42,7 @@ from leopod.workflow.settings import pod_settings
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO.parent / "shared" / "data" / "grace-a_2007-080"
 CONFIG = REPO / "config" / "grace-a-2007.yaml"
-RESULTS = REPO / "results"
+RESULTS = REPO / "results" / "grace-a-2007"   # the campaign of CONFIG
 DATE = "2007-080"
 
 

@@ -12,7 +12,7 @@ wrong WL/NL/constrained fixes against the simulator's true integers (each system
 phase pair, :func:`leopod.simulate.ambiguity_truth.true_single_differences`), the RMS and the
 largest magnitude of the fractional parts of the float WL and NL (what the rounding decision
 sees), the product guard's verdict; then the float and fixed orbit RMS against the simulated
-truth (3D, R, T, N; results/summary/<sat>.csv).
+truth (3D, R, T, N; results/<campaign>/summary/<sat>.csv).
 """
 
 from __future__ import annotations
@@ -24,8 +24,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from leopod.workflow.config import read_campaign
+from leopod.workflow.layout import Layout
+
 REPO = Path(__file__).resolve().parents[1]
 CONFIG = REPO / "config" / "cod-ge-2023.yaml"
+#: The campaign's folders in a working directory (results/<campaign>/...).
+LAYOUT = Layout.of(read_campaign(CONFIG))
 
 
 def _fraction_stats(values: np.ndarray) -> tuple[float, float]:
@@ -41,13 +46,14 @@ def fixing(run: Path, sat: str, pairs: dict) -> list[dict]:
     from leopod.simulate.ambiguity_truth import wrong_fix_counts  # noqa: PLC0415
 
     rows = []
-    for path in sorted((run / "results" / "ambiguity" / sat).glob("*.nc")):
+    for path in sorted((run / LAYOUT.results / "ambiguity" / sat).glob("*.nc")):
         if path.stem.count("-") != 1:
             continue
         day = path.stem
         table = xr.load_dataset(path)
-        residuals = xr.load_dataset(run / "results" / "float_pod" / sat / f"{day}_residuals.nc")
-        truth = xr.load_dataset(run / "resources" / "simulate" / sat / f"{day}_truth.nc")
+        residuals = xr.load_dataset(run / LAYOUT.results / "float_pod" / sat
+                                    / f"{day}_residuals.nc")
+        truth = xr.load_dataset(run / LAYOUT.resources / "simulate" / sat / f"{day}_truth.nc")
         counts = wrong_fix_counts(table, residuals, [truth], pairs)
         systems = table.system.values.astype(str)
         for x in sorted(set(systems)):
@@ -62,7 +68,7 @@ def fixing(run: Path, sat: str, pairs: dict) -> list[dict]:
 
 def orbits(run: Path, sat: str) -> list[dict]:
     """The daily float and fixed rows of the campaign summary."""
-    with open(run / "results" / "summary" / f"{sat}.csv") as f:
+    with open(run / LAYOUT.results / "summary" / f"{sat}.csv") as f:
         return [r for r in csv.DictReader(f) if r["date"] not in ("mean", "std")]
 
 

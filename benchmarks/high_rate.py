@@ -27,12 +27,15 @@ import time
 from pathlib import Path
 
 import yaml
-from _jobs import BENCHMARKS, job_figures
+from _jobs import benchmark_folder, job_figures
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 SAT, DAYS, MIDDLE = "hy2b-sim", ("2019-001", "2019-002", "2019-003"), "2019-002"
-TARGET = f"results/float_pod/{SAT}/{MIDDLE}_orbit.nc"
+#: The default campaign's name and products folder (config/config.yaml).
+CAMPAIGN = "hy2b-sim"
+RESULTS = f"results/{CAMPAIGN}"
+TARGET = f"{RESULTS}/float_pod/{SAT}/{MIDDLE}_orbit.nc"
 STEPS = ("simulate", "gnss_products", "ingest", "quality", "code_bias", "float_pod")
 
 # reads the arc's daily files as the float POD does, in a fresh process; prints JSON
@@ -40,11 +43,11 @@ _READ = """
 import json, resource, sys, time
 from leopod.estimation.arc import ArcData
 days, step = json.loads(sys.argv[1]), json.loads(sys.argv[2])
-files = {{"obs": [f"results/ingest/{sat}/{{d}}_obs.nc" for d in days],
-          "quality": [f"results/quality/{sat}/{{d}}.nc" for d in days],
-          "leo": [f"results/ingest/{sat}/{{d}}_leo.nc" for d in days],
-          "orbit": [f"results/gnss_products/{{d}}_orbit.nc" for d in days],
-          "clock": [f"results/gnss_products/{{d}}_clock.nc" for d in days]}}
+files = {{"obs": [f"{results}/ingest/{sat}/{{d}}_obs.nc" for d in days],
+          "quality": [f"{results}/quality/{sat}/{{d}}.nc" for d in days],
+          "leo": [f"{results}/ingest/{sat}/{{d}}_leo.nc" for d in days],
+          "orbit": [f"{results}/gnss_products/{{d}}_orbit.nc" for d in days],
+          "clock": [f"{results}/gnss_products/{{d}}_clock.nc" for d in days]}}
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 tic = time.perf_counter()
 data = ArcData.read(files, sampling_s=step)
@@ -55,13 +58,15 @@ print(json.dumps({{"wall_s": wall, "import_mb": base,
                   "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
                   "epochs": [int(o.sizes["time"]) for o in data.obs],
                   "data_mb": sum(ds.nbytes for ds in (*data.obs, *data.quality)) / 1e6}}))
-""".format(sat=SAT)
+""".format(sat=SAT, results=RESULTS)
 
 
 def _config() -> dict:
     cfg = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
     cfg["start_date"], cfg["end_date"] = "2019-01-01", "2019-01-03"
     cfg["simulate"]["interval_s"] = 1.0
+    if cfg["campaign"] != CAMPAIGN:
+        raise ValueError(f"config/config.yaml: campaign {cfg['campaign']!r}, not {CAMPAIGN!r}")
     return cfg
 
 
@@ -98,12 +103,13 @@ def main() -> None:
           + (f"{wall / 60:.1f} min to the float POD of {MIDDLE}" if wall else "reused"))
     print(f"{'job':<32s} {'wall s':>8s} {'peak MB':>8s}")
     for step in STEPS:
-        for tsv in sorted((work / BENCHMARKS / step).rglob("*.tsv")):
+        folder = benchmark_folder(work, CAMPAIGN) / step
+        for tsv in sorted(folder.rglob("*.tsv")):
             s, mb = job_figures(work, tsv)
-            name = f"{step} {tsv.relative_to(work / BENCHMARKS / step).with_suffix('')}"
+            name = f"{step} {tsv.relative_to(folder).with_suffix('')}"
             print(f"{name:<32s} {s:8.1f} {mb:8.0f}")
     for day in DAYS:
-        sizes = {kind: (work / f"results/{kind}").stat().st_size / 1e6 for kind in
+        sizes = {kind: (work / RESULTS / kind).stat().st_size / 1e6 for kind in
                  (f"ingest/{SAT}/{day}_obs.nc", f"ingest/{SAT}/{day}_gnss.nc",
                   f"quality/{SAT}/{day}.nc")}
         print(f"{day}: " + ", ".join(f"{k} {v:.0f} MB" for k, v in sizes.items()))

@@ -7,8 +7,8 @@ single differences with the WL and the NL fixed (per system for a combined line)
 fixes against the simulator's integers (per system, each with its own phase pair), and the
 estimated PCO-Z correction (truth 0: the simulator flies the a-priori offsets of the campaign)
 as mean +- STD over the days. Everything comes from the campaign summaries
-(``results/summary/<line>.csv``: mean and std rows; counts summed over the days; wrong fixes
-counted by the summary against the simulator's integers, each system with its own phase
+(``results/<campaign>/summary/<line>.csv``: mean and std rows; counts summed over the days;
+wrong fixes counted by the summary against the simulator's integers, each system with its own phase
 pair).
 
     .venv/bin/python benchmarks/hy2d_table.py RUN:CONFIG [RUN:CONFIG ...]
@@ -27,14 +27,16 @@ import sys
 from pathlib import Path
 
 from leopod.workflow.config import load_campaign
+from leopod.workflow.layout import Layout
 from leopod.workflow.variants import pod_lines
 
 SOLUTIONS = ("float_pod", "fixed_pod")
 
 
-def summary_rows(run: Path, line: str) -> dict:
-    """``{(date, solution): row}`` of a line's campaign summary CSV (strings)."""
-    with open(run / "results" / "summary" / f"{line}.csv") as f:
+def summary_rows(results: Path, line: str) -> dict:
+    """``{(date, solution): row}`` of a line's campaign summary CSV (strings) in the campaign's
+    results folder."""
+    with open(results / "summary" / f"{line}.csv") as f:
         return {(r["date"], r["solution"]): r for r in csv.DictReader(f)}
 
 
@@ -51,7 +53,7 @@ def print_run(run: Path, config: Path) -> None:
           f"{'ovl3D':>5s} {'SLR':>5s} {'PCO-Z corr.':>14s}  [cm]   "
           f"SDs: WL / NL fixed [%], wrong")
     for line in pod_lines(cfg):
-        rows = summary_rows(run, line)
+        rows = summary_rows(run / Layout.of(cfg).results, line)
         for solution in SOLUTIONS:
             m, s = rows[("mean", solution)], rows.get(("std", solution), {})
             text = (f"{line:14s} {solution[:5]:9s} "

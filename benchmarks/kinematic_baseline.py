@@ -14,10 +14,11 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from _jobs import BENCHMARKS, job_figures
+from _jobs import benchmark_folder, job_figures
 
 from leopod.io.manoeuvre import read_manoeuvres
 from leopod.validation.formation import burn_windows, rms_rtn
+from leopod.workflow.layout import Layout
 
 
 def day_report(nc: Path, run: Path, bench: Path, burns: np.ndarray | None = None) -> str:
@@ -53,12 +54,15 @@ def day_report(nc: Path, run: Path, bench: Path, burns: np.ndarray | None = None
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path, help="Snakemake working directory of the campaign")
+    parser.add_argument("--campaign", default="lt1-sim", help="the campaign's name (config key)")
     args = parser.parse_args()
-    for nc in sorted((args.run / "results" / "kinematic_baseline").glob("*/*.nc")):
-        bench = args.run / BENCHMARKS / "kinematic_baseline" / nc.parent.name / f"{nc.stem}.tsv"
+    layout = Layout(args.campaign)
+    for nc in sorted((args.run / layout.results / "kinematic_baseline").glob("*/*.nc")):
+        bench = (benchmark_folder(args.run, args.campaign) / "kinematic_baseline"
+                 / nc.parent.name / f"{nc.stem}.tsv")
         with xr.open_dataset(nc) as ds:
             follower, times = ds.attrs["follower"], ds.time.values
-        path = args.run / "resources" / "simulate" / follower / "manoeuvres.txt"
+        path = args.run / layout.resources / "simulate" / follower / "manoeuvres.txt"
         burns = burn_windows(times, read_manoeuvres(path)[0]) if path.exists() else None
         print(day_report(nc, args.run, bench, burns))
 

@@ -28,6 +28,8 @@ import numpy as np
 import xarray as xr
 
 from leopod.validation.compare import difference_rtn, rms_rtn
+from leopod.workflow.config import read_campaign
+from leopod.workflow.layout import Layout
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -36,7 +38,8 @@ def _kinematic(root: Path, config: Path, sat: str, date: str, ambiguities: str) 
     """Run the kinematic_pod job of ``sat``/``date`` and return its dataset and wall time."""
     extra = root / f"kinematic_{ambiguities}.yaml"
     extra.write_text(f"kinematic:\n  enabled: true\n  ambiguities: {ambiguities}\n")
-    target = f"results/kinematic_pod/{sat}/{date}.nc"
+    results = Layout.of(read_campaign(config)).results
+    target = f"{results}/kinematic_pod/{sat}/{date}.nc"
     snakemake = [str(Path(sys.executable).with_name("snakemake")), target, "--cores", "2",
                  "--snakefile", str(REPO / "Snakefile"), "--directory", str(root),
                  "--configfile", str(config), str(extra)]
@@ -44,7 +47,7 @@ def _kinematic(root: Path, config: Path, sat: str, date: str, ambiguities: str) 
     tic = time.perf_counter()
     subprocess.run(snakemake + ["--forcerun", "kinematic_pod"], check=True, capture_output=True)
     wall = time.perf_counter() - tic
-    kept = root / f"results/kinematic_pod/{sat}/{date}_{ambiguities}.nc"
+    kept = root / f"{results}/kinematic_pod/{sat}/{date}_{ambiguities}.nc"
     shutil.copyfile(root / target, kept)
     return xr.load_dataset(kept), wall
 
@@ -67,13 +70,13 @@ def main() -> None:
     print(f"kinematic POD, simulated {sat} {date} (config/config.yaml), minus the truth orbit")
     for ambiguities in ("float", "fixed"):
         ds, wall = _kinematic(sim, REPO / "config" / "config.yaml", sat, date, ambiguities)
-        truth = xr.load_dataset(sim / f"resources/simulate/{sat}/{date}_truth.nc")
+        truth = xr.load_dataset(sim / f"resources/hy2b-sim/simulate/{sat}/{date}_truth.nc")
         print(_line(f"  {ambiguities} ambiguities", ds, truth, wall))
     sat, date = "grace-a", "2007-080"
     print(f"kinematic POD, real {sat} {date} (config/grace-a-2007.yaml), minus the float "
           "reduced-dynamic orbit")
     ds, wall = _kinematic(grace, REPO / "config" / "grace-a-2007.yaml", sat, date, "float")
-    reference = xr.load_dataset(grace / f"results/float_pod/{sat}/{date}_orbit.nc")
+    reference = xr.load_dataset(grace / f"results/grace-a-2007/float_pod/{sat}/{date}_orbit.nc")
     print(_line("  float ambiguities", ds, reference, wall))
 
 

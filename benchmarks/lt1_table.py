@@ -1,7 +1,8 @@
 """The results table of Zhang et al. (2024, paper 003) for finished simulated Lutan-1-like
 formation campaigns (issue 21).
 
-For each run (a label and a campaign folder) and pair line (the pair's G+C solution and, with
+For each run (a label and the results folder of a campaign,
+``<directory>/results/<campaign>``) and pair line (the pair's G+C solution and, with
 ``variants``, its G and C solutions ``<pair>_G``, ``<pair>_C``), as mean ± STD over the days,
 from the campaign outputs: DD WL/NL fixing rates (graph rank; per system) and wrong DD fixes
 against the simulator's integers; the fixed-POD phase and code residual RMS per system of each
@@ -9,12 +10,12 @@ satellite and the receiver-SD residual RMS per system of the baseline (paper Fig
 reduced-dynamic baseline float and DD-fixed against the truth (3D and R/T/N); its 6-h overlaps;
 the mutual differences of the G, C and G+C baselines (Fig. 5); the kinematic baselines (float,
 DD-fixed) against the truth and minus the reduced-dynamic one; the STD of baseline length minus
-the inter-satellite range. Everything comes from ``results/summary/<pair>_formation.csv`` (rule
-formation_summary) and ``results/summary/<sat>.csv`` (campaign_summary).
+the inter-satellite range. Everything comes from ``summary/<pair>_formation.csv`` (rule
+formation_summary) and ``summary/<sat>.csv`` (campaign_summary) of that folder.
 
     .venv/bin/python benchmarks/lt1_table.py LABEL:RUN [LABEL:RUN ...]
 
-e.g.  .venv/bin/python benchmarks/lt1_table.py lt1-sim:../scratch-lt1
+e.g.  .venv/bin/python benchmarks/lt1_table.py lt1-sim:../scratch-lt1/results/lt1-sim
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ def _cell(rows: dict, key: str, scale: float = 1.0) -> str:
 
 def print_run(label: str, run: Path) -> None:
     """The table of every formation pair of one finished run."""
-    for path in sorted((run / "results" / "summary").glob("*_formation.csv")):
+    for path in sorted((run / "summary").glob("*_formation.csv")):
         pair = path.name.removesuffix("_formation.csv")
         f = _rows(path)
         cols = list(next(iter(f.values())).keys())
@@ -53,7 +54,7 @@ def print_run(label: str, run: Path) -> None:
         if "dd_nl_wrong" in cols:
             print("  wrong DD fixes WL / NL / constrained (sum): " + " / ".join(
                 f"{float(f['mean'][f'dd_{k}_wrong']):.0f}" for k in ("wl", "nl", "constrained")))
-        first = sorted((run / "results" / "baseline" / pair).glob("*_dd.nc"))
+        first = sorted((run / "baseline" / pair).glob("*_dd.nc"))
         if first:
             with xr.open_dataset(str(first[0]).replace("_dd.nc", ".nc")) as ds:
                 for sat in (ds.attrs["leader"], ds.attrs["follower"]):
@@ -82,7 +83,7 @@ def print_run(label: str, run: Path) -> None:
 
 def _residuals(run: Path, sat: str) -> None:
     """Fixed-POD phase [mm] and code [m] residual RMS per system of one satellite."""
-    path = run / "results" / "summary" / f"{sat}.csv"
+    path = run / "summary" / f"{sat}.csv"
     if not path.exists():
         return
     with open(path) as f:

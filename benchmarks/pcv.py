@@ -13,9 +13,9 @@ both; also with a PCO-Z-like cos z removed), the wall time and the peak memory.
     .venv/bin/python benchmarks/pcv.py --campaign <directory of a run of
         config/hy2b-sim-pcv.yaml or of its iterations>
 
-``--campaign`` compares the map that a workflow run wrote (results/pcv/hy2b-sim/2019-01.atx:
-the POD's PCV plus the map) with the GOCE truth stacked at the run's fixed-POD residual
-directions, over all nodes and above 10° elevation.
+``--campaign`` compares the map that a workflow run wrote
+(results/hy2b-sim-pcv/pcv/hy2b-sim/2019-01.atx: the POD's PCV plus the map) with the GOCE truth
+stacked at the run's fixed-POD residual directions, over all nodes and above 10° elevation.
 
 Measured 2026-11-27 (one day 0-24 h, 10° x 10°, 301 nodes with >= 30 residuals, float POD,
 another job sharing the 2 cores): orbit 3D RMS against the truth: no PCV 45.30 mm, true PCV
@@ -47,9 +47,12 @@ from _simulated_arc import GOCE  # noqa: E402
 
 from leopod.antenna.pcv import PcvSettings, map_rms_m, stack_residuals  # noqa: E402
 from leopod.gnss.leo_antenna import leo_antenna, receiver_pcv_if  # noqa: E402
-from leopod.workflow.config import with_defaults  # noqa: E402
+from leopod.workflow.config import read_campaign, with_defaults  # noqa: E402
+from leopod.workflow.layout import Layout  # noqa: E402
 
 SAT, PERIOD, DAYS = "hy2b-sim", "2019-01", ("2019-001", "2019-002", "2019-003")
+#: The products folder of config/hy2b-sim-pcv.yaml in its working directory.
+RESULTS = Layout.of(read_campaign(REPO / "config" / "hy2b-sim-pcv.yaml")).results
 
 
 def campaign_map(folder: Path) -> None:
@@ -57,7 +60,7 @@ def campaign_map(folder: Path) -> None:
     pair = ("L1C", "L2W")
     truth_if = receiver_pcv_if(leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"}),
                                "G", pair)
-    est = xr.load_dataset(folder / f"results/pcv/{SAT}/{PERIOD}.nc")
+    est = xr.load_dataset(folder / RESULTS / f"pcv/{SAT}/{PERIOD}.nc")
     settings = PcvSettings.from_config(with_defaults("pcv", {
         "az_step_deg": float(est.attrs["az_step_deg"]),
         "zenith_step_deg": float(est.attrs["zenith_step_deg"]),
@@ -65,7 +68,7 @@ def campaign_map(folder: Path) -> None:
         "estimator": str(est.attrs["estimator"])}))
     stacked = []
     for day in DAYS:
-        res = xr.load_dataset(folder / f"results/fixed_pod/{SAT}/{day}_residuals.nc")
+        res = xr.load_dataset(folder / RESULTS / f"fixed_pod/{SAT}/{day}_residuals.nc")
         ok = np.isfinite(res.phase_residual_m.values) & (res.phase_rejected.values == 0)
         true = np.full(ok.shape, np.nan)
         true[ok] = truth_if(res.el_deg.values[ok], res.az_deg.values[ok])
@@ -73,7 +76,7 @@ def campaign_map(folder: Path) -> None:
         stacked.append(res)
     truth = stack_residuals(stacked, settings)
     zz, aa = np.meshgrid(est.zenith_deg.values, est.azimuth_deg.values)
-    total = receiver_pcv_if(leo_antenna(None, {"antex": str(folder / f"results/pcv/{SAT}/"
+    total = receiver_pcv_if(leo_antenna(None, {"antex": str(folder / RESULTS / f"pcv/{SAT}/"
                                                           f"{PERIOD}.atx"),
                                                "type": "LEOPOD PCV"}), "G", pair)
     est["pcv_if_m"] = (est.pcv_if_m.dims, total(90.0 - zz, aa))

@@ -1,19 +1,20 @@
 """Benchmark: float and ambiguity-fixed POD of one simulated day of the default campaign.
 
-Prepares the day's inputs with the workflow (``snakemake results/ambiguity/<sat>/<date>.nc``
-in the working directory ``--directory``, default the repository; the float POD runs once
-there), then runs the float_pod, ambiguity and fixed_pod jobs of that day with their scripts,
-in-process as Snakemake would (:func:`leopod.workflow.boundary.mock_snakemake`: same inputs,
-settings and outputs), each step ``--repeat`` times in a fresh process, and prints per step the
-best wall time, the orbit integrations and force evaluations, and the peak memory: once for
-a job alone and once as in the workflow's warm worker (what the worker loads before it forks a
-job, :func:`leopod.workflow.worker.preload`, is loaded first and not timed; the ~0.2 s of the
-job process that hands the job over are not included either). The fixed POD's time is what it
-adds on top of the float POD and the ambiguity step. As in a workflow
-run, the job's process gets its ``threads`` (1 for these rules) in the thread-count variables
-of the linear-algebra libraries (``OPENBLAS_NUM_THREADS`` etc., which Snakemake sets for a
-script job); a second BLAS thread made a Cholesky factorisation of the POD's normal matrix
-up to 0.6 s slower instead of faster on the 2-core development machine.
+Prepares the day's inputs with the workflow (``snakemake
+results/<campaign>/ambiguity/<sat>/<date>.nc`` in the working directory ``--directory``, default
+the repository; the float POD runs once there), then runs the float_pod, ambiguity and fixed_pod
+jobs of that day with their scripts, in-process as Snakemake would
+(:func:`leopod.workflow.boundary.mock_snakemake`: same inputs, settings and outputs), each step
+``--repeat`` times in a fresh process, and prints per step the best wall time, the orbit
+integrations and force evaluations, and the peak memory: once for a job alone and once as in the
+workflow's warm worker (what the worker loads before it forks a job,
+:func:`leopod.workflow.worker.preload`, is loaded first and not timed; the ~0.2 s of the job
+process that hands the job over are not included either). The fixed POD's time is what it adds
+on top of the float POD and the ambiguity step. As in a workflow run, the job's process gets its
+``threads`` (1 for these rules) in the thread-count variables of the linear-algebra libraries
+(``OPENBLAS_NUM_THREADS`` etc., which Snakemake sets for a script job); a second BLAS thread
+made a Cholesky factorisation of the POD's normal matrix up to 0.6 s slower instead of faster on
+the 2-core development machine.
 
     .venv/bin/python benchmarks/pod_day.py [--date 2019-002] [--repeat 3] [--directory D]
                                            [--configfile F]
@@ -35,6 +36,9 @@ import time
 from pathlib import Path
 
 from _counting import IntegrationCounter
+
+from leopod.workflow.config import read_campaign
+from leopod.workflow.layout import Layout
 
 REPO = Path(__file__).resolve().parents[1]
 STEPS = ("float_pod", "ambiguity", "fixed_pod")
@@ -94,7 +98,8 @@ def main() -> None:
     if args.step:
         _one(args.step, args.date, root, args.configfile.resolve(), args.sat, args.warm)
         return
-    target = f"results/ambiguity/{args.sat}/{args.date}.nc"
+    results = Layout.of(read_campaign(args.configfile)).results
+    target = f"{results}/ambiguity/{args.sat}/{args.date}.nc"
     subprocess.run([str(Path(sys.executable).with_name("snakemake")), target, "--cores", "2",
                     "--snakefile", str(REPO / "Snakefile"), "--directory", str(root),
                     "--configfile", str(args.configfile.resolve())],

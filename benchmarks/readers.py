@@ -8,19 +8,19 @@ Prints the wall time (best of ``--repeat``) of
 * comparing a 30-h 10-s orbit with a 30-s reference and its statistics (requirement < 0.5 s
   after warm-up),
 
-against the requirements that the tests used to assert (a test suite on a shared machine is
-no place for wall-time limits), and (issue 18) the time of
+against the requirements that the tests used to assert (a test suite on a shared machine is no
+place for wall-time limits), and (issue 18) the time of
 :meth:`leopod.estimation.arc.ArcData.read` for the GRACE-A day 2007-080 (CODE SP3 and 30-s
 clocks, IGS05 ANTEX) and the simulated default campaign's day 2019-002 (a 30-h arc over three
 days of SP3 and integer-clock files, no ANTEX), once from the text files (as every POD job
 parsed them before the gnss_products rule) and once from the netCDF files that rule writes
-(written here by its script into a temporary folder): the products alone, and the whole arc
-when the ingest and quality outputs of the day exist under results/ (``snakemake
-results/quality/grace-a/2007-080.nc --configfile config/grace-a-2007.yaml``; for the simulated
-arc the quality files of 2019-001..003 with config/config.yaml). The real files come from
-../shared/data and the simulated ones from resources/simulate/gnss/ (``snakemake
-resources/simulate/gnss/2019-00{1,2,3}_int.clk --configfile config/config.yaml``); without
-them those lines say so.
+(written here by its script into a temporary folder): the products alone, and the whole arc when
+the ingest and quality outputs of the day exist under results/<campaign>/ (``snakemake
+results/grace-a-2007/quality/grace-a/2007-080.nc --configfile config/grace-a-2007.yaml``; for
+the simulated arc the quality files of 2019-001..003 with config/config.yaml). The real files
+come from ../shared/data and the simulated ones from resources/hy2b-sim/simulate/gnss/
+(``snakemake resources/hy2b-sim/simulate/gnss/2019-00{1,2,3}_int.clk --configfile
+config/config.yaml``); without them those lines say so.
 
     .venv/bin/python benchmarks/readers.py [--repeat N]
 """
@@ -50,8 +50,9 @@ SHARED = REPO.parent / "shared/data"
 ANTEX = SHARED / "antex/igs05_1627.atx"
 SLRF2020 = SHARED / "slr/SLRF2020_POS+VEL_2023.10.02.snx"
 GRACE = SHARED / "grace-a_2007-080"
-SIMULATED = REPO / "resources/simulate/gnss"
-RESULTS = REPO / "results"
+SIMULATED = REPO / "resources/hy2b-sim/simulate/gnss"
+#: The products folder of each satellite's campaign (config/grace-a-2007.yaml, config.yaml).
+RESULTS = {"grace-a": REPO / "results/grace-a-2007", "hy2b-sim": REPO / "results/hy2b-sim"}
 
 
 def _gnss_products_main():
@@ -80,9 +81,10 @@ def _arc_files(sat: str, days: list[str], text: dict, folder: Path) -> tuple[dic
     atx = text[days[len(days) // 2]][2]
     if atx:
         raw["antenna"] = atx
-    daily = {"obs": [RESULTS / "ingest" / sat / f"{d}_obs.nc" for d in days],
-             "leo": [RESULTS / "ingest" / sat / f"{d}_leo.nc" for d in days],
-             "quality": [RESULTS / "quality" / sat / f"{d}.nc" for d in days]}
+    results = RESULTS[sat]
+    daily = {"obs": [results / "ingest" / sat / f"{d}_obs.nc" for d in days],
+             "leo": [results / "ingest" / sat / f"{d}_leo.nc" for d in days],
+             "quality": [results / "quality" / sat / f"{d}.nc" for d in days]}
     whole = all(p.exists() for paths in daily.values() for p in paths)
     if not whole:
         daily = {k: [] for k in daily}
@@ -105,7 +107,7 @@ def _arc_read_rows(label: str, sat: str, days: list[str], text: dict, repeat: in
                 rows.append((f"ArcData.read {label}, whole arc, {what}",
                              best_of(lambda f=files: ArcData.read(f), repeat), None))
         else:
-            print(f"{label}: ingest/quality outputs under {RESULTS} missing: whole-arc "
+            print(f"{label}: ingest/quality outputs under {RESULTS[sat]} missing: whole-arc "
                   "reading not measured")
     return rows
 

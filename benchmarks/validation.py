@@ -36,6 +36,7 @@ from leopod.validation.slr import (
 )
 from leopod.workflow.campaign import campaign_days
 from leopod.workflow.config import load_campaign, section_defaults
+from leopod.workflow.layout import Layout
 
 SLR = SlrResidualSettings.from_config(section_defaults("validation")["slr"])
 
@@ -50,7 +51,8 @@ def _mm(values) -> str:
 
 
 def slr_check(cfg: dict, workdir: Path) -> None:
-    sim = workdir / "resources" / "simulate"
+    layout = Layout.of(cfg)
+    sim = workdir / layout.resources / "simulate"
     truth = xr.load_dataset(sim / SAT / "truth_orbit.nc")
     stations = read_sinex_stations(sim / "slr_stations.snx")
     ecc = read_sinex_eccentricities(sim / "slr_eccentricities.snx")
@@ -63,25 +65,26 @@ def slr_check(cfg: dict, workdir: Path) -> None:
         # the simulated noise of the same points: the truth-orbit residual is noise + bias
         print(f"{date}: truth orbit SLR residuals {_mm(res.residual_m.values[used])}")
         for solution in ("float_pod", "fixed_pod"):
-            path = workdir / "results" / "slr" / SAT / solution / f"{date}.nc"
+            path = workdir / layout.results / "slr" / SAT / solution / f"{date}.nc"
             if not path.exists():
                 continue
             r = xr.load_dataset(path)
-            orbit = xr.load_dataset(workdir / "results" / solution / SAT / f"{date}_orbit.nc")
+            orbit = xr.load_dataset(workdir / layout.results / solution / SAT
+                                    / f"{date}_orbit.nc")
             ok = r.flag.values == 0
             projected = line_of_sight_orbit_difference(r, orbit, truth).values
             print(f"  {solution}: residuals {_mm(r.residual_m.values[ok])}; minus projected "
                   f"orbit error {_mm(r.residual_m.values[ok] - projected[ok])}")
 
 
-def report_time(workdir: Path, configfile: Path) -> None:
+def report_time(workdir: Path, configfile: Path, layout: Layout) -> None:
     snakemake = str(Path(sys.executable).with_name("snakemake"))
+    report = workdir / layout.report
     t0 = time.perf_counter()
     subprocess.run([snakemake, "--snakefile", str(REPO / "Snakefile"), "--directory",
                     str(workdir), "--configfile", str(configfile), "--report",
-                    str(workdir / "results" / "report.html")], check=True,
-                   capture_output=True)
-    size = (workdir / "results" / "report.html").stat().st_size / 1e6
+                    str(report)], check=True, capture_output=True)
+    size = report.stat().st_size / 1e6
     print(f"snakemake --report: {time.perf_counter() - t0:.1f} s ({size:.1f} MB)")
 
 
@@ -93,7 +96,7 @@ def main() -> None:
     logging.basicConfig(level=logging.WARNING)
     cfg = load_campaign(args.configfile)
     slr_check(cfg, args.directory)
-    report_time(args.directory.resolve(), args.configfile.resolve())
+    report_time(args.directory.resolve(), args.configfile.resolve(), Layout.of(cfg))
 
 
 if __name__ == "__main__":

@@ -191,8 +191,9 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, pair: list, signals, a
     kind = ("DD-fixed baseline solution, leader held at its fixed POD"
             if baseline.mode == "reference_fixed" else "DD-fixed joint baseline solution")
     for role, o, p in zip(("leader", "follower"), outs, pair, strict=True):
-        write_sp3(sp3_dataset(o.orbit, p["sp3_id"]),
-                  outputs[f"sp3_{role}"], orbit_type="FIT", comments=tuple(textwrap.wrap(
+        write_sp3(sp3_dataset(o.orbit, p["sp3_id"]), outputs[f"sp3_{role}"], orbit_type="FIT",
+                  coordinate_system=data.coordinate_system,   # the pair's GNSS products
+                  comments=tuple(textwrap.wrap(
                       f"leopod {kind} of {names[1]} - {names[0]}: {p['sat']} {date}", 77)))
     title = f"{pair[1]['title']} - {pair[0]['title']} {date}"
     plot_fractional_parts(dd.table, outputs["histogram"], title=f"DD {title}")

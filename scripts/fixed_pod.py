@@ -54,7 +54,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     write_arc(fixed.arc, **{k: outputs[k] for k in ARC_PRODUCTS}, step="fixed_pod",
               kind="ambiguity-fixed", title=title, sp3_id=sp3_id,
               inputs=[inputs["table"], inputs["float_orbit"], inputs["float_parameters"],
-                      *data.files], day=parse_date_id(date))
+                      *data.files], day=parse_date_id(date),
+              coordinate_system=data.coordinate_system)
     plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in ARC_FIGURES},
              title=title, solution="ambiguity-fixed", reference="float POD orbit")
 

@@ -45,7 +45,7 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
         gate_arc(solution, gate, f"float POD {date}", parse_date_id(date), arc.sampling_s)
     write_arc(solution, **{k: outputs[k] for k in ARC_PRODUCTS}, step="float_pod",
               kind="float", title=title, sp3_id=sp3_id, inputs=data.files,
-              day=parse_date_id(date))
+              day=parse_date_id(date), coordinate_system=data.coordinate_system)
     plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in ARC_FIGURES},
              title=title, solution="float", reference="a-priori (code-only) orbit")
 

@@ -61,11 +61,12 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     ds = kinematic_dataset(result, eop=problem.eop).sel(
         time=slice(day, day + np.timedelta64(86400, "s") - np.timedelta64(1, "ns")))
     kind = f"kinematic ({kinematic.ambiguities} ambiguities)"
-    write_netcdf(ds, outputs["nc"], step="kinematic_pod", reference_frame="ITRF",
+    write_netcdf(ds, outputs["nc"], step="kinematic_pod", reference_frame=data.coordinate_system,
                  title=f"{kind} orbit {title}", time_system="GPS",
                  inputs=[inputs["float_orbit"], *data.files,
                          *([inputs["table"]] if constraints is not None else [])])
     write_sp3(kinematic_sp3_dataset(ds, sp3_id), outputs["sp3"], orbit_type="KIN",
+              coordinate_system=data.coordinate_system,
               comments=tuple(textwrap.wrap(f"leopod {kind} orbit {title}; record "
                                            "accuracy exponents: formal sigmas", 77)))
     plot_kinematic_rtn(ds, outputs["figure"], title=title)

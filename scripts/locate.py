@@ -1,4 +1,4 @@
-"""Rule locate: link an input named by path in the config into resources/locate/."""
+"""Rule locate: link an input named by path in the config into resources/<campaign>/locate/."""
 
 from leopod.workflow.worker import hand_off
 

@@ -19,21 +19,25 @@
                                               .snakemake/log/ (leopod.workflow.progress)
                                               with --exclude-failed: keep going past failed
                                               jobs, then leave the days with a failed job out
-                                              (results/failed_days.yaml: config exclude_days,
+                                              (results/<campaign>/failed_days.yaml: config
+                                              exclude_days,
                                               exclude_pod_days) and run again, so that the
                                               other days and the summary finish; the failed
                                               days are listed
     leopod status CAMPAIGN [--directory D]    the days with an orbit and the failed jobs of a
                                               run, each failed day with its reason (the error
                                               in its log)
-    leopod report CAMPAIGN [--directory D]    results/report.html of a finished run
+    leopod report CAMPAIGN [--directory D]    results/<campaign>/report.html of a finished
+                                              run
     leopod compare ORBIT REFERENCE [--sv ID] [--reference-sv ID] [--time-system S]
                    [--helmert 3|6|7] [--figure PNG]
                                               ORBIT minus REFERENCE in inertial R, T, N: mean,
                                               STD and RMS per day and in total (SP3, leopod
                                               netCDF or GRACE CSV files; leopod.validation)
 
-``CAMPAIGN`` is one or more campaign files, merged in order (as Snakemake's ``--configfile``).
+``CAMPAIGN`` is one or more campaign files, merged in order (as Snakemake's ``--configfile``);
+its files go to ``results/<campaign>/``, ``resources/<campaign>/`` and ``logs/<campaign>/`` of
+``D`` (:mod:`leopod.workflow.layout`), so campaigns run in one directory keep their files.
 Relative input paths of a campaign are relative to the working directory ``D`` (default: the
 current directory), as for Snakemake. ``check`` exits with 2 when the campaign does not conform
 to the schema, 1 when input files are missing, 0 otherwise; it reports inputs that the workflow
@@ -75,23 +79,24 @@ def missing_inputs(config: dict, directory: Path) -> tuple[dict[str, list[str]],
         ``{config entry: "simulated" | "downloaded"}`` of the inputs the workflow writes.
     """
     from leopod.workflow.campaign import (
-        PRODUCED,
         campaign_days,
+        campaign_inputs,
         expand_template,
         input_references,
         is_daily_template,
+        produced_kind,
     )
     from leopod.workflow.downloads import PREFIX
 
     days = campaign_days(config)
     missing: dict[str, list[str]] = {}
     produced: dict[str, str] = {}
-    for entry, container, key in input_references(config):
+    for entry, container, key in input_references(campaign_inputs(config)):
         template = container.get(key)
         if not template:
             continue
-        kind = "downloaded" if template.startswith(PREFIX) else next(
-            (k for folder, k in PRODUCED.items() if template.startswith(folder)), None)
+        kind = ("downloaded" if template.startswith(PREFIX)
+                else produced_kind(template, config))
         if kind:
             produced[entry] = kind
             continue
@@ -117,7 +122,11 @@ def _check(args) -> int:
         return 2
     config = validated(raw)
     directory = args.directory.resolve()
-    missing, produced = missing_inputs(config, directory)
+    try:
+        missing, produced = missing_inputs(config, directory)
+    except ValueError as error:   # an input path the campaign's folders cannot hold
+        print(f"1 problem(s) in the campaign:\n  - {error}")
+        return 2
     print(f"campaign {config['campaign']}: {config['start_date']} to {config['end_date']}, "
           f"satellites {', '.join(config['satellites'])}: conforms to the schema")
     for entry, kind in produced.items():
@@ -159,17 +168,19 @@ def _run(args) -> int:
     import yaml
 
     from leopod.workflow.campaign import pod_days
+    from leopod.workflow.layout import Layout
     from leopod.workflow.status import failed_days, failures
 
-    overlay = args.directory.resolve() / "results" / "failed_days.yaml"
     config = _campaign(args)
+    layout = Layout.of(config)
+    overlay = args.directory.resolve() / layout.failed_days
     # the days given in the campaign and those found here: data unusable, or POD failed
     excluded = {key: dict(config[key]) for key in ("exclude_days", "exclude_pod_days")}
     found = False
     # each pass leaves out at least one more day: a day's POD (held back by the code-bias map
     # of its period) may fail only once the days with bad data are out of the way
     while status != 0:
-        failed = failed_days(failures(args.directory), pod_days(_campaign(args)))
+        failed = failed_days(failures(args.directory, layout), pod_days(_campaign(args)))
         if not failed:
             print("leopod run: the run failed, but no day has a failed job of its own "
                   "(see the Snakemake output above)", file=sys.stderr)
@@ -231,11 +242,13 @@ def _init(args) -> int:
 
 def _status(args) -> int:
     from leopod.workflow.campaign import excluded_days, pod_days, satellite_ids
+    from leopod.workflow.layout import Layout
     from leopod.workflow.status import failed_days, failures, gate_verdicts, orbit_days
 
     config = _campaign(args)
+    layout = Layout.of(config)
     days, excluded = pod_days(config), excluded_days(config)
-    found = failures(args.directory)
+    found = failures(args.directory, layout)
     failed = failed_days(found, days)
     print(f"campaign {config['campaign']}: {len(days)} day(s) "
           f"({config['start_date']} to {config['end_date']}"
@@ -246,9 +259,10 @@ def _status(args) -> int:
                  if products.get("gnss_clock") else [])   # the solutions of common.smk
     for sat in satellite_ids(config):
         for solution in solutions:
-            done = orbit_days(args.directory, solution, sat, days)
+            done = orbit_days(args.directory, layout, solution, sat, days)
             print(f"  {sat} {solution}: {len(done)} of {len(days)} day(s) with an orbit")
-            for day, verdict in gate_verdicts(args.directory, solution, sat, done).items():
+            for day, verdict in gate_verdicts(args.directory, layout, solution, sat,
+                                              done).items():
                 print(f"    {day}  quality gate {verdict}")
     for day, reason in excluded.items():
         print(f"  {day}  excluded: {reason}")
@@ -261,7 +275,9 @@ def _status(args) -> int:
 
 
 def _report(args) -> int:
-    out = args.directory.resolve() / "results" / "report.html"
+    from leopod.workflow.layout import Layout
+
+    out = args.directory.resolve() / Layout.of(_campaign(args)).report
     cmd = _snakemake(args, ["--report", str(out)])
     print(" ".join(cmd), flush=True)
     return subprocess.run(cmd).returncode
@@ -330,7 +346,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for name, text in (("check", "check a campaign and its input files"),
                        ("run", "run a campaign (Snakemake)"),
                        ("status", "the days with an orbit and the failed jobs of a run"),
-                       ("report", "build results/report.html of a run")):
+                       ("report", "build results/<campaign>/report.html of a run")):
         p = sub.add_parser(name, help=text, description=text)
         p.add_argument("campaign", type=Path, nargs="+", help="campaign file(s), merged in order")
         p.add_argument("--directory", "-d", type=Path, default=Path.cwd(),
@@ -345,7 +361,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                                 "Snakemake's output (auto: on a terminal)")
             p.add_argument("--exclude-failed", action="store_true",
                            help="keep going past failed jobs, then run again without the "
-                                "days that have one (results/failed_days.yaml)")
+                                "days that have one (results/<campaign>/failed_days.yaml)")
     p = sub.add_parser("compare", help="compare an orbit with a reference orbit",
                        description="ORBIT minus REFERENCE in inertial R/T/N, per day and in total")
     p.add_argument("orbit", help="orbit file (SP3, leopod netCDF or GRACE CSV)")

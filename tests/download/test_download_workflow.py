@@ -18,7 +18,7 @@ import pytest
 import yaml
 from _download_servers import HttpArchive
 
-from leopod.workflow.downloads import ROOT
+from leopod.workflow.layout import DOWNLOAD_ROOT as ROOT
 
 REPO = Path(__file__).resolve().parents[2]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
@@ -52,12 +52,12 @@ def _snakemake(work: Path, config: Path, *args: str) -> subprocess.CompletedProc
 @pytest.mark.shared
 def test_an_offline_campaign_runs_from_a_local_archive(shared_data, tmp_path, refused_url):
     config = _campaign(tmp_path, str(shared_data), refused_url, offline=True)
-    quality = "results/quality/grace-a/2007-080.nc"
+    quality = "results/grace-a-2007/quality/grace-a/2007-080.nc"
     proc = _snakemake(tmp_path, config, quality, "--cores", "2")
     assert proc.returncode == 0, proc.stderr[-3000:]
     for family, name in FILES.items():
         assert (tmp_path / ROOT / family / name).stat().st_size > 0
-    log = (tmp_path / "logs/download/cod_orbit/2007-080.sp3.log").read_text()
+    log = (tmp_path / "logs/grace-a-2007/download/cod_orbit/2007-080.sp3.log").read_text()
     assert "grace-a_2007-080/cod14193.sp3.gz" in log and "96 epochs" in log
     assert (tmp_path / quality).exists()
     # fetched again with the same content: nothing downstream reruns (profiles/default)
@@ -83,7 +83,7 @@ def test_the_rules_fetch_over_http_after_failing_archives(shared_data, tmp_path,
     text = (tmp_path / ROOT / "cod_clock/2007-080.clk").read_text()
     assert text.startswith("     2.00") and "CLOCK DATA" in text.splitlines()[0]
     # the preferred archives (CODE, CDDIS, IGN, BKG) were tried first and refused
-    log = (tmp_path / "logs/download/cod_clock/2007-080.clk.log").read_text()
+    log = (tmp_path / "logs/grace-a-2007/download/cod_clock/2007-080.clk.log").read_text()
     assert log.count(refused_url) >= 4
 
 
@@ -92,13 +92,14 @@ def test_a_day_without_products_fails_alone_and_names_every_archive(shared_data,
                                                                     refused_url):
     # 2007-03-22 exists in no archive: its downloads fail, 2007-03-21 is processed
     config = _campaign(tmp_path, str(shared_data), refused_url, end_date="2007-03-22")
-    proc = _snakemake(tmp_path, config, "results/quality/grace-a/2007-080.nc",
-                      "results/quality/grace-a/2007-081.nc", "--cores", "2", "--keep-going")
+    quality = "results/grace-a-2007/quality/grace-a"
+    proc = _snakemake(tmp_path, config, f"{quality}/2007-080.nc", f"{quality}/2007-081.nc",
+                      "--cores", "2", "--keep-going")
     assert proc.returncode != 0
-    assert (tmp_path / "results/quality/grace-a/2007-080.nc").exists()
-    assert not (tmp_path / "results/ingest/grace-a/2007-081_obs.nc").exists()
+    assert (tmp_path / "results/grace-a-2007/quality/grace-a/2007-080.nc").exists()
+    assert not (tmp_path / "results/grace-a-2007/ingest/grace-a/2007-081_obs.nc").exists()
     assert not list((tmp_path / ROOT / "cod_orbit").glob("2007-081*"))
-    log = (tmp_path / "logs/download/cod_orbit/2007-081.sp3.log").read_text()
+    log = (tmp_path / "logs/grace-a-2007/download/cod_orbit/2007-081.sp3.log").read_text()
     assert "cannot fetch product 'cod_orbit' for 2007-081" in log
     assert f"{refused_url}/2007/COD14194.EPH.Z" in log                 # CODE, short name
     assert f"{shared_data}/grace-a_2007-081/cod14194.sp3.gz: no such file" in log

@@ -1,5 +1,8 @@
 """The netCDF writer: metadata, explicit time encoding, lossless round trip, atomic failure."""
 
+import datetime as dt
+import json
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -39,3 +42,58 @@ def test_missing_units_rejected_and_no_partial_file(tmp_path):
     with pytest.raises(ValueError, match="bad"):
         write_netcdf(ds, tmp_path / "c.nc", step="s")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def job(tmp_path):
+    """A workflow job declared to the writers (leopod.io.provenance), undeclared after."""
+    from leopod.io.provenance import JobProvenance, file_sha256, set_job
+
+    (tmp_path / "abc.txt").write_bytes(b"abc")
+    job = JobProvenance(rule="float_pod", script="scripts/float_pod.py",
+                        settings=json.dumps({"pod": {"elevation_mask_deg": 7.0}}),
+                        inputs=(str(tmp_path / "abc.txt"),), config_sha256="0" * 64,
+                        references="Peng et al. (2021)", started="2019-01-01T00:00:00Z")
+    set_job(job)
+    yield job
+    set_job(None)
+    file_sha256.cache_clear()
+
+
+def test_a_job_s_files_carry_cf_attributes_settings_inputs_and_config_hash(tmp_path, job):
+    # CF-1.10 sec. 2.6.2 global attributes and the standard name "time" (CF Standard Name
+    # Table); SHA-256 of "abc" = ba7816bf...15ad (FIPS 180-2, appendix B.1 example)
+    with xr.open_dataset(write_netcdf(_ds(), tmp_path / "a.nc", step="float_pod")) as back:
+        attrs = back.attrs
+        assert back.time.attrs["standard_name"] == "time"
+    assert attrs["Conventions"] == "CF-1.10" and attrs["source"].startswith("leopod ")
+    assert attrs["title"] == "leopod float_pod product"
+    assert attrs["history"] == (f"2019-01-01T00:00:00Z: {attrs['source']}, Snakemake rule "
+                                "float_pod (script scripts/float_pod.py)")
+    assert attrs["references"] == "Peng et al. (2021)"
+    assert json.loads(attrs["leopod_settings"]) == {"pod": {"elevation_mask_deg": 7.0}}
+    assert json.loads(attrs["leopod_inputs"]) == {str(tmp_path / "abc.txt"): (
+        "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad")}
+    assert attrs["leopod_config_sha256"] == "0" * 64
+
+
+def test_outside_a_job_the_history_has_no_time_and_no_job_attributes(tmp_path):
+    with xr.open_dataset(write_netcdf(_ds(), tmp_path / "a.nc", step="s")) as back:
+        assert back.attrs["history"].endswith(" s")
+        assert not [k for k in back.attrs if k.startswith("leopod_")]
+
+
+def test_the_history_time_is_source_date_epoch_or_now(monkeypatch):
+    # SOURCE_DATE_EPOCH 1546300800 = 2019-01-01 00:00:00 UTC (reproducible-builds spec)
+    from leopod.io.provenance import JobProvenance
+
+    def started():
+        return JobProvenance(rule="r", script="s", settings="{}", inputs=(),
+                             config_sha256="").started
+
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1546300800")
+    assert started() == "2019-01-01T00:00:00Z"
+    monkeypatch.delenv("SOURCE_DATE_EPOCH")
+    now = dt.datetime.now(dt.UTC)
+    stamp = dt.datetime.strptime(started(), "%Y-%m-%dT%H:%M:%SZ").replace(tzinfo=dt.UTC)
+    assert abs((stamp - now).total_seconds()) < 5

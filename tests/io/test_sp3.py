@@ -437,3 +437,25 @@ def test_record_accuracy_exponents_round_trip(tmp_path):
     # without sigmas nothing changes: no exponents, zero bases
     write_sp3(_small(), tmp_path / "plain.sp3")
     assert "pos_sigma_m" not in read_sp3(tmp_path / "plain.sp3")
+
+
+def test_a_job_s_sp3_names_the_frame_and_the_config_hash(tmp_path):
+    # SP3-d (Hilla 2016) line 1 columns 47-51: coordinate system; "/*" lines: comments of at
+    # most 80 columns. Inside a workflow job the campaign hash is the last comment.
+    from leopod.io.provenance import JobProvenance, set_job
+
+    digest = "ab" * 32
+    set_job(JobProvenance(rule="float_pod", script="scripts/float_pod.py", settings="{}",
+                          inputs=(), config_sha256=digest))
+    try:
+        write_sp3(_small(sats=("L47",)), tmp_path / "a.sp3", coordinate_system="IGS05",
+                  comments=("leopod float orbit",))
+    finally:
+        set_job(None)
+    lines = (tmp_path / "a.sp3").read_text().splitlines()
+    assert lines[0][46:51] == "IGS05"
+    comments = [line for line in lines if line.startswith("/*")]
+    assert [c for c in comments if c != "/*"][-2:] == ["/* leopod float orbit",
+                                                       f"/* config hash {digest}"]
+    assert max(len(line) for line in comments) <= 80
+    assert read_sp3(tmp_path / "a.sp3").attrs["coordinate_system"] == "IGS05"

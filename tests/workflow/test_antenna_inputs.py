@@ -19,7 +19,7 @@ from leopod.workflow.campaign import input_templates, locate_inputs
 
 SAT = "hy2b-sim"
 GOCE = Path(__file__).resolve().parents[3] / "shared" / "data" / "antex" / "GOCE_MAIN_0001.ATX"
-LOCATED = f"resources/locate/satellites.{SAT}.antenna/GOCE_MAIN_0001.ATX"
+LOCATED = f"resources/hy2b-sim/locate/satellites.{SAT}.antenna/GOCE_MAIN_0001.ATX"
 
 
 def _config(**changes) -> dict:
@@ -89,7 +89,7 @@ def truth_campaign(tmp_path_factory):
 
 def test_the_simulate_antenna_reaches_the_simulator_only(truth_campaign, monkeypatch):
     monkeypatch.chdir(Path.cwd())
-    located = f"resources/locate/satellites.{SAT}.simulate_antenna/GOCE_MAIN_0001.ATX"
+    located = f"resources/hy2b-sim/locate/satellites.{SAT}.simulate_antenna/GOCE_MAIN_0001.ATX"
     sim = mock_snakemake("simulate", configfiles=[truth_campaign], sat=SAT, date="2019-002")
     assert plain(sim.input)["leo_antex"] == located
     assert sim.params.leo_antenna["type"] == "GOCE" and not sim.params.pco_body_m
@@ -97,6 +97,6 @@ def test_the_simulate_antenna_reaches_the_simulator_only(truth_campaign, monkeyp
     assert "leo_antex" not in plain(pod.input) and pod.params.pco_body_m
     pcv = mock_snakemake("pcv", configfiles=[truth_campaign], sat=SAT, period="2019-01")
     files = plain(pcv.input)
-    assert files["residuals"] == [f"results/fixed_pod/{SAT}/2019-00{d}_residuals.nc"
+    assert files["residuals"] == [f"results/hy2b-sim/fixed_pod/{SAT}/2019-00{d}_residuals.nc"
                                   for d in (1, 2, 3)]
     assert "leo_antex" not in files and pcv.params.solution == "fixed_pod"

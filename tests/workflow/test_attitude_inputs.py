@@ -18,7 +18,7 @@ from leopod.io.attitude import load_leo_attitude
 from leopod.workflow.boundary import attitude_files, mock_snakemake
 
 SAT = "hy2b-sim"
-LOCATED = "resources/locate/satellites.hy2b-sim.attitude_file"
+LOCATED = "resources/hy2b-sim/locate/satellites.hy2b-sim.attitude_file"
 
 
 @pytest.fixture(scope="module")

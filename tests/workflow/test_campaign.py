@@ -13,6 +13,7 @@ from leopod.time.calendar import days_between, gps_week_dow, parse_date_id
 from leopod.workflow.campaign import (
     arc_days,
     campaign_days,
+    campaign_inputs,
     code_bias_periods,
     excluded_days,
     expand_template,
@@ -23,8 +24,10 @@ from leopod.workflow.campaign import (
     next_days,
     period_days,
     pod_days,
+    produced_kind,
     script_library_files,
 )
+from leopod.workflow.layout import Layout
 
 
 def test_gps_week_and_templates():
@@ -117,19 +120,21 @@ def test_script_library_files_follow_a_copy_of_the_sources(tmp_path):
 
 def test_locate_inputs_round_trip():
     # Authority: the file-name conventions of the templates (GPS week 1419 day 3 = 2007-080,
-    # MANIFEST.md); inputs written by rules (resources/simulate, resources/download) stay.
+    # MANIFEST.md); inputs written by rules (resources/<campaign>/simulate, the shared
+    # resources/download) stay; located links go to the campaign's resources/<campaign>/locate
     config = {
+        "campaign": "c",
         "products": {"gnss_orbit": "../shared/data/grace-a_{yyyy}-{doy}/cod{gpsweek}{dow}.sp3.gz",
                      "antex": "/data/igs05_1402.atx", "gnss_clock": None,
                      "wl_bias": "resources/download/cnes_wl/{date}.wsb"},
         "satellites": {"grace-a": {"observations": "/obs/{sat}/{date}.rnx"},
-                       "sim": {"observations": "resources/simulate/{sat}/{date}.rnx"}},
+                       "sim": {"observations": "resources/c/simulate/{sat}/{date}.rnx"}},
     }
     new, located = locate_inputs(config)
     assert config["products"]["antex"] == "/data/igs05_1402.atx"      # input not modified
     assert new["products"]["gnss_orbit"] == \
-        "resources/locate/products.gnss_orbit/{date}/cod{gpsweek}{dow}.sp3.gz"
-    assert new["products"]["antex"] == "resources/locate/products.antex/igs05_1402.atx"
+        "resources/c/locate/products.gnss_orbit/{date}/cod{gpsweek}{dow}.sp3.gz"
+    assert new["products"]["antex"] == "resources/c/locate/products.antex/igs05_1402.atx"
     assert new["products"]["wl_bias"] == config["products"]["wl_bias"]
     assert new["satellites"]["sim"] == config["satellites"]["sim"]
     assert set(located) == {"products.gnss_orbit", "products.antex",
@@ -145,9 +150,34 @@ def test_locate_inputs_round_trip():
         "products.antex": new["products"]["antex"],
         "products.wl_bias": "resources/download/cnes_wl/{date}.wsb",
         "satellites.grace-a.observations":
-            "resources/locate/satellites.grace-a.observations/{date}/{date}.rnx",
-        "satellites.sim.observations": "resources/simulate/{sat}/{date}.rnx",
+            "resources/c/locate/satellites.grace-a.observations/{date}/{date}.rnx",
+        "satellites.sim.observations": "resources/c/simulate/{sat}/{date}.rnx",
     }
+
+
+def test_campaign_inputs_fill_the_campaign_and_refuse_the_shared_simulate_folder():
+    # one folder per campaign (issue 23, item 2): {campaign} names the campaign's own
+    # folders; a simulated input of another campaign is a file to locate, not to simulate
+    config = {"campaign": "b", "products": {"gnss_orbit": "resources/{campaign}/simulate/"
+                                            "gnss/{date}.sp3"},
+              "satellites": {"s": {"observations": "resources/a/simulate/{sat}/{date}.rnx"}}}
+    filled = campaign_inputs(config)
+    assert filled["products"]["gnss_orbit"] == "resources/b/simulate/gnss/{date}.sp3"
+    assert config["products"]["gnss_orbit"].startswith("resources/{campaign}/")   # a copy
+    assert produced_kind(filled["products"]["gnss_orbit"], config) == "simulated"
+    assert produced_kind("resources/a/simulate/s/2019-001.rnx", config) is None
+    assert produced_kind("resources/download/cod_orbit/{date}.sp3", config) == "downloaded"
+    new, located = locate_inputs(filled)
+    assert set(located) == {"satellites.s.observations"}
+    # the layout before one folder per campaign is refused with the template to write
+    config["satellites"]["s"]["observations"] = "resources/simulate/{sat}/{date}.rnx"
+    with pytest.raises(ValueError, match=r"satellites.s.observations: .*write "
+                       r"'resources/\{campaign\}/simulate/\{sat\}/\{date\}.rnx'"):
+        campaign_inputs(config)
+    for bad in ("", "..", "a/b"):
+        with pytest.raises(ValueError, match="no folder name"):
+            Layout.of({"campaign": bad})
+    assert Layout.of({"campaign": "b"}).report == "results/b/report.html"
 
 
 def test_signal_bias_inputs_list_every_arc_day_and_skip_missing_neighbours():
@@ -157,8 +187,9 @@ def test_signal_bias_inputs_list_every_arc_day_and_skip_missing_neighbours():
     required; the mode follows the AR product."""
     from leopod.workflow.campaign import signal_bias_inputs
 
-    config = {"products": {"gnss_orbit": "o/{date}.sp3", "osb": "/data/COD{yyyy}{doy}.BIA",
-                           "dcb_p1c1": "resources/simulate/gnss/{date}_p1c1.dcb"}}
+    config = {"campaign": "c",
+              "products": {"gnss_orbit": "o/{date}.sp3", "osb": "/data/COD{yyyy}{doy}.BIA",
+                           "dcb_p1c1": "resources/c/simulate/gnss/{date}_p1c1.dcb"}}
     located_config, located = locate_inputs(config)
     templates = input_templates(located_config)
     days = ["2019-001", "2019-002", "2019-003"]
@@ -171,7 +202,7 @@ def test_signal_bias_inputs_list_every_arc_day_and_skip_missing_neighbours():
                                                                  "COD2019002.BIA"]
     # files written by rules (simulation) are taken as existing
     assert spec["dcb_days"] == days
-    assert files["signal_bias_dcb"][2] == "resources/simulate/gnss/2019-003_p1c1.dcb"
+    assert files["signal_bias_dcb"][2] == "resources/c/simulate/gnss/2019-003_p1c1.dcb"
     # with CNES/CLS WL biases the codes are brought to the clock reference instead
     config["products"]["wl_bias"] = "w/{date}.wsb"
     located_config, located = locate_inputs(config)

@@ -90,7 +90,7 @@ def test_run_exclude_failed_leaves_failed_days_out_until_none_fails(tmp_path, mo
         calls.append(cmd)
         if len(calls) in failing:
             rule, day, text = failing[len(calls)]
-            log = tmp_path / "logs" / rule / "hy2b-sim" / f"{day}.log"
+            log = tmp_path / "logs/hy2b-sim" / rule / "hy2b-sim" / f"{day}.log"
             log.parent.mkdir(parents=True, exist_ok=True)
             log.write_text(f"{stamp} INFO root: rule {rule}, wildcards {{'sat': 'hy2b-sim', "
                            f"'date': '{day}'}}\n{stamp} ERROR root: {text}\n")
@@ -100,7 +100,7 @@ def test_run_exclude_failed_leaves_failed_days_out_until_none_fails(tmp_path, mo
     status = main(["run", str(DEFAULT), "--directory", str(tmp_path), "--exclude-failed"])
     assert status == 1 and len(calls) == 3
     assert all("--keep-going" in cmd for cmd in calls)
-    overlay = tmp_path / "results/failed_days.yaml"
+    overlay = tmp_path / "results/hy2b-sim/failed_days.yaml"
     assert str(overlay) in calls[1] and str(overlay) in calls[2]
     assert yaml.safe_load(overlay.read_text()) == {
         "exclude_days": {"2019-002": "ingest: x.rnx: line 9: cut short"},

@@ -13,6 +13,7 @@ from types import SimpleNamespace
 import pytest
 
 from leopod.io._text import FormatError
+from leopod.io.provenance import set_job
 from leopod.workflow.log import configure_logging
 
 
@@ -22,8 +23,10 @@ def step_log(tmp_path):
     handlers, level = list(root.handlers), root.level
     path = tmp_path / "step.log"
     configure_logging(SimpleNamespace(log=[path], rule="float_pod",
-                                      wildcards={"sat": "hy2b-sim", "date": "2019-001"}))
+                                      wildcards={"sat": "hy2b-sim", "date": "2019-001"},
+                                      input={}, params={}, config={"campaign": "c"}))
     yield path, sys.excepthook
+    set_job(None)
     for h in root.handlers:
         h.close()
     root.handlers[:] = handlers
@@ -51,3 +54,32 @@ def test_other_errors_keep_their_traceback(step_log):
     hook(*_raised(ZeroDivisionError("division by zero")))
     text = path.read_text()
     assert "step float_pod failed" in text and "Traceback" in text
+
+
+def test_the_step_declares_its_job_and_logs_the_campaign_hash(step_log):
+    # the writers' provenance (leopod.io.provenance) is the job's; the hash is that of the
+    # campaign as given, SHA-256 of its canonical JSON '{"campaign":"c"}' (hashlib's
+    # sha256 of the same bytes, FIPS 180-4)
+    import hashlib
+
+    from leopod.io.provenance import current_job
+
+    path, _ = step_log
+    digest = hashlib.sha256(b'{"campaign":"c"}').hexdigest()
+    job = current_job()
+    assert job.rule == "float_pod" and job.config_sha256 == digest
+    assert job.script == "scripts/float_pod.py" and job.inputs == ()
+    assert f"campaign config sha256 {digest}" in path.read_text()
+
+
+def test_the_job_s_inputs_leave_out_the_library_code_and_the_script():
+    # the code a step runs is named by the version (source) and the script (history); the
+    # data files are listed in the order of the rule's inputs, each once
+    from leopod.workflow.provenance import job_provenance
+
+    sm = SimpleNamespace(rule="float_pod", params={"pod": {"a": 1}}, config={},
+                         input={"obs": ["o1.nc", "o2.nc"], "code": ["/src/leopod/x.py"],
+                                "script": "/repo/scripts/float_pod.py", "leo": "o1.nc"})
+    job = job_provenance(sm)
+    assert job.inputs == ("o1.nc", "o2.nc")
+    assert job.settings == '{"pod": {"a": 1}}'

@@ -36,8 +36,8 @@ import yaml
 REPO = Path(__file__).resolve().parents[2]
 LEOPOD = str(Path(sys.executable).with_name("leopod"))
 DAY_FILES = ("graa0800.07o.gz", "cod14193.sp3.gz", "cod14193.clk.gz")
-FLOAT = "results/float_pod/grace-a/2007-080.sp3"
-KINEMATIC = "results/kinematic_pod/grace-a/2007-080.sp3"
+FLOAT = "results/grace-a-2007/float_pod/grace-a/2007-080.sp3"
+KINEMATIC = "results/grace-a-2007/kinematic_pod/grace-a/2007-080.sp3"
 
 
 class _Mirror(SimpleHTTPRequestHandler):

@@ -102,7 +102,7 @@ def completed(checkout, tmp_path_factory) -> Path:
             (work / name).parent.mkdir(parents=True, exist_ok=True)
             (work / name).touch()
     # one product larger than Snakemake's default checksum limit (1 MB)
-    (work / "resources/simulate/gnss/2019-031.sp3").write_bytes(b"*" * 2_000_000)
+    (work / "resources/hy2b-sim/simulate/gnss/2019-031.sp3").write_bytes(b"*" * 2_000_000)
     _snakemake(checkout, work, _config(), "--touch", "--forceall", "--cores", "1")
     assert _planned(checkout, work, _config()) == []  # nothing left to do
     return work
@@ -164,7 +164,7 @@ def test_the_code_bias_period_reruns_maps_and_everything_downstream(checkout, wo
 def test_new_observations_of_one_day_rerun_what_uses_that_day(checkout, work):
     # a replaced RINEX file of leo2-sim on 2019-032 (1 February): new content and time (a
     # newer file with the checksum Snakemake recorded would not count as changed)
-    rinex = work / "resources/simulate/leo2-sim/2019-032.rnx"
+    rinex = work / "resources/hy2b-sim/simulate/leo2-sim/2019-032.rnx"
     rinex.write_text("new observations\n")
     later = time.time() + 3600
     os.utime(rinex, (later, later))
@@ -201,9 +201,9 @@ def test_a_library_change_reruns_the_steps_that_import_it(checkout, work):
 def test_an_interrupted_campaign_resumes_where_it_stopped(checkout, work):
     # the run stopped during the fixed POD of hy2b-sim on 2 February: its outputs and those
     # of its ambiguity fixing are missing, everything else is done
-    for path in (work / "results/fixed_pod/hy2b-sim").glob("2019-033*"):
+    for path in (work / "results/hy2b-sim/fixed_pod/hy2b-sim").glob("2019-033*"):
         path.unlink()
-    (work / "results/ambiguity/hy2b-sim/2019-033.nc").unlink()
+    (work / "results/hy2b-sim/ambiguity/hy2b-sim/2019-033.nc").unlink()
     jobs = _planned(checkout, work, _config())
     per_day = {(r, w.get("sat"), w.get("date")) for r, w in jobs if "date" in w}
     assert per_day == {("ambiguity", "hy2b-sim", "2019-033"),
@@ -235,7 +235,7 @@ def test_an_identical_newer_input_does_not_rerun(checkout, work):
     # a product fetched again with the same 2 MB (newer time) is compared by checksum
     # (profiles/default: max-checksum-file-size; Snakemake's default limit is 1 MB), so
     # nothing reruns
-    sp3 = work / "resources/simulate/gnss/2019-031.sp3"
+    sp3 = work / "resources/hy2b-sim/simulate/gnss/2019-031.sp3"
     later = time.time() + 3600
     os.utime(sp3, (later, later))
     assert _planned(checkout, work, _config()) == []

@@ -165,9 +165,10 @@ def test_mock_snakemake_rebuilds_a_job_of_the_default_campaign(monkeypatch):
     sm = mock_snakemake("float_pod", sat="hy2b-sim", date="2019-002")
     assert [Path(p).name for p in sm.input.obs] == [
         "2019-001_obs.nc", "2019-002_obs.nc", "2019-003_obs.nc"]      # the 30-h arc's days
-    assert sm.output.sp3 == "results/float_pod/hy2b-sim/2019-002.sp3"
+    assert sm.output.sp3 == "results/hy2b-sim/float_pod/hy2b-sim/2019-002.sp3"
     assert sm.params.pod["outlier_k"] == section_defaults("pod")["outlier_k"]
-    assert sm.rule == "float_pod" and str(sm.log[0]) == "logs/float_pod/hy2b-sim/2019-002.log"
+    assert sm.rule == "float_pod"
+    assert str(sm.log[0]) == "logs/hy2b-sim/float_pod/hy2b-sim/2019-002.log"
     with pytest.raises(ValueError, match="wildcards"):
         mock_snakemake("float_pod", sat="hy2b-sim")
 
@@ -183,4 +184,4 @@ def test_mock_snakemake_of_a_campaign_directory(monkeypatch, tmp_path):
     sm = mock_snakemake("float_pod", root=tmp_path, configfiles=[tmp_path / "c.yaml"],
                         snakefile=repo / "Snakefile", sat="hy2b-sim", date="2019-002")
     assert Path.cwd() == tmp_path and sm.params.pod["system"] == ["G", "C"]
-    assert sm.output.sp3 == "results/float_pod/hy2b-sim/2019-002.sp3"
+    assert sm.output.sp3 == "results/hy2b-sim/float_pod/hy2b-sim/2019-002.sp3"

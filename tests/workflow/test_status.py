@@ -8,13 +8,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from leopod.workflow.layout import Layout
 from leopod.workflow.status import failed_days, failures, gate_verdicts, orbit_days
 
 STAMP = "2026-11-27 14:00:00,000"
+#: The campaign whose logs are read; OTHER: a second campaign of the same directory.
+LAYOUT, OTHER = Layout("camp"), Layout("other")
 
 
-def _log(work: Path, rel: str, rule: str, wildcards: dict, *lines: str) -> Path:
-    path = work / "logs" / rel
+def _log(work: Path, rel: str, rule: str, wildcards: dict, *lines: str,
+         layout: Layout = LAYOUT) -> Path:
+    path = work / layout.logs / rel
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join([f"{STAMP} INFO root: rule {rule}, wildcards {wildcards}",
                                *lines]) + "\n")
@@ -50,10 +54,13 @@ def test_failures_name_the_step_the_day_and_the_error(tmp_path):
     _log(tmp_path, "ingest/sat/2019-001.log", "ingest", {"sat": "sat", "date": "2019-001"},
          f"{STAMP} INFO leopod.workflow.worker: worker job finished: exit 0, 2.00 s, peak "
          "memory 900 MB")
-    (tmp_path / "logs/benchmarks/ingest").mkdir(parents=True)
-    (tmp_path / "logs/benchmarks/ingest/x.log").write_text("step ingest failed: not a job log")
+    (tmp_path / LAYOUT.benchmarks / "ingest").mkdir(parents=True)
+    (tmp_path / LAYOUT.benchmarks / "ingest/x.log").write_text("step ingest failed: not a job log")
+    # a failure of another campaign in the same directory is not this campaign's
+    _log(tmp_path, "ingest/sat/2019-001.log", "ingest", {"sat": "sat", "date": "2019-001"},
+         f"{STAMP} ERROR root: step ingest failed: the other campaign's", layout=OTHER)
 
-    found = failures(tmp_path)
+    found = failures(tmp_path, LAYOUT)
     assert sorted(f.rule for f in found) == ["code_bias", "float_pod", "ingest", "ingest",
                                              "kinematic_pod", "locate"]
     by_day = {f.day: f for f in found}
@@ -75,11 +82,15 @@ def test_failures_name_the_step_the_day_and_the_error(tmp_path):
 
 
 def test_orbit_days_are_the_days_with_a_daily_sp3(tmp_path):
-    folder = tmp_path / "results/float_pod/sat"
+    folder = tmp_path / LAYOUT.results / "float_pod/sat"
     folder.mkdir(parents=True)
     (folder / "2019-001.sp3").write_text("")
     (folder / "2019-002_arc.sp3").write_text("")
-    assert orbit_days(tmp_path, "float_pod", "sat", ["2019-001", "2019-002"]) == ["2019-001"]
+    other = tmp_path / OTHER.results / "float_pod/sat"
+    other.mkdir(parents=True)
+    (other / "2019-002.sp3").write_text("")
+    assert orbit_days(tmp_path, LAYOUT, "float_pod", "sat", ["2019-001", "2019-002"]) \
+        == ["2019-001"]
 
 
 def test_gate_verdicts_are_those_of_the_pod_logs(tmp_path):
@@ -89,5 +100,6 @@ def test_gate_verdicts_are_those_of_the_pod_logs(tmp_path):
     _log(tmp_path, "float_pod/sat/2019-002.log", "float_pod", {"sat": "sat", "date": "2019-002"},
          f"{STAMP} WARNING leopod.estimation.write: float POD 2019-002: quality gate failed "
          "(coverage_pct 8.3 < 16)")
-    assert gate_verdicts(tmp_path, "float_pod", "sat", ["2019-001", "2019-002", "2019-003"]) \
-        == {"2019-002": "failed (coverage_pct 8.3 < 16)"}
+    days = ["2019-001", "2019-002", "2019-003"]
+    assert gate_verdicts(tmp_path, LAYOUT, "float_pod", "sat", days) == {
+        "2019-002": "failed (coverage_pct 8.3 < 16)"}

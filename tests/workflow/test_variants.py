@@ -81,8 +81,8 @@ def test_the_dag_runs_the_pod_per_line_and_the_upstream_steps_per_satellite(tmp_
     assert stats["float_pod"] == stats["ambiguity"] == stats["fixed_pod"] == "9"
     assert stats["campaign_summary"] == "3" and stats["variant_comparison"] == "1"
     for line in ("hy2d-sim", "hy2d-sim_G", "hy2d-sim_C"):
-        assert f"results/fixed_pod/{line}/2021-193.sp3" in proc.stdout
-    assert "results/quality/hy2d-sim_G" not in proc.stdout
+        assert f"results/hy2d-sim-gc/fixed_pod/{line}/2021-193.sp3" in proc.stdout
+    assert "results/hy2d-sim-gc/quality/hy2d-sim_G" not in proc.stdout
     # a campaign without variants plans no comparison
     raw = read_yaml(GC)
     raw.pop("variants")
@@ -122,11 +122,11 @@ def test_the_dag_solves_each_pair_line_and_compares_them_in_the_pair_summary(tmp
     assert stats["simulate_range"] == stats["kinematic_baseline"] == "3"
     assert stats["formation_summary"] == "3" and stats["baseline_overlap"] == "6"
     out = proc.stdout
-    assert "results/baseline/lt1-a-lt1-b_G/2022-196.nc" in out
-    assert "results/kinematic_baseline/lt1-a-lt1-b_G" not in out
-    assert "resources/simulate/lt1-a_G" not in out
+    assert "results/lt1-sim/baseline/lt1-a-lt1-b_G/2022-196.nc" in out
+    assert "results/lt1-sim/kinematic_baseline/lt1-a-lt1-b_G" not in out
+    assert "resources/lt1-sim/simulate/lt1-a_G" not in out
     # the G+C pair summary reads the G and C baselines (their mutual differences)
     summary = next(block for block in out.split("\n\n")
                    if "rule formation_summary:" in block
-                   and "results/summary/lt1-a-lt1-b_formation.csv" in block)
-    assert "results/baseline/lt1-a-lt1-b_C/2022-197.nc" in summary
+                   and "results/lt1-sim/summary/lt1-a-lt1-b_formation.csv" in block)
+    assert "results/lt1-sim/baseline/lt1-a-lt1-b_C/2022-197.nc" in summary

@@ -6,27 +6,27 @@ rule baseline:
         unpack(baseline_inputs),
         code=library_code("baseline"),
     output:
-        nc="results/baseline/{pair}/{date}.nc",
-        dd="results/baseline/{pair}/{date}_dd.nc",
+        nc=result_path("baseline/{pair}/{date}.nc"),
+        dd=result_path("baseline/{pair}/{date}_dd.nc"),
         # the two orbits of the DD-fixed baseline solution
-        sp3_leader="results/baseline/{pair}/{date}_leader.sp3",
-        sp3_follower="results/baseline/{pair}/{date}_follower.sp3",
+        sp3_leader=result_path("baseline/{pair}/{date}_leader.sp3"),
+        sp3_follower=result_path("baseline/{pair}/{date}_follower.sp3"),
         figure=report(
-            "results/baseline/{pair}/{date}_rtn.png",
+            result_path("baseline/{pair}/{date}_rtn.png"),
             caption="../report/baseline_rtn.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "baseline RTN"},
         ),
         histogram=report(
-            "results/baseline/{pair}/{date}_dd_fractions.png",
+            result_path("baseline/{pair}/{date}_dd_fractions.png"),
             caption="../report/baseline_dd_fractions.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "DD fractional parts"},
         ),
     log:
-        "logs/baseline/{pair}/{date}.log",
+        log_path("baseline/{pair}/{date}.log"),
     benchmark:
-        "logs/benchmarks/baseline/{pair}/{date}.tsv"
+        benchmark_path("baseline/{pair}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -6,30 +6,30 @@ rule code_bias:
         unpack(code_bias_inputs),
         code=library_code("code_bias"),
     output:
-        nc="results/code_bias/{sat}/{period}.nc",
-        statistics="results/code_bias/{sat}/{period}_statistics.csv",
+        nc=result_path("code_bias/{sat}/{period}.nc"),
+        statistics=result_path("code_bias/{sat}/{period}_statistics.csv"),
         maps=report(
-            "results/code_bias/{sat}/{period}_maps.png",
+            result_path("code_bias/{sat}/{period}_maps.png"),
             caption="../report/code_bias_maps.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "maps"},
         ),
         counts=report(
-            "results/code_bias/{sat}/{period}_counts.png",
+            result_path("code_bias/{sat}/{period}_counts.png"),
             caption="../report/code_bias_counts.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "observations"},
         ),
         mp_elevation=report(
-            "results/code_bias/{sat}/{period}_mp_elevation.png",
+            result_path("code_bias/{sat}/{period}_mp_elevation.png"),
             caption="../report/code_bias_mp_elevation.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "MP before/after"},
         ),
     log:
-        "logs/code_bias/{sat}/{period}.log",
+        log_path("code_bias/{sat}/{period}.log"),
     benchmark:
-        "logs/benchmarks/code_bias/{sat}/{period}.tsv"
+        benchmark_path("code_bias/{sat}/{period}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -49,24 +49,24 @@ rule code_bias_stack:
         maps=expand(rules.code_bias.output.nc, period=PERIODS, allow_missing=True),
         code=library_code("code_bias_stack"),
     output:
-        nc="results/code_bias/{sat}/stack.nc",
-        differences="results/code_bias/{sat}/stack_differences.csv",
+        nc=result_path("code_bias/{sat}/stack.nc"),
+        differences=result_path("code_bias/{sat}/stack_differences.csv"),
         maps=report(
-            "results/code_bias/{sat}/stack_maps.png",
+            result_path("code_bias/{sat}/stack_maps.png"),
             caption="../report/code_bias_stack.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "all", "figure": "stacked maps"},
         ),
         difference=report(
-            "results/code_bias/{sat}/stack_differences.png",
+            result_path("code_bias/{sat}/stack_differences.png"),
             caption="../report/code_bias_differences.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "all", "figure": "period differences"},
         ),
     log:
-        "logs/code_bias/{sat}/stack.log",
+        log_path("code_bias/{sat}/stack.log"),
     benchmark:
-        "logs/benchmarks/code_bias/{sat}/stack.tsv"
+        benchmark_path("code_bias/{sat}/stack.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

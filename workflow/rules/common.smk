@@ -11,6 +11,7 @@ from leopod.simulate.product_set import ProductSet
 from leopod.workflow.campaign import (
     applied_code_bias_period,
     arc_days,
+    campaign_inputs,
     campaign_days,
     code_bias_periods,
     excluded_days,
@@ -27,6 +28,7 @@ from leopod.workflow.campaign import (
     signal_bias_inputs,
 )
 from leopod.workflow.config import validated
+from leopod.workflow.layout import Layout
 from leopod.workflow.variants import formation_pairs, pod_lines, variant_config
 from leopod.workflow.downloads import (
     destination_template,
@@ -38,6 +40,9 @@ from leopod.workflow.downloads import (
 # CONFIG: the campaign checked against the schema, with its defaults filled in (a copy: the
 # `config` of Snakemake is never modified). Rules and helpers read CONFIG only.
 CONFIG = validated(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml")
+#: The campaign's folders: results/<campaign>, resources/<campaign>, logs/<campaign>
+#: (leopod.workflow.layout); every rule names its files through the *_path helpers below.
+LAYOUT = Layout.of(CONFIG)
 
 #: The product catalogue of the download rules (download.catalogue, else this one), if used.
 DEFAULT_CATALOGUE = f"{workflow.basedir}/config/catalogue.yaml"
@@ -47,9 +52,11 @@ CATALOGUE = (
 # Inputs given as "download:<family>" are the files of the download rules (DOWNLOADS, the
 # families); every other path template is routed through the locate step (LOCATED = {entry:
 # template of the config}). INPUTS: {entry: template the rules read}, e.g.
-# INPUTS["products.gnss_orbit"] = "resources/locate/products.gnss_orbit/{date}/cod...sp3.gz".
+# INPUTS["products.gnss_orbit"] = resource_path("<campaign>/locate/products.gnss_orbit/{date}/
+# cod...sp3.gz"). {campaign} of the templates is the campaign's name.
+_named = campaign_inputs(CONFIG)
 _downloaded, DOWNLOADS = (
-    resolve_downloads(CONFIG, CATALOGUE) if CATALOGUE is not None else (CONFIG, [])
+    resolve_downloads(_named, CATALOGUE) if CATALOGUE is not None else (_named, [])
 )
 _located, LOCATED = locate_inputs(_downloaded)
 INPUTS = input_templates(_located)
@@ -100,6 +107,26 @@ wildcard_constraints:
 # --- configuration and file names ----------------------------------------------------------
 
 
+def result_path(path):
+    """``results/<campaign>/<path>``: a product of the campaign."""
+    return f"{LAYOUT.results}/{path}"
+
+
+def resource_path(path):
+    """``resources/<campaign>/<path>``: a simulated or located input of the campaign."""
+    return f"{LAYOUT.resources}/{path}"
+
+
+def log_path(path):
+    """``logs/<campaign>/<path>``: a job's log."""
+    return f"{LAYOUT.logs}/{path}"
+
+
+def benchmark_path(path):
+    """``logs/<campaign>/benchmarks/<path>``: a job's Snakemake benchmark file."""
+    return f"{LAYOUT.benchmarks}/{path}"
+
+
 def library_code(script):
     """leopod source files that scripts/<script>.py imports; as inputs of a step they make a
     library change rerun exactly the steps that run the changed code."""
@@ -120,7 +147,7 @@ def sat_file(sat, key):
 def download_log(family):
     """Log file (template) of a download_<family> job, beside its destination's name."""
     name = Path(destination_template(CATALOGUE.family(family))).name
-    return f"logs/download/{family}/{name}.log"
+    return log_path(f"download/{family}/{name}.log")
 
 
 def satellite(wildcards):
@@ -270,7 +297,7 @@ def gnss_product_inputs(wildcards):
 def gnss_product_outputs():
     """netCDF files of the gnss_products rule: orbit always, clock and satellite antennas
     when the campaign has a clock product and an ANTEX file."""
-    base = "results/gnss_products/{date}"
+    base = result_path("gnss_products/{date}")
     files = {"orbit": f"{base}_orbit.nc"}
     if product_file("gnss_clock"):
         files["clock"] = f"{base}_clock.nc"
@@ -906,7 +933,7 @@ def pod_outputs(step, category):
         "res_skymap": ("residual_skymap", "pod_residual_skymap", "phase residual map"),
         "apriori": ("apriori_rtn", "pod_apriori_rtn", "RTN vs a-priori"),
     }
-    base = f"results/{step}/{{sat}}/{{date}}"
+    base = result_path(f"{step}/{{sat}}/{{date}}")
     return {
         "orbit": f"{base}_orbit.nc",
         # SP3-d of the day (00:00 to before 24:00: daily files concatenate) and of the arc

@@ -11,11 +11,11 @@ rule simulate_range:
                          date=w.date),
         code=library_code("simulate_range"),
     output:
-        csv="resources/simulate/{pair}/{date}_range.csv",
+        csv=resource_path("simulate/{pair}/{date}_range.csv"),
     log:
-        "logs/simulate_range/{pair}/{date}.log",
+        log_path("simulate_range/{pair}/{date}.log"),
     benchmark:
-        "logs/benchmarks/simulate_range/{pair}/{date}.tsv"
+        benchmark_path("simulate_range/{pair}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -33,17 +33,17 @@ rule range_check:
         unpack(range_check_inputs),
         code=library_code("range_check"),
     output:
-        nc="results/range_check/{pair}/{date}.nc",
+        nc=result_path("range_check/{pair}/{date}.nc"),
         figure=report(
-            "results/range_check/{pair}/{date}.png",
+            result_path("range_check/{pair}/{date}.png"),
             caption="../report/range_check.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "range check"},
         ),
     log:
-        "logs/range_check/{pair}/{date}.log",
+        log_path("range_check/{pair}/{date}.log"),
     benchmark:
-        "logs/benchmarks/range_check/{pair}/{date}.tsv"
+        benchmark_path("range_check/{pair}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -64,23 +64,23 @@ rule formation_summary:
         formation_summary_inputs,
         code=library_code("formation_summary"),
     output:
-        csv="results/summary/{pair}_formation.csv",
+        csv=result_path("summary/{pair}_formation.csv"),
         html=report(
-            "results/summary/{pair}_formation.html",
+            result_path("summary/{pair}_formation.html"),
             caption="../report/formation_summary.rst",
             category="Baseline",
             labels={"pair": "{pair}", "figure": "formation summary"},
         ),
         figure=report(
-            "results/summary/{pair}_formation.png",
+            result_path("summary/{pair}_formation.png"),
             caption="../report/formation_summary_figure.rst",
             category="Baseline",
             labels={"pair": "{pair}", "figure": "baselines per day"},
         ),
     log:
-        "logs/formation_summary/{pair}.log",
+        log_path("formation_summary/{pair}.log"),
     benchmark:
-        "logs/benchmarks/formation_summary/{pair}.tsv"
+        benchmark_path("formation_summary/{pair}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -102,11 +102,11 @@ rule baseline_overlap:
         unpack(baseline_overlap_inputs),
         code=library_code("baseline_overlap"),
     output:
-        nc="results/baseline_overlap/{pair}/{date}.nc",
+        nc=result_path("baseline_overlap/{pair}/{date}.nc"),
     log:
-        "logs/baseline_overlap/{pair}/{date}.log",
+        log_path("baseline_overlap/{pair}/{date}.log"),
     benchmark:
-        "logs/benchmarks/baseline_overlap/{pair}/{date}.tsv"
+        benchmark_path("baseline_overlap/{pair}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

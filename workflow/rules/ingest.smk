@@ -8,9 +8,9 @@ rule gnss_products:
     output:
         **gnss_product_outputs(),
     log:
-        "logs/gnss_products/{date}.log",
+        log_path("gnss_products/{date}.log"),
     benchmark:
-        "logs/benchmarks/gnss_products/{date}.tsv"
+        benchmark_path("gnss_products/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -32,13 +32,13 @@ rule ingest:
         unpack(antenna_inputs),
         code=library_code("ingest"),
     output:
-        obs="results/ingest/{sat}/{date}_obs.nc",
-        gnss="results/ingest/{sat}/{date}_gnss.nc",
-        leo="results/ingest/{sat}/{date}_leo.nc",
+        obs=result_path("ingest/{sat}/{date}_obs.nc"),
+        gnss=result_path("ingest/{sat}/{date}_gnss.nc"),
+        leo=result_path("ingest/{sat}/{date}_leo.nc"),
     log:
-        "logs/ingest/{sat}/{date}.log",
+        log_path("ingest/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/ingest/{sat}/{date}.tsv"
+        benchmark_path("ingest/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -10,18 +10,18 @@ rule kinematic_pod:
         script=f"{workflow.basedir}/scripts/kinematic_pod.py",
         code=library_code("kinematic_pod"),
     output:
-        nc="results/kinematic_pod/{sat}/{date}.nc",
-        sp3="results/kinematic_pod/{sat}/{date}.sp3",
+        nc=result_path("kinematic_pod/{sat}/{date}.nc"),
+        sp3=result_path("kinematic_pod/{sat}/{date}.sp3"),
         figure=report(
-            "results/kinematic_pod/{sat}/{date}_rtn.png",
+            result_path("kinematic_pod/{sat}/{date}_rtn.png"),
             caption="../report/kinematic_rtn.rst",
             category="Kinematic POD",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "kinematic minus float"},
         ),
     log:
-        "logs/kinematic_pod/{sat}/{date}.log",
+        log_path("kinematic_pod/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/kinematic_pod/{sat}/{date}.tsv"
+        benchmark_path("kinematic_pod/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -55,17 +55,17 @@ rule kinematic_baseline:
         unpack(kinematic_baseline_inputs),
         code=library_code("kinematic_baseline"),
     output:
-        nc="results/kinematic_baseline/{pair}/{date}.nc",
+        nc=result_path("kinematic_baseline/{pair}/{date}.nc"),
         figure=report(
-            "results/kinematic_baseline/{pair}/{date}_minus_dynamic.png",
+            result_path("kinematic_baseline/{pair}/{date}_minus_dynamic.png"),
             caption="../report/kinematic_baseline.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "kinematic minus dynamic"},
         ),
     log:
-        "logs/kinematic_baseline/{pair}/{date}.log",
+        log_path("kinematic_baseline/{pair}/{date}.log"),
     benchmark:
-        "logs/benchmarks/kinematic_baseline/{pair}/{date}.tsv"
+        benchmark_path("kinematic_baseline/{pair}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

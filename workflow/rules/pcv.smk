@@ -7,18 +7,18 @@ rule pcv:
         unpack(pcv_inputs),
         code=library_code("pcv"),
     output:
-        nc="results/pcv/{sat}/{period}.nc",
-        antex="results/pcv/{sat}/{period}.atx",
+        nc=result_path("pcv/{sat}/{period}.nc"),
+        antex=result_path("pcv/{sat}/{period}.atx"),
         map=report(
-            "results/pcv/{sat}/{period}_map.png",
+            result_path("pcv/{sat}/{period}_map.png"),
             caption="../report/pcv_map.rst",
             category="Antenna PCV",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "PCV map"},
         ),
     log:
-        "logs/pcv/{sat}/{period}.log",
+        log_path("pcv/{sat}/{period}.log"),
     benchmark:
-        "logs/benchmarks/pcv/{sat}/{period}.tsv"
+        benchmark_path("pcv/{sat}/{period}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -43,19 +43,19 @@ rule pcv_stack:
         maps=expand(rules.pcv.output.nc, period=PCV_PERIODS, allow_missing=True),
         code=library_code("pcv_stack"),
     output:
-        nc="results/pcv/{sat}/stack.nc",
-        antex="results/pcv/{sat}/stack.atx",
-        differences="results/pcv/{sat}/stack_differences.csv",
+        nc=result_path("pcv/{sat}/stack.nc"),
+        antex=result_path("pcv/{sat}/stack.atx"),
+        differences=result_path("pcv/{sat}/stack_differences.csv"),
         map=report(
-            "results/pcv/{sat}/stack_map.png",
+            result_path("pcv/{sat}/stack_map.png"),
             caption="../report/pcv_stack.rst",
             category="Antenna PCV",
             labels={"satellite": "{sat}", "period": "all", "figure": "stacked PCV map"},
         ),
     log:
-        "logs/pcv/{sat}/stack.log",
+        log_path("pcv/{sat}/stack.log"),
     benchmark:
-        "logs/benchmarks/pcv/{sat}/stack.tsv"
+        benchmark_path("pcv/{sat}/stack.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -8,9 +8,9 @@ rule float_pod:
     output:
         **pod_outputs("float_pod", "Float POD"),
     log:
-        "logs/float_pod/{sat}/{date}.log",
+        log_path("float_pod/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/float_pod/{sat}/{date}.tsv"
+        benchmark_path("float_pod/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -47,17 +47,17 @@ rule ambiguity:
         residuals=rules.float_pod.output.residuals,
         code=library_code("ambiguity"),
     output:
-        table="results/ambiguity/{sat}/{date}.nc",
+        table=result_path("ambiguity/{sat}/{date}.nc"),
         histogram=report(
-            "results/ambiguity/{sat}/{date}_fractions.png",
+            result_path("ambiguity/{sat}/{date}_fractions.png"),
             caption="../report/ambiguity_fractions.rst",
             category="Ambiguity resolution",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "fractional parts"},
         ),
     log:
-        "logs/ambiguity/{sat}/{date}.log",
+        log_path("ambiguity/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/ambiguity/{sat}/{date}.tsv"
+        benchmark_path("ambiguity/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -92,9 +92,9 @@ use rule float_pod as fixed_pod with:
     output:
         **pod_outputs("fixed_pod", "Fixed POD"),
     log:
-        "logs/fixed_pod/{sat}/{date}.log",
+        log_path("fixed_pod/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/fixed_pod/{sat}/{date}.tsv"
+        benchmark_path("fixed_pod/{sat}/{date}.tsv")
     params:
         step="fixed_pod",
         signals=CONFIG["signals"],

@@ -12,41 +12,41 @@ rule quality:
         leo=rules.ingest.output.leo,
         code=library_code("quality"),
     output:
-        nc="results/quality/{sat}/{date}.nc",
+        nc=result_path("quality/{sat}/{date}.nc"),
         summary=report(
-            "results/quality/{sat}/{date}_summary.html",
+            result_path("quality/{sat}/{date}_summary.html"),
             caption="../report/quality_summary.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "indicators"},
         ),
         mp_elevation=report(
-            "results/quality/{sat}/{date}_mp_elevation.png",
+            result_path("quality/{sat}/{date}_mp_elevation.png"),
             caption="../report/quality_mp_elevation.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "MP vs elevation"},
         ),
         skyplot=report(
-            "results/quality/{sat}/{date}_skyplot.png",
+            result_path("quality/{sat}/{date}_skyplot.png"),
             caption="../report/quality_skyplot.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "sky plot"},
         ),
         noise=report(
-            "results/quality/{sat}/{date}_code_noise.png",
+            result_path("quality/{sat}/{date}_code_noise.png"),
             caption="../report/quality_code_noise.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "code noise"},
         ),
         visibility=report(
-            "results/quality/{sat}/{date}_visibility.png",
+            result_path("quality/{sat}/{date}_visibility.png"),
             caption="../report/quality_visibility.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "visibility and IOD"},
         ),
     log:
-        "logs/quality/{sat}/{date}.log",
+        log_path("quality/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/quality/{sat}/{date}.tsv"
+        benchmark_path("quality/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -1,6 +1,7 @@
 # simulate: the optional data source of simulated satellites (leopod.simulate.campaign). Writes
-# the file formats of real archives under resources/simulate/ (RINEX 3 and 2, SP3, RINEX clock,
-# integer-recovery clock + wide-lane biases, Bias-SINEX, CRD, SINEX) with the truth beside them.
+# the file formats of real archives under resources/<campaign>/simulate/ (RINEX 3 and 2, SP3,
+# RINEX clock, integer-recovery clock + wide-lane biases, Bias-SINEX, CRD, SINEX) with the truth
+# beside them.
 
 
 # The truth orbit of one satellite over the whole campaign (a formation follower: from its
@@ -9,14 +10,14 @@ rule simulate_truth:
     input:
         code=library_code("simulate_truth"),
     output:
-        truth="resources/simulate/{sat}/truth_orbit.nc",
-        code_bias_map="resources/simulate/{sat}/code_bias_map.nc",
+        truth=resource_path("simulate/{sat}/truth_orbit.nc"),
+        code_bias_map=resource_path("simulate/{sat}/code_bias_map.nc"),
         # the burns of the satellite (leopod.io.manoeuvre; header only without formation burns)
-        manoeuvres="resources/simulate/{sat}/manoeuvres.txt",
+        manoeuvres=resource_path("simulate/{sat}/manoeuvres.txt"),
     log:
-        "logs/simulate_truth/{sat}.log",
+        log_path("simulate_truth/{sat}.log"),
     benchmark:
-        "logs/benchmarks/simulate_truth/{sat}.tsv"
+        benchmark_path("simulate_truth/{sat}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -39,13 +40,13 @@ rule simulate_world:
         gnss_products=simulation_product_files,
         code=library_code("simulate_world"),
     output:
-        biases="resources/simulate/biases_truth.nc",
-        stations="resources/simulate/slr_stations.snx",
-        eccentricities="resources/simulate/slr_eccentricities.snx",
+        biases=resource_path("simulate/biases_truth.nc"),
+        stations=resource_path("simulate/slr_stations.snx"),
+        eccentricities=resource_path("simulate/slr_eccentricities.snx"),
     log:
-        "logs/simulate_world/simulate_world.log",
+        log_path("simulate_world/simulate_world.log"),
     benchmark:
-        "logs/benchmarks/simulate_world/simulate_world.tsv"
+        benchmark_path("simulate_world/simulate_world.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -68,17 +69,17 @@ rule simulate_gnss:
         biases=rules.simulate_world.output.biases,
         code=library_code("simulate_gnss"),
     output:
-        orbit="resources/simulate/gnss/{date}.sp3",
-        clock="resources/simulate/gnss/{date}.clk",
-        integer_clock="resources/simulate/gnss/{date}_int.clk",
-        wl_bias="resources/simulate/gnss/{date}.wsb",
-        osb="resources/simulate/gnss/{date}.bia",
+        orbit=resource_path("simulate/gnss/{date}.sp3"),
+        clock=resource_path("simulate/gnss/{date}.clk"),
+        integer_clock=resource_path("simulate/gnss/{date}_int.clk"),
+        wl_bias=resource_path("simulate/gnss/{date}.wsb"),
+        osb=resource_path("simulate/gnss/{date}.bia"),
         # P1-C1 DCBs of the simulated satellites, for C1C-based campaigns (products.dcb_p1c1)
-        dcb_p1c1="resources/simulate/gnss/{date}_p1c1.dcb",
+        dcb_p1c1=resource_path("simulate/gnss/{date}_p1c1.dcb"),
     log:
-        "logs/simulate_gnss/{date}.log",
+        log_path("simulate_gnss/{date}.log"),
     benchmark:
-        "logs/benchmarks/simulate_gnss/{date}.tsv"
+        benchmark_path("simulate_gnss/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -103,17 +104,17 @@ rule simulate:
         gnss_products=simulation_product_files,
         code=library_code("simulate"),
     output:
-        rinex3="resources/simulate/{sat}/{date}.rnx",
+        rinex3=resource_path("simulate/{sat}/{date}.rnx"),
         # RINEX 2.11 holds the GPS observations only: no file without simulated GPS
-        **({"rinex2": "resources/simulate/{sat}/{date}.obs"}
+        **({"rinex2": resource_path("simulate/{sat}/{date}.obs")}
            if "G" in CONFIG["simulate"]["systems"] else {}),
-        truth_sp3="resources/simulate/{sat}/{date}_truth.sp3",
-        truth_nc="resources/simulate/{sat}/{date}_truth.nc",
-        crd="resources/simulate/{sat}/{date}.crd",
+        truth_sp3=resource_path("simulate/{sat}/{date}_truth.sp3"),
+        truth_nc=resource_path("simulate/{sat}/{date}_truth.nc"),
+        crd=resource_path("simulate/{sat}/{date}.crd"),
     log:
-        "logs/simulate/{sat}/{date}.log",
+        log_path("simulate/{sat}/{date}.log"),
     benchmark:
-        "logs/benchmarks/simulate/{sat}/{date}.tsv"
+        benchmark_path("simulate/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

@@ -9,11 +9,11 @@ rule overlap:
         unpack(overlap_inputs),
         code=library_code("overlap"),
     output:
-        nc="results/overlap/{sat}/{solution}/{date}.nc",
+        nc=result_path("overlap/{sat}/{solution}/{date}.nc"),
     log:
-        "logs/overlap/{sat}/{solution}/{date}.log",
+        log_path("overlap/{sat}/{solution}/{date}.log"),
     benchmark:
-        "logs/benchmarks/overlap/{sat}/{solution}/{date}.tsv"
+        benchmark_path("overlap/{sat}/{solution}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -34,23 +34,23 @@ rule overlap_summary:
         unpack(per_day_validation(rules.overlap.output.nc, days=OVERLAP_DAYS)),
         code=library_code("overlap_summary"),
     output:
-        nc="results/overlap/{sat}/summary.nc",
+        nc=result_path("overlap/{sat}/summary.nc"),
         csv=report(
-            "results/overlap/{sat}/summary.csv",
+            result_path("overlap/{sat}/summary.csv"),
             caption="../report/overlap_table.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "overlap table"},
         ),
         figure=report(
-            "results/overlap/{sat}/overlaps.png",
+            result_path("overlap/{sat}/overlaps.png"),
             caption="../report/overlap_figure.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "overlaps"},
         ),
     log:
-        "logs/overlap_summary/{sat}.log",
+        log_path("overlap_summary/{sat}.log"),
     benchmark:
-        "logs/benchmarks/overlap_summary/{sat}.tsv"
+        benchmark_path("overlap_summary/{sat}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -71,11 +71,11 @@ rule reference_orbit:
         reference=reference_files,
         code=library_code("reference_orbit"),
     output:
-        nc="results/reference_orbit/{sat}/{solution}/{date}.nc",
+        nc=result_path("reference_orbit/{sat}/{solution}/{date}.nc"),
     log:
-        "logs/reference_orbit/{sat}/{solution}/{date}.log",
+        log_path("reference_orbit/{sat}/{solution}/{date}.log"),
     benchmark:
-        "logs/benchmarks/reference_orbit/{sat}/{solution}/{date}.tsv"
+        benchmark_path("reference_orbit/{sat}/{solution}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -97,29 +97,29 @@ rule reference_summary:
         unpack(per_day_validation(rules.reference_orbit.output.nc)),
         code=library_code("reference_summary"),
     output:
-        nc="results/reference_orbit/{sat}/summary.nc",
+        nc=result_path("reference_orbit/{sat}/summary.nc"),
         csv=report(
-            "results/reference_orbit/{sat}/summary.csv",
+            result_path("reference_orbit/{sat}/summary.csv"),
             caption="../report/reference_table.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "reference-orbit table"},
         ),
         differences=report(
-            "results/reference_orbit/{sat}/differences.png",
+            result_path("reference_orbit/{sat}/differences.png"),
             caption="../report/reference_differences.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "orbit minus reference"},
         ),
         daily=report(
-            "results/reference_orbit/{sat}/daily.png",
+            result_path("reference_orbit/{sat}/daily.png"),
             caption="../report/reference_daily.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "daily RMS vs reference"},
         ),
     log:
-        "logs/reference_summary/{sat}.log",
+        log_path("reference_summary/{sat}.log"),
     benchmark:
-        "logs/benchmarks/reference_summary/{sat}.tsv"
+        benchmark_path("reference_summary/{sat}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -141,11 +141,11 @@ rule slr:
         unpack(attitude_inputs),
         code=library_code("slr"),
     output:
-        nc="results/slr/{sat}/{solution}/{date}.nc",
+        nc=result_path("slr/{sat}/{solution}/{date}.nc"),
     log:
-        "logs/slr/{sat}/{solution}/{date}.log",
+        log_path("slr/{sat}/{solution}/{date}.log"),
     benchmark:
-        "logs/benchmarks/slr/{sat}/{solution}/{date}.tsv"
+        benchmark_path("slr/{sat}/{solution}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -168,36 +168,36 @@ rule slr_summary:
         unpack(per_day_validation(rules.slr.output.nc)),
         code=library_code("slr_summary"),
     output:
-        nc="results/slr/{sat}/summary.nc",
+        nc=result_path("slr/{sat}/summary.nc"),
         stations_csv=report(
-            "results/slr/{sat}/stations.csv",
+            result_path("slr/{sat}/stations.csv"),
             caption="../report/slr_stations_table.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR per station (table)"},
         ),
-        elevation_csv="results/slr/{sat}/elevation.csv",
+        elevation_csv=result_path("slr/{sat}/elevation.csv"),
         stations_png=report(
-            "results/slr/{sat}/stations.png",
+            result_path("slr/{sat}/stations.png"),
             caption="../report/slr_stations.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR per station"},
         ),
         elevation_png=report(
-            "results/slr/{sat}/elevation.png",
+            result_path("slr/{sat}/elevation.png"),
             caption="../report/slr_elevation.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR vs elevation"},
         ),
         time_png=report(
-            "results/slr/{sat}/residuals.png",
+            result_path("slr/{sat}/residuals.png"),
             caption="../report/slr_time.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR residuals"},
         ),
     log:
-        "logs/slr_summary/{sat}.log",
+        log_path("slr_summary/{sat}.log"),
     benchmark:
-        "logs/benchmarks/slr_summary/{sat}.tsv"
+        benchmark_path("slr_summary/{sat}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -221,36 +221,36 @@ rule campaign_summary:
         summary_inputs,
         code=library_code("campaign_summary"),
     output:
-        nc="results/summary/{sat}.nc",
-        csv="results/summary/{sat}.csv",
+        nc=result_path("summary/{sat}.nc"),
+        csv=result_path("summary/{sat}.csv"),
         html=report(
-            "results/summary/{sat}.html",
+            result_path("summary/{sat}.html"),
             caption="../report/campaign_summary.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "campaign summary"},
         ),
         pco_z_png=report(
-            "results/summary/{sat}_pco_z.png",
+            result_path("summary/{sat}_pco_z.png"),
             caption="../report/summary_pco_z.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "PCO-Z float vs fixed"},
         ),
         fixing_png=report(
-            "results/summary/{sat}_fixing_rates.png",
+            result_path("summary/{sat}_fixing_rates.png"),
             caption="../report/summary_fixing_rates.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "fixing rates"},
         ),
         isb_png=report(
-            "results/summary/{sat}_isb.png",
+            result_path("summary/{sat}_isb.png"),
             caption="../report/summary_isb.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "inter-system biases"},
         ),
     log:
-        "logs/campaign_summary/{sat}.log",
+        log_path("campaign_summary/{sat}.log"),
     benchmark:
-        "logs/benchmarks/campaign_summary/{sat}.tsv"
+        benchmark_path("campaign_summary/{sat}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -276,17 +276,17 @@ rule variant_comparison:
         summaries=line_summaries,
         code=library_code("variant_comparison"),
     output:
-        csv="results/summary/{sat}_variants.csv",
+        csv=result_path("summary/{sat}_variants.csv"),
         html=report(
-            "results/summary/{sat}_variants.html",
+            result_path("summary/{sat}_variants.html"),
             caption="../report/variant_comparison.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "solution variants"},
         ),
     log:
-        "logs/variant_comparison/{sat}.log",
+        log_path("variant_comparison/{sat}.log"),
     benchmark:
-        "logs/benchmarks/variant_comparison/{sat}.tsv"
+        benchmark_path("variant_comparison/{sat}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1

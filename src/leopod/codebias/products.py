@@ -1,6 +1,6 @@
 """Code-bias map products: the map dataset, multipath statistics, stacking and differences.
 
-Map dataset (one file per satellite and period, ``results/code_bias/<sat>/<period>.nc``):
+Map dataset (one file per satellite and period, ``results/<campaign>/code_bias/<sat>/<period>.nc``):
 
 - coordinates ``signal`` (RINEX 3 codes), ``mode`` (attitude mode), ``elevation_deg`` (rings
   and the zenith, whose row repeats the single zenith node for every azimuth), ``azimuth_deg``

@@ -148,6 +148,13 @@ class ArcData:
     signal_biases: SignalBiases | None = None
     manoeuvres: tuple[Manoeuvre, ...] = ()
 
+    @property
+    def coordinate_system(self) -> str:
+        """The reference frame of the GNSS orbits (their SP3 header's coordinate system, e.g.
+        ``IGS05``, ``IGS14``, ``IGS20``), which the LEO orbit inherits; ``ITRF`` if the
+        header leaves it blank."""
+        return str(self.orbit.attrs.get("coordinate_system") or "ITRF")
+
     @classmethod
     def read(cls, files: Mapping, signal_bias: Mapping | None = None,
              sampling_s: float | None = None) -> ArcData:

@@ -62,7 +62,8 @@ def gate_arc(arc: ArcOutputs, gate: GateSettings, label: str, day,
 
 
 def write_arc(arc: ArcOutputs, *, orbit, sp3, sp3_arc, residuals, parameters, ambiguities,
-              step: str, kind: str, title: str, sp3_id: str, inputs, day) -> None:
+              step: str, kind: str, title: str, sp3_id: str, inputs, day,
+              coordinate_system: str) -> None:
     """Write orbit (netCDF + SP3), residuals, parameters and ambiguities of a solution.
 
     Parameters
@@ -82,9 +83,12 @@ def write_arc(arc: ArcOutputs, *, orbit, sp3, sp3_arc, residuals, parameters, am
         Input files (provenance).
     day : datetime64 or str
         The day of the arc (its daily SP3).
+    coordinate_system : str
+        Reference frame of the GNSS orbits the arc used (:attr:`ArcData.coordinate_system`),
+        the SP3 header's coordinate system and the netCDF orbit's ``reference_frame``.
     """
     common = {"step": step, "inputs": inputs, "time_system": "GPS"}
-    write_netcdf(arc.orbit, orbit, reference_frame="ITRF and GCRF",
+    write_netcdf(arc.orbit, orbit, reference_frame=f"{coordinate_system} and GCRF",
                  title=f"{kind} reduced-dynamic orbit {title}", **common)
     write_netcdf(arc.residuals, residuals, reference_frame="antenna",
                  title=f"{kind} POD residuals {title}", **common)
@@ -98,4 +102,4 @@ def write_arc(arc: ArcOutputs, *, orbit, sp3, sp3_arc, residuals, parameters, am
                 f"{span} (arc {str(t[0])[:19]} to {str(t[-1])[:19]} GPS); record accuracies: "
                 "formal sigmas")
         write_sp3(sp3_dataset(arc.orbit, sp3_id, day=selected), path, orbit_type="FIT",
-                  comments=tuple(textwrap.wrap(text, 77)))
+                  coordinate_system=coordinate_system, comments=tuple(textwrap.wrap(text, 77)))

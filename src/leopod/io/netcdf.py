@@ -3,6 +3,13 @@
 Every intermediate product of the workflow goes through :func:`write_netcdf`, so that all files
 carry the same provenance attributes, encode time the same way, are compressed losslessly and
 never appear half-written (a failed step leaves no partial output).
+
+Attributes follow the CF conventions 1.10 (Eaton et al. 2022, sec. 2.6.2 "Description of file
+contents": ``Conventions``, ``title``, ``institution``, ``source``, ``history``,
+``references``); the time coordinate carries the CF standard name ``time`` (CF standard name
+table). Inside a workflow job (:mod:`leopod.io.provenance`) ``history`` holds the UTC time, the
+rule and the script, and leopod's ``leopod_settings``, ``leopod_inputs`` and
+``leopod_config_sha256`` are added.
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ import xarray as xr
 
 from leopod import __version__
 from leopod.io._text import FormatError
+from leopod.io.provenance import current_job
 
 __all__ = ["write_netcdf", "TIME_UNITS", "atomic_path", "load_netcdf", "on_grid"]
 
@@ -69,7 +77,8 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
     path : str or Path
         Destination file.
     step : str
-        Workflow step (rule name) that made the file, stored as ``processing_step``.
+        Workflow step (rule name) that made the file, stored as ``processing_step`` (and in
+        the default title).
     inputs : iterable of path
         Input files, stored (base names) as ``input_files`` for provenance.
     time_system : str, optional
@@ -77,7 +86,7 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
     reference_frame : str, optional
         Reference frame of positions (e.g. ``"ITRF"``, ``"GCRF"``, ``"antenna"``).
     title : str, optional
-        Human-readable title.
+        Human-readable title (CF ``title``; default: ``"leopod <step> product"``).
 
     Returns
     -------
@@ -94,21 +103,25 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
     attrs = dict(out.attrs)
     attrs.update({
         "Conventions": "CF-1.10",
+        "title": title or attrs.get("title") or f"leopod {step} product",
         "institution": "leopod",
         "source": f"leopod {__version__}",
         "processing_step": step,
         "input_files": " ".join(sorted(Path(p).name for p in inputs)),
-        # no wall-clock stamp: identical inputs must give bit-identical files
+        # outside a workflow job no wall-clock stamp: identical inputs give identical files
         "history": f"leopod {__version__} {step}",
     })
-    if title is not None:
-        attrs["title"] = title
+    job = current_job()
+    if job is not None:
+        attrs.update(job.netcdf_attributes())
     if time_system is not None:
         attrs["time_system"] = time_system
     if reference_frame is not None:
         attrs["reference_frame"] = reference_frame
     # netCDF has no bool attribute type: store flags as 0/1 integers
     out.attrs = {k: (int(v) if isinstance(v, (bool, np.bool_)) else v) for k, v in attrs.items()}
+    if "time" in out.dims and np.issubdtype(out["time"].dtype, np.datetime64):
+        out = out.assign_coords(time=out["time"].assign_attrs(standard_name="time"))
     encoding = {}
     for name, var in out.variables.items():
         enc = {}

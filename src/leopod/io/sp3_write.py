@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._text import write_text
+from leopod.io.provenance import current_job
 from leopod.io.sp3 import _BAD_CLOCK, _NS, _XYZ
 
 __all__ = ["write_sp3"]
@@ -168,7 +169,9 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
     data_used : str
         Data-used descriptor ("u+U": undifferenced phase and code), at most 5 characters.
     comments : tuple of str
-        Extra ``/*`` comment lines (at most 77 characters each).
+        Extra ``/*`` comment lines (at most 77 characters each). Inside a workflow job
+        (:mod:`leopod.io.provenance`) a last one gives the SHA-256 of the campaign
+        (``config hash <hex>``, as ``leopod_config_sha256`` of the job's netCDF files).
 
     Raises
     ------
@@ -207,6 +210,9 @@ def write_sp3(ds: xr.Dataset, path: str | Path, *, agency: str = "LEO",
             exps[:, :, 3] = _exponents(ds["clk_sigma_s"].transpose("time", "sv").values * 1e12,
                                        _BASE_CLK, _MAX_EXP_CLK)
 
+    job = current_job()
+    if job is not None:
+        comments = (*comments, f"config hash {job.config_sha256}")
     out = _header_lines(ds, times, sats, "V" if has_vel else "P", agency=agency,
                         orbit_type=orbit_type, coordinate_system=coordinate_system,
                         data_used=data_used, comments=comments)

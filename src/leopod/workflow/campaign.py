@@ -14,9 +14,10 @@ from pathlib import Path
 
 from leopod.gnss.signal_bias import signal_bias_mode
 from leopod.time.calendar import date_id, days_between, parse_date_id, template_fields
+from leopod.workflow.layout import DOWNLOAD_ROOT, Layout
 
-__all__ = ["LOCATE_ROOT", "PRODUCED", "arc_days", "campaign_days", "excluded_days",
-           "expand_template", "input_references", "input_templates", "is_daily_template",
+__all__ = ["arc_days", "campaign_days", "campaign_inputs", "excluded_days", "expand_template",
+           "produced_kind", "input_references", "input_templates", "is_daily_template",
            "library_root", "locate_inputs", "located_source", "next_days", "pod_days",
            "satellite_ids", "script_library_files", "signal_bias_inputs"]
 
@@ -127,10 +128,6 @@ def expand_template(template: str, date: str, sat: str | None = None) -> str:
 PRODUCT_INPUTS = ("gnss_orbit", "gnss_clock", "wl_bias", "osb", "dcb_p1c1", "antex",
                   "slr_stations", "slr_eccentricities")
 SATELLITE_INPUTS = ("observations", "apriori_orbit", "slr_normal_points", "reference_orbit")
-#: Folder of the located inputs (links to the files named by path in the config).
-LOCATE_ROOT = "resources/locate"
-#: Inputs under these folders are written by rules (simulate, download), not located.
-PRODUCED = {"resources/simulate/": "simulated", "resources/download/": "downloaded"}
 _DATE_FIELDS = ("yyyy", "yy", "doy", "gpsweek", "dow", "date", "month", "day")
 
 
@@ -158,6 +155,45 @@ def input_references(config: dict):
             yield (f"satellites.{sat}.simulate_antenna", block["simulate_antenna"], "antex")
 
 
+def campaign_inputs(config: dict) -> dict:
+    """A copy of a campaign with ``{campaign}`` filled in its input path templates
+    (:mod:`leopod.workflow.layout`: ``resources/{campaign}/simulate/...``).
+
+    Parameters
+    ----------
+    config : dict
+        The validated campaign (not modified).
+
+    Raises
+    ------
+    ValueError
+        If an input names the folder of simulated files without the campaign
+        (``resources/simulate/``, the layout before one folder per campaign), naming the
+        config entry and the template to write instead.
+    """
+    name = Layout.of(config).campaign
+    config = copy.deepcopy(config)
+    for entry, container, key in input_references(config):
+        value = container.get(key)
+        if not isinstance(value, str):
+            continue
+        if value.startswith("resources/simulate/"):
+            raise ValueError(f"{entry}: {value!r}: simulated files are the campaign's own; "
+                             f"write 'resources/{{campaign}}/{value[len('resources/'):]}'")
+        container[key] = value.replace("{campaign}", name)
+    return config
+
+
+def produced_kind(template: str, config: dict) -> str | None:
+    """``"simulated"`` or ``"downloaded"`` if an input path template (``{campaign}`` filled,
+    downloads resolved) names a file that a rule writes (the simulate rules:
+    ``resources/<campaign>/simulate/``; the download rules: ``resources/download/``), else
+    None (a file the campaign locates)."""
+    if template.startswith(f"{Layout.of(config).resources}/simulate/"):
+        return "simulated"
+    return "downloaded" if template.startswith(f"{DOWNLOAD_ROOT}/") else None
+
+
 def is_daily_template(template: str) -> bool:
     """True if a path template names one file per day (it has a date placeholder)."""
     return any(f"{{{field}}}" in template for field in _DATE_FIELDS)
@@ -169,14 +205,16 @@ def locate_inputs(config: dict) -> tuple[dict, dict[str, str]]:
     A missing input file would otherwise stop the whole campaign before any job runs
     (Snakemake's missing-input check); the ``locate`` job of that file fails instead, with a
     message naming the file and the config entry, and the other days go on. Every path
-    template (not a file written by a rule) is replaced by
-    ``resources/locate/<entry>/{date}/<file name>`` (daily) or
-    ``resources/locate/<entry>/<file name>`` (one file), which the rule links to the file.
+    template (not a file written by a rule, :func:`produced_kind`) is replaced by
+    ``resources/<campaign>/locate/<entry>/{date}/<file name>`` (daily) or
+    ``resources/<campaign>/locate/<entry>/<file name>`` (one file), which the rule links to
+    the file.
 
     Parameters
     ----------
     config : dict
-        The validated campaign config (not modified), downloads already resolved.
+        The validated campaign config (not modified), ``{campaign}`` filled
+        (:func:`campaign_inputs`) and downloads resolved.
 
     Returns
     -------
@@ -185,14 +223,15 @@ def locate_inputs(config: dict) -> tuple[dict, dict[str, str]]:
     located : dict
         ``{entry: original template}`` of every replaced value.
     """
+    root = f"{Layout.of(config).resources}/locate"
     config = copy.deepcopy(config)
     located = {}
     for entry, container, key in input_references(config):
         template = container.get(key)
-        if not template or template.startswith(tuple(PRODUCED)):
+        if not template or produced_kind(template, config):
             continue
         name = Path(template).name
-        folder = f"{LOCATE_ROOT}/{entry}"
+        folder = f"{root}/{entry}"
         container[key] = f"{folder}/{{date}}/{name}" if is_daily_template(template) \
             else f"{folder}/{name}"
         located[entry] = template
@@ -220,8 +259,8 @@ def located_source(located: dict[str, str], entry: str, path: str) -> str:
     entry : str
         Config entry (``products.gnss_orbit``).
     path : str
-        The located file's path below ``resources/locate/<entry>/`` (``YYYY-DDD/<name>`` for
-        daily inputs).
+        The located file's path below ``resources/<campaign>/locate/<entry>/``
+        (``YYYY-DDD/<name>`` for daily inputs).
     """
     template = located[entry]
     sat = entry.split(".")[1] if entry.startswith("satellites.") else None

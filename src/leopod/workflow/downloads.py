@@ -1,10 +1,12 @@
 """Downloads inside a campaign: ``download:<family>`` in the config becomes a file the
-``download_<family>`` rule writes under ``resources/download/``.
+``download_<family>`` rule writes under ``resources/download/`` (a cache shared by the campaigns
+of a working directory, keyed by family and day: :mod:`leopod.workflow.layout`).
 
-A campaign names its inputs by path template (``products.gnss_orbit: "/data/cod{gpsweek}{dow}.sp3"``)
-or by product family of the catalogue (``products.gnss_orbit: "download:cod_orbit"``). The second
-form is rewritten here, before any rule sees the config, into the path the family's download
-rule produces, so every other rule reads downloaded and local files alike.
+A campaign names its inputs by path template
+(``products.gnss_orbit: "/data/cod{gpsweek}{dow}.sp3"``) or by product family of the catalogue
+(``products.gnss_orbit: "download:cod_orbit"``). The second form is rewritten here, before any
+rule sees the config, into the path the family's download rule produces, so every other rule
+reads downloaded and local files alike.
 """
 
 from __future__ import annotations
@@ -14,14 +16,13 @@ from pathlib import Path
 
 from leopod.download.catalogue import Catalogue, Family
 from leopod.workflow.campaign import input_references
+from leopod.workflow.layout import DOWNLOAD_ROOT
 
-__all__ = ["PREFIX", "ROOT", "destination_template", "load_catalogue", "resolve_downloads",
+__all__ = ["PREFIX", "destination_template", "load_catalogue", "resolve_downloads",
            "uses_downloads"]
 
 #: Prefix of a config value that names a product family instead of a path.
 PREFIX = "download:"
-#: Folder of the downloaded files (relative to the working directory).
-ROOT = "resources/download"
 
 def destination_template(family: Family) -> str:
     """Path template of a family's downloaded (decompressed) file.
@@ -30,7 +31,7 @@ def destination_template(family: Family) -> str:
     ``YYYY-DDD``), ``resources/download/<family>/<family><suffix>`` for static ones.
     """
     stem = "{date}" if family.period == "day" else family.name
-    return f"{ROOT}/{family.name}/{stem}{family.suffix}"
+    return f"{DOWNLOAD_ROOT}/{family.name}/{stem}{family.suffix}"
 
 
 def load_catalogue(settings: dict, default: str | Path) -> Catalogue:

@@ -281,7 +281,7 @@ def campaign_text(name: str, satellite: str, start: _dt.date, end: _dt.date, *,
         "# config/README.md; keys left out take the schema's defaults.",
         "#   leopod check <this file>     schema and input files",
         "#   leopod run <this file>       the whole campaign (a target path runs less: "
-        "-- results/...)",
+        "-- results/<campaign>/...)",
         f"campaign: {name}",
         "",
         "# days to process (GPS time, inclusive), quoted: YYYY-MM-DD",

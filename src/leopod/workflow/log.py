@@ -1,4 +1,5 @@
-"""Glue between Snakemake scripts and the library: logging set-up for every step."""
+"""Glue between Snakemake scripts and the library: logging set-up and the job's provenance for
+every step."""
 
 from __future__ import annotations
 
@@ -6,12 +7,15 @@ import logging
 import sys
 
 from leopod.io._text import FormatError
+from leopod.workflow.provenance import record_job
 
 __all__ = ["configure_logging"]
 
 
 def configure_logging(snakemake) -> logging.Logger:
-    """Send ``logging`` to the rule's log file and stderr; log uncaught exceptions there too.
+    """Send ``logging`` to the rule's log file and stderr; log uncaught exceptions there too;
+    declare the job's provenance to the product writers
+    (:func:`leopod.workflow.provenance.record_job`).
 
     A :class:`leopod.io.FormatError` (bad or damaged input: its message names the file, line
     and field) is logged as that message alone; any other exception with its traceback.
@@ -42,4 +46,6 @@ def configure_logging(snakemake) -> logging.Logger:
 
     sys.excepthook = _hook
     logger.info("rule %s, wildcards %s", snakemake.rule, dict(snakemake.wildcards))
+    job = record_job(snakemake)
+    logger.info("campaign config sha256 %s", job.config_sha256)
     return logger

@@ -19,6 +19,8 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from leopod.workflow.layout import Layout
+
 __all__ = ["POD_STEPS", "STEP_ORDER", "Failure", "failed_days", "failures", "gate_verdicts",
            "orbit_days"]
 
@@ -115,16 +117,18 @@ def _read_failure(log: Path) -> Failure | None:
     return None
 
 
-def failures(directory: str | Path) -> list[Failure]:
-    """Failed jobs of the campaign run in ``directory`` (its ``logs/``; every log keeps the
-    last attempt of its job), in the order of their log paths.
+def failures(directory: str | Path, layout: Layout) -> list[Failure]:
+    """Failed jobs of a campaign run in ``directory`` (its ``logs/<campaign>/``; every log
+    keeps the last attempt of its job), in the order of their log paths.
 
     Parameters
     ----------
     directory : str or Path
         The Snakemake working directory.
+    layout : Layout
+        The campaign's folders (:mod:`leopod.workflow.layout`).
     """
-    logs = Path(directory) / "logs"
+    logs = Path(directory) / layout.logs
     found = []
     for log in sorted(logs.rglob("*.log")):
         if log.relative_to(logs).parts[0] == "benchmarks":
@@ -157,14 +161,14 @@ def failed_days(found: list[Failure], days: list[str]) -> dict[str, Failure]:
     return {day: out[day] for day in days if day in out}
 
 
-def gate_verdicts(directory: str | Path, solution: str, sat: str,
+def gate_verdicts(directory: str | Path, layout: Layout, solution: str, sat: str,
                   days: list[str]) -> dict[str, str]:
     """Day -> verdict of the quality gate (:mod:`leopod.validation.quality_gate`) of the
     ``days`` whose POD step ``solution`` produced an orbit that did not pass it (suspect or
     failed, with the reasons), from the step's logs."""
     out = {}
     for day in days:
-        log = Path(directory) / "logs" / solution / sat / f"{day}.log"
+        log = Path(directory) / layout.logs / solution / sat / f"{day}.log"
         if log.is_file():
             for line in log.read_text(errors="replace").splitlines():
                 found = _GATE.search(line)
@@ -173,7 +177,9 @@ def gate_verdicts(directory: str | Path, solution: str, sat: str,
     return out
 
 
-def orbit_days(directory: str | Path, solution: str, sat: str, days: list[str]) -> list[str]:
-    """The ``days`` with the daily SP3 of a POD step (``results/<solution>/<sat>/<day>.sp3``)."""
-    folder = Path(directory) / "results" / solution / sat
+def orbit_days(directory: str | Path, layout: Layout, solution: str, sat: str,
+               days: list[str]) -> list[str]:
+    """The ``days`` with the daily SP3 of a POD step
+    (``results/<campaign>/<solution>/<sat>/<day>.sp3``)."""
+    folder = Path(directory) / layout.results / solution / sat
     return [d for d in days if (folder / f"{d}.sp3").is_file()]
