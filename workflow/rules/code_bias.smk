@@ -8,20 +8,20 @@ rule code_bias:
     output:
         nc="results/code_bias/{sat}/{period}.nc",
         statistics="results/code_bias/{sat}/{period}_statistics.csv",
-        maps=report(
-            "results/code_bias/{sat}/{period}_maps.png",
+        maps=figure(
+            "results/code_bias/{sat}/{period}_maps",
             caption="../report/code_bias_maps.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "maps"},
         ),
-        counts=report(
-            "results/code_bias/{sat}/{period}_counts.png",
+        counts=figure(
+            "results/code_bias/{sat}/{period}_counts",
             caption="../report/code_bias_counts.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "observations"},
         ),
-        mp_elevation=report(
-            "results/code_bias/{sat}/{period}_mp_elevation.png",
+        mp_elevation=figure(
+            "results/code_bias/{sat}/{period}_mp_elevation",
             caption="../report/code_bias_mp_elevation.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "MP before/after"},
@@ -51,14 +51,14 @@ rule code_bias_stack:
     output:
         nc="results/code_bias/{sat}/stack.nc",
         differences="results/code_bias/{sat}/stack_differences.csv",
-        maps=report(
-            "results/code_bias/{sat}/stack_maps.png",
+        maps=figure(
+            "results/code_bias/{sat}/stack_maps",
             caption="../report/code_bias_stack.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "all", "figure": "stacked maps"},
         ),
-        difference=report(
-            "results/code_bias/{sat}/stack_differences.png",
+        difference=figure(
+            "results/code_bias/{sat}/stack_differences",
             caption="../report/code_bias_differences.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "all", "figure": "period differences"},

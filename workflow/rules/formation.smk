@@ -34,8 +34,8 @@ rule range_check:
         code=library_code("range_check"),
     output:
         nc="results/range_check/{pair}/{date}.nc",
-        figure=report(
-            "results/range_check/{pair}/{date}.png",
+        figure=figure(
+            "results/range_check/{pair}/{date}",
             caption="../report/range_check.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "range check"},
@@ -71,8 +71,8 @@ rule formation_summary:
             category="Baseline",
             labels={"pair": "{pair}", "figure": "formation summary"},
         ),
-        figure=report(
-            "results/summary/{pair}_formation.png",
+        figure=figure(
+            "results/summary/{pair}_formation",
             caption="../report/formation_summary_figure.rst",
             category="Baseline",
             labels={"pair": "{pair}", "figure": "baselines per day"},

@@ -9,8 +9,8 @@ rule pcv:
     output:
         nc="results/pcv/{sat}/{period}.nc",
         antex="results/pcv/{sat}/{period}.atx",
-        map=report(
-            "results/pcv/{sat}/{period}_map.png",
+        map=figure(
+            "results/pcv/{sat}/{period}_map",
             caption="../report/pcv_map.rst",
             category="Antenna PCV",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "PCV map"},
@@ -46,8 +46,8 @@ rule pcv_stack:
         nc="results/pcv/{sat}/stack.nc",
         antex="results/pcv/{sat}/stack.atx",
         differences="results/pcv/{sat}/stack_differences.csv",
-        map=report(
-            "results/pcv/{sat}/stack_map.png",
+        map=figure(
+            "results/pcv/{sat}/stack_map",
             caption="../report/pcv_stack.rst",
             category="Antenna PCV",
             labels={"satellite": "{sat}", "period": "all", "figure": "stacked PCV map"},

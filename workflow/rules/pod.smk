@@ -47,8 +47,8 @@ rule ambiguity:
         code=library_code("ambiguity"),
     output:
         table="results/ambiguity/{sat}/{date}.nc",
-        histogram=report(
-            "results/ambiguity/{sat}/{date}_fractions.png",
+        histogram=figure(
+            "results/ambiguity/{sat}/{date}_fractions",
             caption="../report/ambiguity_fractions.rst",
             category="Ambiguity resolution",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "fractional parts"},
