@@ -214,7 +214,9 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "",
         ax.set_ylabel(f"{kind} residual [{unit}]")
         ax.set_title(f"{kind}: RMS {finite_rms(r):.3g} {unit}{_clip_note(r[ok], lim, unit)}",
                      fontsize=9, loc="left")
-        ax.legend(fontsize=8, loc="upper right", markerscale=4)
+        legend = ax.legend(fontsize=8, loc="upper right")
+        legend.legend_handles[0].set_markersize(4.0)      # the residual dots, visible
+        legend.legend_handles[0].set_alpha(1.0)
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("elevation in the antenna frame [deg]")
     axes[-1].set_xlim(edges[0], 90)
