@@ -9,6 +9,7 @@ from leopod.workflow.worker import hand_off
 
 hand_off(globals())  # run in the warm worker process of this run, if it has one
 
+import html
 import logging
 from collections.abc import Mapping
 
@@ -19,15 +20,21 @@ import xarray as xr
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.summary import plot_fixing_rates, plot_isb, plot_pco_z
+from leopod.plots.tables import Column, Footnotes, html_page, html_table
 from leopod.simulate.ambiguity_truth import wrong_fix_counts
 from leopod.validation.quality_gate import STATUS, GateSettings
 from leopod.validation.summary import (
     campaign_table,
+    column_kind,
+    column_label,
     column_meta,
+    csv_text,
     day_row,
     excluded_row,
     isb_series,
+    missing_reason,
     sections,
+    system_of_column,
 )
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging
@@ -40,35 +47,58 @@ def _load(files: dict, key: str, date: str):
     return load_netcdf(path) if path else None
 
 
-def _cell(value: float) -> str:
-    """HTML table cell: a dash for no value, counts in full, other numbers to 4 digits (an ISB of
-    metres keeps its millimetres)."""
-    if not np.isfinite(value):
-        return "&ndash;"
-    if value == round(value) and abs(value) >= 1000:
-        return f"{value:.0f}"
-    return f"{value:.4g}"
+#: Row labels of the solutions and of the statistics over the days in the HTML table.
+_SOLUTIONS = {"float_pod": "float", "fixed_pod": "ambiguity-fixed"}
+_AGGREGATES = {"mean": "mean", "std": "STD", "all_days": "all days"}
 
 
-def _html_table(table, columns: list[str]) -> str:
-    """One HTML table of the (day, solution) rows and ``columns`` of the campaign table."""
-    header = "".join(f"<th title='{text}'>{c}<br>[{unit}]</th>"
-                     for c in columns for unit, text in [column_meta(c)])
-    body = "\n".join(
-        "<tr><td>{}</td><td>{}</td>{}</tr>".format(
-            d, s, "".join(f"<td>{_cell(v)}</td>" for v in row.to_numpy(dtype=float)))
-        for (d, s), row in table[columns].iterrows())
-    return (f"<table border='1' cellpadding='3'><tr><th>day</th><th>solution</th>{header}"
-            f"</tr>\n{body}</table>")
+def _columns(table) -> list[Column]:
+    """The report columns of the campaign table; per-system columns only when the campaign
+    has more than one system (with one they repeat the all-system columns)."""
+    systems = {s for name in table.columns if (s := system_of_column(name))}
+    return [Column(name, column_label(name), *column_meta(name)[:1], kind=column_kind(name),
+                   description=column_meta(name)[1], levels=STATUS)
+            for name in table.columns if len(systems) > 1 or not system_of_column(name)]
+
+
+def _html_rows(table, columns: list[Column], n_days: int, excluded: Mapping[str, str]):
+    """Rows of :func:`leopod.plots.tables.html_table`: day and solution labels, the values,
+    why a missing value is missing, and whether the row is a statistic over the days."""
+    keys = [c.key for c in columns]
+    for (day, solution), row in table[keys].iterrows():
+        def reason(column, day=day):
+            if day in excluded:
+                return f"day excluded from the campaign: {excluded[day]}"
+            return missing_reason(column.key, day, n_days)
+        yield ((_AGGREGATES.get(day, day), _SOLUTIONS.get(solution, solution)),
+               row.to_numpy(dtype=float), reason, day in _AGGREGATES)
 
 
 def _gate_list(rows: list[dict]) -> str:
     """HTML list of the days the quality gate did not pass, with the reasons."""
-    items = [f"<li>{r['date']} {r['solution']}: {STATUS[int(r['quality_gate'])]} "
-             f"({r['quality_gate_reasons']})</li>"
+    items = [f"<li>{r['date']} {_SOLUTIONS.get(r['solution'], r['solution'])}: "
+             f"{STATUS[int(r['quality_gate'])]} ({html.escape(r['quality_gate_reasons'])})</li>"
              for r in rows if np.isfinite(r["quality_gate"]) and r["quality_gate"] > 0]
     return ("<h4>quality gate</h4>\n"
             + (f"<ul>{''.join(items)}</ul>\n" if items else "<p>every day passed</p>\n"))
+
+
+def summary_html(table, rows: list[dict], *, title: str, n_days: int,
+                 excluded: Mapping[str, str], gate: bool) -> str:
+    """The report page of the campaign table: one table per section, footnotes for the
+    missing values."""
+    notes = Footnotes()
+    columns = {c.key: c for c in _columns(table)}
+    parts = [f"<h4>{name}</h4>\n" + html_table(
+        [columns[k] for k in keys if k in columns],
+        _html_rows(table, [columns[k] for k in keys if k in columns], n_days, excluded),
+        notes, row_header=("day", "solution"))
+        for name, keys in sections(columns).items()]
+    intro = ("<p>Daily figures per solution, then over the days: <i>mean</i> and <i>STD</i> "
+             "of every figure (counts per day) and <i>all days</i> (counts summed, the quality "
+             "gate of the worst day). Hover over a header for its full description.</p>\n")
+    return html_page(f"{title}: campaign summary",
+                     intro + (_gate_list(rows) if gate else "") + "".join(parts) + notes.html())
 
 
 def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
@@ -117,12 +147,9 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
         ds[name].attrs.update(units="1", long_name=name)
     write_netcdf(ds, outputs["nc"], step="campaign_summary", inputs=list(input_files),
                  time_system="GPS", title=f"campaign summary {title}")
-    write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
-    parts = "\n".join(f"<h4>{name}</h4>\n{_html_table(table, columns)}"
-                       for name, columns in sections(table.columns).items())
-    gates = _gate_list(rows) if gate is not None else ""
-    write_text(outputs["html"], f"<html><body><h3>{title}: campaign summary</h3>\n{gates}"
-                                f"{parts}</body></html>\n")
+    write_text(outputs["csv"], csv_text(table))
+    write_text(outputs["html"], summary_html(table, rows, title=title, n_days=len(days),
+                                             excluded=excluded, gate=gate is not None))
     plot_pco_z(table, outputs["pco_z_png"], title=title)
     plot_fixing_rates(table, outputs["fixing_png"], title=title)
     plot_isb(pd.concat(isb, ignore_index=True) if isb else pd.DataFrame(

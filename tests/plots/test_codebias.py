@@ -163,19 +163,22 @@ def test_cells_centred_on_nodes_and_empty_blank():
     plt.close(fig)
 
 
-def test_colour_scale_symmetric_and_shared_per_signal():
+def test_colour_scale_symmetric_and_shared_by_all_signals():
+    # issue 23 item 5: the maps of the codes are compared, so every panel has one scale
     maps = _maps()
     fig = codebias._maps_figure(maps, title="", field="value_m", units="cm")
     meshes = [ax.collections[0] for ax in fig.axes if ax.name == "polar"]
-    limits = [(m.norm.vmin, m.norm.vmax) for m in meshes]
-    # rows = signals, columns = modes: both modes of a signal share one symmetric scale
-    assert limits[0] == limits[1] and limits[2] == limits[3]
-    assert limits[0][0] == -limits[0][1] > -100.0
+    limits = {(m.norm.vmin, m.norm.vmax) for m in meshes}
+    assert len(meshes) == 4 and len(limits) == 1
+    (low, high), = limits
+    assert low == -high > -100.0
     # independent computation: 98th percentile of |value| [cm] over the unique non-empty nodes
-    v = maps.value_m.sel(signal="C1C").values[:, :-1].ravel()  # all rings but the zenith row
-    v = np.concatenate([v, maps.value_m.sel(signal="C1C").values[:, -1, 0]])
+    # of all signals
+    v = maps.value_m.values[..., :-1, :].ravel()                  # all rings but the zenith row
+    v = np.concatenate([v, maps.value_m.values[..., -1, 0].ravel()])
     v = 100.0 * np.abs(v[np.isfinite(v)])
-    assert limits[0][1] == pytest.approx(np.percentile(v, 98.0), rel=1e-12)
+    assert high == pytest.approx(np.percentile(v, 98.0), rel=1e-12)
+    assert sum(ax.name != "polar" for ax in fig.axes) == 1         # one colour bar
     plt.close(fig)
 
 
@@ -183,8 +186,8 @@ def test_counts_log_scale_over_non_empty_nodes():
     maps = _maps()
     fig = codebias._counts_figure(maps, title="")
     norm = fig.axes[0].collections[0].norm
-    shown = maps["count"].where(~maps.empty).sel(signal="C1C")
-    # LogNorm from the smallest to the largest count of the non-empty nodes
+    shown = maps["count"].where(~maps.empty)
+    # one LogNorm from the smallest to the largest count of the non-empty nodes of all codes
     assert norm.__class__.__name__ == "LogNorm"
     assert norm.vmin == float(shown.min()) >= MIN_COUNT
     assert norm.vmax == float(shown.max())

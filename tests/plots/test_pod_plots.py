@@ -150,3 +150,22 @@ def test_hours_of_day_for_a_30_h_arc():
     # arithmetic: 21:00 of the previous day is -3 h, 03:00 of the next day is 27 h
     np.testing.assert_allclose(hours, [-3.0, 12.0, 27.0])
     assert "2024-03-10" in label
+
+
+def test_robust_axis_ignores_a_few_outliers():
+    # issue 23 item 5: 7-mm residuals and one 300-mm outlier get an axis of the residuals
+    rng = np.random.default_rng(1)
+    values = np.concatenate([rng.normal(0.0, 7.0, 20000), [300.0]])
+    lim = pod.robust_limit(values, 1.0)
+    # analytic: the 99.9th percentile of |N(0, 7)| is 7 x 3.29 = 23 mm; times 1.2
+    assert 20.0 < lim < 35.0
+    assert pod.robust_limit([0.0, np.nan], 5.0) == 5.0
+    assert pod.robust_limit([1.0, -2.0], 1.0) == pytest.approx(2.1)   # at most max + 5 %
+
+
+def test_sky_map_cells_of_about_equal_area():
+    # issue 23 item 5 (starburst at the zenith): cells per ring follow cos(elevation)
+    assert pod.ring_azimuth_cells(0.0, 5.0) == 72
+    assert pod.ring_azimuth_cells(85.0, 90.0) == 3
+    counts = [pod.ring_azimuth_cells(e, e + 5.0) for e in range(0, 90, 5)]
+    assert counts == sorted(counts, reverse=True)

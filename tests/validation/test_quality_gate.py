@@ -90,5 +90,6 @@ def test_summary_marks_the_day_and_keeps_the_worst():
     assert rows[1]["quality_gate"] == 2
     assert rows[1]["quality_gate_reasons"] == "coverage_pct 50 < 80; overlap_3d_cm 60 > 10"
     table = campaign_table(rows)
-    assert table.loc[("mean", "float_pod"), "quality_gate"] == 2     # the worst day
+    assert table.loc[("all_days", "float_pod"), "quality_gate"] == 2  # the worst day
+    assert np.isnan(table.loc[("mean", "float_pod"), "quality_gate"])  # no mean of levels
     assert "quality_gate_reasons" not in table

@@ -61,7 +61,10 @@ def test_table_means_per_solution():
                                                              ("2019-002", 0.002))]
     table = campaign_table(rows)
     assert table.loc[("mean", "float_pod"), "phase_rms_mm"] == pytest.approx(3.0)
-    assert table.loc[("mean", "fixed_pod"), "n_phase"] == 2
+    # issue 23 item 5: a count's mean row is its mean per day; the sum is labelled all_days
+    assert table.loc[("mean", "fixed_pod"), "n_phase"] == 1
+    assert table.loc[("all_days", "fixed_pod"), "n_phase"] == 2
+    assert np.isnan(table.loc[("all_days", "fixed_pod"), "phase_rms_mm"])
     assert np.isnan(table.loc[("2019-001", "float_pod"), "overlap_3d_rms_cm"])
 
 
@@ -77,7 +80,7 @@ def test_an_excluded_day_is_a_failed_row_without_figures():
     assert table.loc[("2019-002", "float_pod"), "quality_gate"] == 2
     assert np.isnan(table.loc[("2019-002", "float_pod"), "phase_rms_mm"])
     assert table.loc[("mean", "float_pod"), "phase_rms_mm"] == pytest.approx(3.0)
-    assert table.loc[("mean", "float_pod"), "quality_gate"] == 2
+    assert table.loc[("all_days", "float_pod"), "quality_gate"] == 2
     assert list(table.index.get_level_values("date")[:3]) == ["2019-001", "2019-002",
                                                               "2019-003"]
 
@@ -143,8 +146,8 @@ def test_both_fixing_rate_definitions():
     after = list(table.columns[list(table.columns).index("nl_sd_fixed_pct") + 1:][:6])
     assert after == ["n_sd_C", "wl_sd_fixed_C_pct", "nl_sd_fixed_C_pct",
                      "n_sd_G", "wl_sd_fixed_G_pct", "nl_sd_fixed_G_pct"]
-    assert table.loc[("mean", "fixed_pod"), "n_sd_C"] == 3
-    assert np.isnan(table.loc[("std", "fixed_pod"), "n_sd_C"])
+    assert table.loc[("all_days", "fixed_pod"), "n_sd_C"] == 3
+    assert np.isnan(table.loc[("std", "fixed_pod"), "n_sd_C"])        # one day: no STD
     # no candidates: no share (NaN), not 0 %
     empty = _graph_ambiguities([], [], [], [])
     empty.attrs.update(wl_fixing_rate=np.nan, nl_fixing_rate=np.nan)
@@ -173,15 +176,16 @@ def test_residual_rms_per_system():
     assert row["phase_rms_mm"] == pytest.approx(np.sqrt(27 / 4))
     assert "phase_rms_E_mm" not in row
     # a campaign whose second day has no BDS: per-system columns of every system in the data,
-    # NaN where absent; they follow n_phase, sorted by system; counts summed in the mean row
+    # NaN where absent; they follow n_phase, sorted by system; counts summed in all_days
     gps_only = _sv_residuals(["G01"], [[0.002]], [[0.2]])
     table = campaign_table([row, day_row("2019-002", "float_pod", residuals=gps_only)])
     assert list(table.columns[2:9]) == ["n_phase", "phase_rms_C_mm", "code_rms_C_m",
                                         "n_phase_C", "phase_rms_G_mm", "code_rms_G_m",
                                         "n_phase_G"]
     assert np.isnan(table.loc[("2019-002", "float_pod"), "phase_rms_C_mm"])
-    assert table.loc[("mean", "float_pod"), "n_phase_G"] == 3
-    assert table.loc[("mean", "float_pod"), "n_phase_C"] == 2
+    assert table.loc[("all_days", "float_pod"), "n_phase_G"] == 3
+    assert table.loc[("all_days", "float_pod"), "n_phase_C"] == 2
+    assert table.loc[("mean", "float_pod"), "n_phase_G"] == 1.5
     assert column_meta("code_rms_C_m") == ("m", COLUMNS["code_rms_m"][1] + ", system C")
     with pytest.raises(KeyError):
         column_meta("phase_rms_GC_mm")
@@ -207,7 +211,7 @@ def test_pco_z_float_and_fixed_with_sigma():
     assert table.loc[("mean", "float_pod"), "pco_z_cm"] == pytest.approx(2.19)
     assert table.loc[("std", "float_pod"), "pco_z_cm"] == pytest.approx(np.sqrt(0.5))
     assert table.loc[("std", "fixed_pod"), "pco_z_cm"] == pytest.approx(np.sqrt(0.005))
-    assert np.isnan(table.loc[("std", "fixed_pod"), "n_phase"])
+    assert table.loc[("std", "fixed_pod"), "n_phase"] == 0.0   # equal counts on both days
     # not estimated: no parameter pco_z_m -> NaN, like a campaign without parameter files
     names = ["x0_m"]
     without = xr.Dataset({"estimate": ("parameter", [7e6]), "sigma": ("parameter", [0.01])},
@@ -352,9 +356,40 @@ def test_wrong_fixes_per_system_against_truth():
     assert row["nl_wrong_C"] == 1 and row["constrained_wrong_C"] == 1 and row["wl_wrong_C"] == 0
     assert row["nl_wrong_G"] == 0
     summary = campaign_table([row])
-    assert summary.loc[("mean", "fixed_pod"), "nl_wrong_C"] == 1          # a count: summed
+    assert summary.loc[("all_days", "fixed_pod"), "nl_wrong_C"] == 1      # a count: summed
     # the GPS pair for every system: BDS has no true integers, its fix counts as wrong
     counts = wrong_fix_counts(table, res, [truth], {"G": phases["G"], "C": phases["G"]})
     assert counts["C"]["wl_wrong"] == 1 and counts["G"]["wl_wrong"] == 0
     with pytest.raises(KeyError, match="amb_L2C_cyc"):
         wrong_fix_counts(table, res, [truth], {"G": ["L1C", "L2C"]})
+
+
+def test_report_labels_kinds_and_reasons():
+    # issue 23 item 5: readable headers, the kind that decides how a value reads, and why a
+    # value is missing (analytic: the definitions of the columns)
+    from leopod.validation.summary import (
+        column_kind,
+        column_label,
+        csv_text,
+        missing_reason,
+        system_of_column,
+    )
+    assert column_label("phase_rms_mm") == "phase RMS"
+    assert column_label("phase_rms_G_mm") == "phase RMS G" and system_of_column("n_sd_C") == "C"
+    assert system_of_column("n_sd") is None
+    assert [column_kind(c) for c in ("n_phase", "n_phase_G", "wl_fixing_rate_pct",
+                                     "ar_product_accepted_C", "quality_gate", "sigma0")] == [
+        "count", "count", "percent", "flag", "level", "number"]
+    assert "two days" in missing_reason("phase_rms_mm", "std", 1)
+    assert "last day" in missing_reason("overlap_3d_rms_cm", "2019-003", 3)
+    assert "float solution" in missing_reason("n_constraints", "2019-001", 3)
+    assert "pod.estimate_pco_z" in missing_reason("pco_z_sigma_cm", "mean", 3)
+    assert "one ISB piece" in missing_reason("isb_C_std_m", "2019-001", 3)
+    assert "worst day" in missing_reason("quality_gate", "mean", 3)
+    # the CSV writes counts as integers, never 2.84e+04 or 28419.0000
+    rows = [day_row(d, "float_pod", residuals=_residuals(np.full((28419, 1), 0.004),
+                                                          np.ones((28419, 1))))
+            for d in ("2019-001", "2019-002")]
+    text = csv_text(campaign_table(rows))
+    assert "2019-001,float_pod,4.0000,1.0000,28419," in text
+    assert "all_days,float_pod,,,56838," in text

@@ -11,14 +11,14 @@ rule baseline:
         # the two orbits of the DD-fixed baseline solution
         sp3_leader=result_path("baseline/{pair}/{date}_leader.sp3"),
         sp3_follower=result_path("baseline/{pair}/{date}_follower.sp3"),
-        figure=report(
-            result_path("baseline/{pair}/{date}_rtn.png"),
+        figure=figure(
+            result_path("baseline/{pair}/{date}_rtn"),
             caption="../report/baseline_rtn.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "baseline RTN"},
         ),
-        histogram=report(
-            result_path("baseline/{pair}/{date}_dd_fractions.png"),
+        histogram=figure(
+            result_path("baseline/{pair}/{date}_dd_fractions"),
             caption="../report/baseline_dd_fractions.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "DD fractional parts"},

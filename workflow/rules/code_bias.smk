@@ -8,20 +8,20 @@ rule code_bias:
     output:
         nc=result_path("code_bias/{sat}/{period}.nc"),
         statistics=result_path("code_bias/{sat}/{period}_statistics.csv"),
-        maps=report(
-            result_path("code_bias/{sat}/{period}_maps.png"),
+        maps=figure(
+            result_path("code_bias/{sat}/{period}_maps"),
             caption="../report/code_bias_maps.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "maps"},
         ),
-        counts=report(
-            result_path("code_bias/{sat}/{period}_counts.png"),
+        counts=figure(
+            result_path("code_bias/{sat}/{period}_counts"),
             caption="../report/code_bias_counts.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "observations"},
         ),
-        mp_elevation=report(
-            result_path("code_bias/{sat}/{period}_mp_elevation.png"),
+        mp_elevation=figure(
+            result_path("code_bias/{sat}/{period}_mp_elevation"),
             caption="../report/code_bias_mp_elevation.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "MP before/after"},
@@ -51,14 +51,14 @@ rule code_bias_stack:
     output:
         nc=result_path("code_bias/{sat}/stack.nc"),
         differences=result_path("code_bias/{sat}/stack_differences.csv"),
-        maps=report(
-            result_path("code_bias/{sat}/stack_maps.png"),
+        maps=figure(
+            result_path("code_bias/{sat}/stack_maps"),
             caption="../report/code_bias_stack.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "all", "figure": "stacked maps"},
         ),
-        difference=report(
-            result_path("code_bias/{sat}/stack_differences.png"),
+        difference=figure(
+            result_path("code_bias/{sat}/stack_differences"),
             caption="../report/code_bias_differences.rst",
             category="Code-bias maps",
             labels={"satellite": "{sat}", "period": "all", "figure": "period differences"},

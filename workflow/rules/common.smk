@@ -127,6 +127,13 @@ def benchmark_path(path):
     return f"{LAYOUT.benchmarks}/{path}"
 
 
+def figure(path, **marks):
+    """A figure output of a rule: ``path`` (without suffix) in the campaign's
+    ``report.figure_format`` (png, svg or pdf), marked for the report with ``marks``
+    (caption, category, labels); leopod.plots.save_figure writes the format of the suffix."""
+    return report(f"{path}.{CONFIG['report']['figure_format']}", **marks)
+
+
 def library_code(script):
     """leopod source files that scripts/<script>.py imports; as inputs of a step they make a
     library change rerun exactly the steps that run the changed code."""
@@ -943,8 +950,8 @@ def pod_outputs(step, category):
         "parameters": f"{base}_parameters.nc",
         "ambiguities": f"{base}_ambiguities.nc",
         **{
-            key: report(
-                f"{base}_{name}.png",
+            key: figure(
+                f"{base}_{name}",
                 caption=f"../report/{caption}.rst",
                 category=category,
                 labels={"satellite": "{sat}", "day": "{date}", "figure": label},

@@ -34,8 +34,8 @@ rule range_check:
         code=library_code("range_check"),
     output:
         nc=result_path("range_check/{pair}/{date}.nc"),
-        figure=report(
-            result_path("range_check/{pair}/{date}.png"),
+        figure=figure(
+            result_path("range_check/{pair}/{date}"),
             caption="../report/range_check.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "range check"},
@@ -71,8 +71,8 @@ rule formation_summary:
             category="Baseline",
             labels={"pair": "{pair}", "figure": "formation summary"},
         ),
-        figure=report(
-            result_path("summary/{pair}_formation.png"),
+        figure=figure(
+            result_path("summary/{pair}_formation"),
             caption="../report/formation_summary_figure.rst",
             category="Baseline",
             labels={"pair": "{pair}", "figure": "baselines per day"},

@@ -12,8 +12,8 @@ rule kinematic_pod:
     output:
         nc=result_path("kinematic_pod/{sat}/{date}.nc"),
         sp3=result_path("kinematic_pod/{sat}/{date}.sp3"),
-        figure=report(
-            result_path("kinematic_pod/{sat}/{date}_rtn.png"),
+        figure=figure(
+            result_path("kinematic_pod/{sat}/{date}_rtn"),
             caption="../report/kinematic_rtn.rst",
             category="Kinematic POD",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "kinematic minus float"},
@@ -56,8 +56,8 @@ rule kinematic_baseline:
         code=library_code("kinematic_baseline"),
     output:
         nc=result_path("kinematic_baseline/{pair}/{date}.nc"),
-        figure=report(
-            result_path("kinematic_baseline/{pair}/{date}_minus_dynamic.png"),
+        figure=figure(
+            result_path("kinematic_baseline/{pair}/{date}_minus_dynamic"),
             caption="../report/kinematic_baseline.rst",
             category="Baseline",
             labels={"pair": "{pair}", "day": "{date}", "figure": "kinematic minus dynamic"},

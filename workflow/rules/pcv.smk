@@ -9,8 +9,8 @@ rule pcv:
     output:
         nc=result_path("pcv/{sat}/{period}.nc"),
         antex=result_path("pcv/{sat}/{period}.atx"),
-        map=report(
-            result_path("pcv/{sat}/{period}_map.png"),
+        map=figure(
+            result_path("pcv/{sat}/{period}_map"),
             caption="../report/pcv_map.rst",
             category="Antenna PCV",
             labels={"satellite": "{sat}", "period": "{period}", "figure": "PCV map"},
@@ -46,8 +46,8 @@ rule pcv_stack:
         nc=result_path("pcv/{sat}/stack.nc"),
         antex=result_path("pcv/{sat}/stack.atx"),
         differences=result_path("pcv/{sat}/stack_differences.csv"),
-        map=report(
-            result_path("pcv/{sat}/stack_map.png"),
+        map=figure(
+            result_path("pcv/{sat}/stack_map"),
             caption="../report/pcv_stack.rst",
             category="Antenna PCV",
             labels={"satellite": "{sat}", "period": "all", "figure": "stacked PCV map"},

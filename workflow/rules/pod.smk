@@ -48,8 +48,8 @@ rule ambiguity:
         code=library_code("ambiguity"),
     output:
         table=result_path("ambiguity/{sat}/{date}.nc"),
-        histogram=report(
-            result_path("ambiguity/{sat}/{date}_fractions.png"),
+        histogram=figure(
+            result_path("ambiguity/{sat}/{date}_fractions"),
             caption="../report/ambiguity_fractions.rst",
             category="Ambiguity resolution",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "fractional parts"},

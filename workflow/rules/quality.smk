@@ -19,26 +19,26 @@ rule quality:
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "indicators"},
         ),
-        mp_elevation=report(
-            result_path("quality/{sat}/{date}_mp_elevation.png"),
+        mp_elevation=figure(
+            result_path("quality/{sat}/{date}_mp_elevation"),
             caption="../report/quality_mp_elevation.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "MP vs elevation"},
         ),
-        skyplot=report(
-            result_path("quality/{sat}/{date}_skyplot.png"),
+        skyplot=figure(
+            result_path("quality/{sat}/{date}_skyplot"),
             caption="../report/quality_skyplot.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "sky plot"},
         ),
-        noise=report(
-            result_path("quality/{sat}/{date}_code_noise.png"),
+        noise=figure(
+            result_path("quality/{sat}/{date}_code_noise"),
             caption="../report/quality_code_noise.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "code noise"},
         ),
-        visibility=report(
-            result_path("quality/{sat}/{date}_visibility.png"),
+        visibility=figure(
+            result_path("quality/{sat}/{date}_visibility"),
             caption="../report/quality_visibility.rst",
             category="Data quality",
             labels={"satellite": "{sat}", "day": "{date}", "figure": "visibility and IOD"},

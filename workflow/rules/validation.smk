@@ -41,8 +41,8 @@ rule overlap_summary:
             category="Validation",
             labels={"satellite": "{sat}", "figure": "overlap table"},
         ),
-        figure=report(
-            result_path("overlap/{sat}/overlaps.png"),
+        figure=figure(
+            result_path("overlap/{sat}/overlaps"),
             caption="../report/overlap_figure.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "overlaps"},
@@ -104,14 +104,14 @@ rule reference_summary:
             category="Validation",
             labels={"satellite": "{sat}", "figure": "reference-orbit table"},
         ),
-        differences=report(
-            result_path("reference_orbit/{sat}/differences.png"),
+        differences=figure(
+            result_path("reference_orbit/{sat}/differences"),
             caption="../report/reference_differences.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "orbit minus reference"},
         ),
-        daily=report(
-            result_path("reference_orbit/{sat}/daily.png"),
+        daily=figure(
+            result_path("reference_orbit/{sat}/daily"),
             caption="../report/reference_daily.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "daily RMS vs reference"},
@@ -176,20 +176,20 @@ rule slr_summary:
             labels={"satellite": "{sat}", "figure": "SLR per station (table)"},
         ),
         elevation_csv=result_path("slr/{sat}/elevation.csv"),
-        stations_png=report(
-            result_path("slr/{sat}/stations.png"),
+        stations_png=figure(
+            result_path("slr/{sat}/stations"),
             caption="../report/slr_stations.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR per station"},
         ),
-        elevation_png=report(
-            result_path("slr/{sat}/elevation.png"),
+        elevation_png=figure(
+            result_path("slr/{sat}/elevation"),
             caption="../report/slr_elevation.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR vs elevation"},
         ),
-        time_png=report(
-            result_path("slr/{sat}/residuals.png"),
+        time_png=figure(
+            result_path("slr/{sat}/residuals"),
             caption="../report/slr_time.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR residuals"},
@@ -229,20 +229,20 @@ rule campaign_summary:
             category="Summary",
             labels={"satellite": "{sat}", "figure": "campaign summary"},
         ),
-        pco_z_png=report(
-            result_path("summary/{sat}_pco_z.png"),
+        pco_z_png=figure(
+            result_path("summary/{sat}_pco_z"),
             caption="../report/summary_pco_z.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "PCO-Z float vs fixed"},
         ),
-        fixing_png=report(
-            result_path("summary/{sat}_fixing_rates.png"),
+        fixing_png=figure(
+            result_path("summary/{sat}_fixing_rates"),
             caption="../report/summary_fixing_rates.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "fixing rates"},
         ),
-        isb_png=report(
-            result_path("summary/{sat}_isb.png"),
+        isb_png=figure(
+            result_path("summary/{sat}_isb"),
             caption="../report/summary_isb.rst",
             category="Summary",
             labels={"satellite": "{sat}", "figure": "inter-system biases"},

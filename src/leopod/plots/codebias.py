@@ -167,11 +167,11 @@ def _blank_note(maps: xr.Dataset) -> str:
 
 
 def _draw_maps(fig: Figure, axes: np.ndarray, maps: xr.Dataset, values: xr.DataArray,
-               norms: list[mcolors.Normalize], cmap: str, label: str) -> None:
+               norm: mcolors.Normalize, cmap: str, label: str) -> None:
     """pcolormesh of ``values`` (signal, mode, elevation_deg, azimuth_deg) into ``axes``.
 
-    Row ``i`` (signal ``i``) shares the colour scale ``norms[i]`` and one colour bar whose
-    label is ``label`` formatted with the signal; NaN nodes stay blank.
+    Every panel shares the colour scale ``norm`` and one colour bar labelled ``label``, so
+    the maps of the signals compare directly; NaN nodes stay blank.
     """
     theta_rad, r_deg = _mesh(maps)
     for row, signal in enumerate(maps.signal.values):
@@ -179,10 +179,10 @@ def _draw_maps(fig: Figure, axes: np.ndarray, maps: xr.Dataset, values: xr.DataA
             ax = axes[row, col]
             cells = values.sel(signal=signal, mode=mode).transpose(*_GRID_DIMS).values
             mesh = ax.pcolormesh(theta_rad, r_deg, np.ma.masked_invalid(cells), cmap=cmap,
-                                 norm=norms[row], shading="flat", rasterized=True)
+                                 norm=norm, shading="flat", rasterized=True)
             _setup_polar(ax, float(r_deg[0]))
             ax.set_title(f"{signal}, mode {mode}", fontsize=9)
-        fig.colorbar(mesh, ax=axes[row, :].tolist(), shrink=0.8, label=label.format(signal))
+    fig.colorbar(mesh, ax=axes.ravel().tolist(), shrink=0.6, label=label)
 
 
 def _maps_figure(maps: xr.Dataset, *, title: str, field: str, units: str) -> Figure:
@@ -190,17 +190,17 @@ def _maps_figure(maps: xr.Dataset, *, title: str, field: str, units: str) -> Fig
     maps = _sorted_grid(maps)
     values = _shown(maps, field) * _unit_factor(units)
     keep = _unique_nodes(maps)
-    limits = [_robust_limit(values.sel(signal=s), keep) for s in maps.signal.values]
+    limit = _robust_limit(values, keep)          # one scale: the codes compare at a glance
     if field in _NONNEGATIVE_FIELDS:
-        norms = [mcolors.Normalize(0.0, v) for v in limits]
+        norm = mcolors.Normalize(0.0, limit)
         cmap = "viridis"
     else:
-        norms = [mcolors.Normalize(-v, v) for v in limits]
+        norm = mcolors.Normalize(-limit, limit)
         cmap = "RdBu_r"
     name = _FIELD_NAMES.get(field, field)
     fig, axes = _panel_grid(maps, _heading(title, f"antenna-frame code-bias maps ({name})"),
                             _blank_note(maps))
-    _draw_maps(fig, axes, maps, values, norms, cmap, "{} " + f"{name} [{units}]")
+    _draw_maps(fig, axes, maps, values, norm, cmap, f"{name} [{units}]")
     return fig
 
 
@@ -211,8 +211,9 @@ def plot_code_bias_maps(maps: xr.Dataset, path, *, title: str = "", field: str =
     Azimuth is the polar angle with 0° (+X, flight direction) at the top increasing clockwise
     towards +Y; elevation is radial with the zenith (antenna boresight) at the centre, as in
     Peng et al. (2021) Figs. 7–11 and Jiang et al. (2023) Fig. 5. Each node fills the cell centred
-    on it; empty nodes are blank. All modes of a signal share one colour scale: symmetric about zero
-    at the 98th percentile of |value| (sequential from zero for ``sigma_m``).
+    on it; empty nodes are blank. All panels share one colour scale (the codes compare at a
+    glance): symmetric about zero at the 98th percentile of |value| over all of them
+    (sequential from zero for ``sigma_m``).
 
     Parameters
     ----------
@@ -236,18 +237,18 @@ def _counts_figure(maps: xr.Dataset, *, title: str) -> Figure:
     maps = _sorted_grid(maps)
     counts = _shown(maps, "count")
     keep = _unique_nodes(maps)
-    norms = [_log_norm(counts.sel(signal=s).where(keep)) for s in maps.signal.values]
     fig, axes = _panel_grid(maps, _heading(title, "observations per map node"),
                             _blank_note(maps))
-    _draw_maps(fig, axes, maps, counts, norms, "viridis", "{} observations per node")
+    _draw_maps(fig, axes, maps, counts, _log_norm(counts.where(keep)), "viridis",
+               "observations per node")
     return fig
 
 
 def plot_code_bias_counts(maps: xr.Dataset, path, *, title: str = "") -> None:
     """Polar maps of the number of observations touching each node (Peng et al. 2021, Fig. 9).
 
-    Same layout and orientation as :func:`plot_code_bias_maps`; logarithmic colour scale per
-    signal over the non-empty nodes; nodes with fewer than ``attrs["min_count"]`` observations
+    Same layout and orientation as :func:`plot_code_bias_maps`; one logarithmic colour scale
+    over the non-empty nodes of all panels; nodes with fewer than ``attrs["min_count"]`` observations
     (``empty``) are blank.
 
     Parameters
@@ -422,11 +423,11 @@ def _difference_figure(map_a: xr.Dataset, map_b: xr.Dataset, *, title: str,
     a, b = _common_maps(map_a, map_b)
     diff = _difference(a, b) * _unit_factor(units)
     keep = _unique_nodes(a)
-    limits = [_robust_limit(diff.sel(signal=s), keep) for s in a.signal.values]
+    limit = _robust_limit(diff, keep)
     fig, axes = _panel_grid(a, _heading(title, "difference of two code-bias maps (second − "
                                         "first)"), "drawn: nodes non-empty in both maps")
-    _draw_maps(fig, axes, a, diff, [mcolors.Normalize(-v, v) for v in limits], "RdBu_r",
-               "{} difference" + f" [{units}]")
+    _draw_maps(fig, axes, a, diff, mcolors.Normalize(-limit, limit), "RdBu_r",
+               f"difference [{units}]")
     for row, signal in enumerate(a.signal.values):
         for col, mode in enumerate(a.mode.values):
             mean, rms, n = _difference_stats(diff.sel(signal=signal, mode=mode), keep)

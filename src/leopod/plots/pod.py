@@ -36,7 +36,9 @@ __all__ = [
     "plot_residual_skymap",
     "plot_residuals_elevation",
     "plot_residuals_time",
+    "ring_azimuth_cells",
     "rms_by_bin",
+    "robust_limit",
 ]
 
 _M_TO_MM = 1e3
@@ -106,11 +108,31 @@ def rms_by_bin(values, coordinate, edges) -> tuple[np.ndarray, np.ndarray, np.nd
     return 0.5 * (edges[:-1] + edges[1:]), rms, counts
 
 
-def _symmetric_limit(values: np.ndarray, fallback: float) -> float:
-    """Largest absolute finite value (5 % margin), or ``fallback`` when there is none."""
+_AXIS_PERCENTILE = 99.9
+"""Percentile of |residual| that sets a residual axis: a few outliers do not stretch it."""
+_AXIS_MARGIN = 1.2
+"""Factor on that percentile (room above the bulk of the points)."""
+
+
+def robust_limit(values, fallback: float) -> float:
+    """Symmetric axis limit of ``values``: :data:`_AXIS_MARGIN` times the
+    :data:`_AXIS_PERCENTILE` th percentile of the finite |values|, at most their largest
+    |value| with a 5 % margin; ``fallback`` when there is no non-zero finite value.
+
+    A handful of outliers (0.1 % of the points) no longer sets the scale: 7-mm phase
+    residuals get a ±20-mm axis, not ±300 mm because of one rejected 300-mm residual.
+    """
     v = np.abs(np.asarray(values, dtype=float))
     v = v[np.isfinite(v)]
-    return 1.05 * float(v.max()) if v.size and v.max() > 0 else fallback
+    if not v.size or v.max() <= 0:
+        return fallback
+    return min(_AXIS_MARGIN * float(np.percentile(v, _AXIS_PERCENTILE)), 1.05 * float(v.max()))
+
+
+def _clip_note(values: np.ndarray, lim: float, unit: str) -> str:
+    """``", n beyond ±lim unit (at the edge)"`` for the finite values outside the axis."""
+    n = int(np.count_nonzero(np.abs(values[np.isfinite(values)]) > lim))
+    return f", {n} beyond ±{lim:.3g} {unit} (drawn at the edge)" if n else ""
 
 
 def _n_rejected(res: xr.Dataset, kind: str) -> int:
@@ -141,16 +163,18 @@ def plot_residuals_time(res: xr.Dataset, path, title: str = "", solution: str = 
     for ax, (kind, scale, unit) in zip(axes, _PANELS):
         r = res[f"{kind}_residual_m"].values * scale
         ok = np.isfinite(r)
+        lim = robust_limit(r, 1.0)
+        shown = np.clip(r, -lim, lim)
         for j in np.flatnonzero(ok.any(axis=0)):
-            dots(ax, hours[ok[:, j]], r[ok[:, j], j], size_pt2=2.0, color=colours[j])
+            dots(ax, hours[ok[:, j]], shown[ok[:, j], j], size_pt2=2.0, color=colours[j])
         rejected = (res[f"{kind}_rejected"].values == 1).any(axis=1)
         ax.plot(hours[rejected], np.zeros(np.count_nonzero(rejected)), "|", color="red", ms=6,
                 transform=mtransforms.blended_transform_factory(ax.transData, ax.transAxes))
-        lim = _symmetric_limit(r, 1.0)
-        ax.set_ylim(-lim, lim)
+        ax.set_ylim(-1.02 * lim, 1.02 * lim)
         ax.set_ylabel(f"{kind} residual [{unit}]")
         ax.set_title(f"{kind}: RMS {finite_rms(r):.3g} {unit}, {np.count_nonzero(ok)} used, "
-                     f"{_n_rejected(res, kind)} rejected", fontsize=9, loc="left")
+                     f"{_n_rejected(res, kind)} rejected (red ticks){_clip_note(r, lim, unit)}",
+                     fontsize=9, loc="left")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel(xlabel)
     fig.suptitle(_heading(title, f"{solution} POD post-fit residuals"))
@@ -181,14 +205,18 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "",
     for ax, (kind, scale, unit) in zip(axes, _PANELS):
         r = res[f"{kind}_residual_m"].values * scale
         ok = np.isfinite(r) & np.isfinite(el)
-        dots(ax, el[ok], r[ok], alpha=0.25, color="tab:blue")
+        lim = robust_limit(r[ok], 1.0)
+        dots(ax, el[ok], np.clip(r[ok], -lim, lim), alpha=0.25, color="tab:blue",
+             label="residuals")
         centres, rms, _ = rms_by_bin(r, el, edges)
         ax.plot(centres, rms, "o-", color="tab:red", ms=3, label=f"RMS per {_BIN_DEG:g}° bin")
-        lim = _symmetric_limit(r[ok], 1.0)
-        ax.set_ylim(-lim, lim)
+        ax.set_ylim(-1.02 * lim, 1.02 * lim)
         ax.set_ylabel(f"{kind} residual [{unit}]")
-        ax.set_title(f"{kind}: RMS {finite_rms(r):.3g} {unit}", fontsize=9, loc="left")
-        ax.legend(fontsize=8, loc="upper right")
+        ax.set_title(f"{kind}: RMS {finite_rms(r):.3g} {unit}{_clip_note(r[ok], lim, unit)}",
+                     fontsize=9, loc="left")
+        legend = ax.legend(fontsize=8, loc="upper right")
+        legend.legend_handles[0].set_markersize(4.0)      # the residual dots, visible
+        legend.legend_handles[0].set_alpha(1.0)
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("elevation in the antenna frame [deg]")
     axes[-1].set_xlim(edges[0], 90)
@@ -209,13 +237,25 @@ def _cell_means(values: np.ndarray, az_deg: np.ndarray, el_deg: np.ndarray,
     return means
 
 
+def ring_azimuth_cells(el_low_deg: float, el_high_deg: float) -> int:
+    """Number of azimuth cells of the elevation ring [``el_low_deg``, ``el_high_deg``] of the
+    residual sky map: ``360° / 5°`` times the cosine of the ring's mid elevation, at least 3.
+
+    Cells of about equal area: near the zenith 5° × 5° cells shrink to slivers holding a
+    handful of residuals each, which drew a noisy starburst; the ring 85–90° has 3 cells.
+    """
+    mid = np.radians(0.5 * (el_low_deg + el_high_deg))
+    return max(3, int(round(360.0 / _BIN_DEG * np.cos(mid))))
+
+
 def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
-    """Antenna-frame polar map of the mean phase residual [mm] in 5° × 5° cells.
+    """Antenna-frame polar map of the mean phase residual [mm] in cells of about equal area.
 
     Azimuth is the polar angle with 0° at the top (+X, flight direction) increasing clockwise
-    toward +Y; elevation is radial with 90° (antenna boresight) at the centre. Observations
-    below the antenna plane (negative elevation) are left out. The colour scale is symmetric
-    about zero (98th percentile of |cell mean|).
+    toward +Y; elevation is radial with 90° (antenna boresight) at the centre. Rings are 5°
+    of elevation; each ring has :func:`ring_azimuth_cells` azimuth cells (5° at the horizon,
+    wider towards the zenith). Observations below the antenna plane (negative elevation) are
+    left out. The colour scale is symmetric about zero (98th percentile of |cell mean|).
 
     Parameters
     ----------
@@ -223,29 +263,37 @@ def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
         Residual Dataset of the float POD: ``phase_residual_m``, ``el_deg``, ``az_deg``
         (time, sv) [deg].
     path : str or path-like
-        PNG to write.
+        Figure to write.
     title : str
         Prefix of the figure title.
     """
-    az_edges = np.arange(0.0, 360.0 + _BIN_DEG / 2, _BIN_DEG)
     el_edges = np.arange(0.0, 90.0 + _BIN_DEG / 2, _BIN_DEG)
-    means = _cell_means(res.phase_residual_m.values * _M_TO_MM, res.az_deg.values,
-                        res.el_deg.values, az_edges, el_edges)
-    finite = np.abs(means[np.isfinite(means)])
+    values = res.phase_residual_m.values * _M_TO_MM
+    rings = []
+    for low, high in zip(el_edges[:-1], el_edges[1:], strict=True):
+        az_edges = np.linspace(0.0, 360.0, ring_azimuth_cells(low, high) + 1)
+        rings.append((az_edges, np.array([low, high]),
+                      _cell_means(values, res.az_deg.values, res.el_deg.values, az_edges,
+                                  np.array([low, high]))))
+    finite = np.abs(np.concatenate([m.ravel() for *_, m in rings]))
+    finite = finite[np.isfinite(finite)]
     vmax = float(np.percentile(finite, 98)) if finite.size and finite.max() > 0 else 1.0
     fig = plt.figure(figsize=(6.5, 6))
     ax = fig.add_subplot(projection="polar")
     ax.set_theta_zero_location("N")
     ax.set_theta_direction(-1)
-    mesh = ax.pcolormesh(np.radians(az_edges), 90.0 - el_edges, np.ma.masked_invalid(means.T),
-                         cmap="RdBu_r", vmin=-vmax, vmax=vmax, shading="flat", rasterized=True)
+    for az_edges, edges, means in rings:
+        mesh = ax.pcolormesh(np.radians(az_edges), 90.0 - edges, np.ma.masked_invalid(means.T),
+                             cmap="RdBu_r", vmin=-vmax, vmax=vmax, shading="flat",
+                             rasterized=True)
     fig.colorbar(mesh, ax=ax, shrink=0.7, pad=0.1, label="mean phase residual [mm]")
     ax.set_rlim(0, 90)
     ax.set_yticks([30, 60])
     ax.set_yticklabels(["60°", "30°"])
     ax.set_rlabel_position(112.5)
     ax.grid(alpha=0.3)
-    ax.set_title(_heading(title, f"mean phase residual, {_BIN_DEG:g}° × {_BIN_DEG:g}° cells")
+    ax.set_title(_heading(title, f"mean phase residual, {_BIN_DEG:g}° rings of equal-area "
+                                 "cells")
                  + "\n(antenna frame, azimuth 0° = +X = flight direction)", fontsize=10)
     save_figure(fig, path)
 

@@ -68,12 +68,15 @@ def plot_skyplot(q: xr.Dataset, path, title: str) -> None:
         ok &= np.isfinite(mp)
         sc = ax.scatter(np.radians(az[ok]), 90 - el[ok], c=mp[ok], s=1, cmap="viridis",
                         vmax=np.nanpercentile(mp[ok], 98) if ok.any() else 1, rasterized=True)
-        fig.colorbar(sc, ax=ax, shrink=0.7, label=f"|MP {codes[0]}| [m]")
+        fig.colorbar(sc, ax=ax, shrink=0.7, pad=0.1, label=f"|MP {codes[0]}| [m]")
     else:
         ax.scatter(np.radians(az[ok]), 90 - el[ok], s=1, rasterized=True)
     ax.set_rlim(0, 90)
-    ax.set_yticks([0, 30, 60, 90])
-    ax.set_yticklabels(["90°", "60°", "30°", "0°"])
+    # elevation rings labelled inside, off the azimuth labels of the rim (0° at the rim and
+    # 90° at the centre need none)
+    ax.set_yticks([30, 60], ["60°", "30°"])
+    ax.set_rlabel_position(112.5)
+    ax.grid(alpha=0.3)
     ax.set_title(f"{title}: antenna-frame sky plot\n(azimuth 0° = +X = flight direction)",
                  fontsize=10)
     save_figure(fig, path)

@@ -31,11 +31,10 @@ import numpy as np
 import pandas as pd
 
 from leopod.plots import save_figure
+from leopod.validation.summary import AGGREGATE_ROWS
 
 __all__ = ["plot_fixing_rates", "plot_isb", "plot_pco_z"]
 
-_SUMMARY_ROWS = ("mean", "std")
-"""Index labels of the campaign-table rows that are no day."""
 _LABELS = {"float_pod": "float", "fixed_pod": "fixed"}
 _OFFSET_H = 2.0
 """Horizontal shift between the solutions of one day [h], so error bars do not overlap."""
@@ -49,7 +48,7 @@ _NOTE = {"ha": "center", "va": "center", "fontsize": 11, "color": "grey"}
 def _days(table: pd.DataFrame, solution: str) -> pd.DataFrame:
     """Daily rows of one solution, indexed by the day's noon (datetime64)."""
     rows = table.xs(solution, level="solution")
-    rows = rows.loc[[d for d in rows.index if d not in _SUMMARY_ROWS]]
+    rows = rows.loc[[d for d in rows.index if d not in AGGREGATE_ROWS]]
     rows.index = pd.to_datetime(rows.index, format="%Y-%j") + pd.Timedelta(hours=12)
     return rows
 

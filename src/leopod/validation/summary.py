@@ -9,8 +9,8 @@ cosine of the WL and NL fractional parts it tested), the 3D RMS of the overlap o
 the next one (Jiang et al. 2023, Fig. 13), the RMS of the orbit minus reference orbit in R, T, N and
 3D (Wang et al. 2024, Table 4), and the number, mean and STD of the used SLR residuals
 (Peng et al. 2021, Table IV), and the verdict of the quality gate
-(:mod:`leopod.validation.quality_gate`: 0 ok, 1 suspect, 2 failed; the worst day in the ``mean``
-row).
+(:mod:`leopod.validation.quality_gate`: 0 ok, 1 suspect, 2 failed; the worst day in the
+``all_days`` row).
 
 Ambiguity resolution is reported with both definitions in use: the graph-rank fixing rate
 (Jiang et al. 2023: fixed independent / all independent single differences, ``*_fixing_rate_pct``)
@@ -55,8 +55,13 @@ weighting elevation; Zhang et al. 2024, Table 1), after the a-posteriori sigma o
 ``sigma0``.
 
 Besides the daily rows, :func:`campaign_table` adds per solution a ``mean`` row (means of the
-daily figures; counts summed) and a ``std`` row (sample STD of the daily figures over the days;
-counts NaN) - the "average and STD" of Jiang et al. (2023), Fig. 8.
+daily figures, counts included: a count per day) and a ``std`` row (sample STD of the daily
+figures over the days) - the "average and STD" of Jiang et al. (2023), Fig. 8 - and an
+``all_days`` row with the counts summed over the days and the quality gate of the worst day.
+
+For the report, :func:`column_label` gives each column a short header, :func:`column_kind`
+how its values read (count, per cent, yes/no flag, gate level, number) and
+:func:`missing_reason` why a value is missing (a footnote instead of ``nan``).
 """
 
 from __future__ import annotations
@@ -72,8 +77,9 @@ from leopod.numerics.statistics import finite_rms
 from leopod.signals import system_of
 from leopod.validation.quality_gate import GateSettings, check, stamped_figures
 
-__all__ = ["COLUMNS", "COUNTS", "SECTIONS", "SYSTEM_COLUMNS", "campaign_table",
-           "column_meta", "day_row", "excluded_row", "isb_series", "sections"]
+__all__ = ["AGGREGATE_ROWS", "COLUMNS", "COUNTS", "LABELS", "SECTIONS", "SYSTEM_COLUMNS",
+           "campaign_table", "column_kind", "column_label", "column_meta", "csv_text", "day_row",
+           "excluded_row", "isb_series", "missing_reason", "sections", "system_of_column"]
 
 #: Column name -> (unit, description).
 COLUMNS = {
@@ -153,9 +159,74 @@ SYSTEM_COLUMNS = {
                                       "times the a-priori sigma"),
 }
 
-#: Count columns: summed in the ``mean`` row, no ``std`` row value.
+#: Count columns: averaged in the ``mean`` row like every figure, summed in the ``all_days``
+#: row.
 COUNTS = ("n_phase", "n_sd", "n_constraints", "slr_n", "wl_wrong", "nl_wrong",
-          "constrained_wrong", "quality_gate")
+          "constrained_wrong")
+#: Rows of :func:`campaign_table` that are statistics over the days (index level ``date``).
+AGGREGATE_ROWS = ("mean", "std", "all_days")
+
+#: Short header of each column (:data:`COLUMNS` and :data:`SYSTEM_COLUMNS` keys; the unit is
+#: added by the table).
+LABELS = {
+    "phase_rms_mm": "phase RMS", "code_rms_m": "code RMS", "n_phase": "phase obs.",
+    "wl_fixing_rate_pct": "WL fixed (graph rank)", "nl_fixing_rate_pct": "NL fixed (graph rank)",
+    "n_sd": "SD ambiguities", "wl_sd_fixed_pct": "WL SDs fixed", "nl_sd_fixed_pct": "NL SDs fixed",
+    "n_constraints": "constraints", "ar_product_accepted": "AR product accepted",
+    "wl_guard_mean_cos": "WL guard mean cos", "nl_guard_mean_cos": "NL guard mean cos",
+    "wl_wrong": "wrong WL fixes", "nl_wrong": "wrong NL fixes",
+    "constrained_wrong": "wrong constraints", "overlap_3d_rms_cm": "overlap 3D RMS",
+    "reference_r_rms_cm": "reference R RMS", "reference_t_rms_cm": "reference T RMS",
+    "reference_n_rms_cm": "reference N RMS", "reference_3d_rms_cm": "reference 3D RMS",
+    "slr_n": "SLR points", "slr_mean_cm": "SLR mean", "slr_std_cm": "SLR STD",
+    "pco_z_cm": "PCO-Z", "pco_z_sigma_cm": "PCO-Z sigma", "sigma0": "sigma0",
+    "quality_gate": "quality gate",
+    "phase_rms_{system}_mm": "phase RMS {system}", "code_rms_{system}_m": "code RMS {system}",
+    "n_phase_{system}": "phase obs. {system}", "n_sd_{system}": "SD ambiguities {system}",
+    "wl_fixing_rate_{system}_pct": "WL fixed (graph rank) {system}",
+    "nl_fixing_rate_{system}_pct": "NL fixed (graph rank) {system}",
+    "wl_sd_fixed_{system}_pct": "WL SDs fixed {system}",
+    "nl_sd_fixed_{system}_pct": "NL SDs fixed {system}",
+    "ar_product_accepted_{system}": "AR product accepted {system}",
+    "wl_guard_mean_cos_{system}": "WL guard mean cos {system}",
+    "nl_guard_mean_cos_{system}": "NL guard mean cos {system}",
+    "wl_wrong_{system}": "wrong WL fixes {system}", "nl_wrong_{system}": "wrong NL fixes {system}",
+    "constrained_wrong_{system}": "wrong constraints {system}",
+    "isb_{system}_m": "ISB {system}", "isb_{system}_sigma_m": "ISB {system} sigma",
+    "n_isb_{system}": "ISB pieces {system}", "isb_{system}_std_m": "ISB {system} STD of pieces",
+    "vf_{system}_code": "variance factor code {system}",
+    "vf_{system}_code_sigma": "variance factor code {system} sigma",
+    "sigma_{system}_code_m": "code sigma {system}",
+    "vf_{system}_phase": "variance factor phase {system}",
+    "vf_{system}_phase_sigma": "variance factor phase {system} sigma",
+    "sigma_{system}_phase_mm": "phase sigma {system}",
+}
+_FLAGS = ("ar_product_accepted", "ar_product_accepted_{system}")
+_NO_GUARD = "the product guard did not test the AR product"
+_NO_TRUTH = "wrong fixes need the simulated truth (a simulated satellite with AR)"
+#: Why a daily value can be missing: exact column names first, then name prefixes in order
+#: (:func:`missing_reason`).
+_MISSING = {
+    "n_constraints": "the float solution has no ambiguity constraints (or no AR this day)",
+    "overlap_3d_rms_cm": "no overlap: the last day of the campaign has no next arc",
+    "slr_std_cm": "fewer than two SLR normal points used",
+    "slr_mean_cm": "no SLR normal point used",
+}
+_MISSING_PREFIXES = (
+    (("phase_rms", "code_rms", "n_phase"), "no residuals of this system on this day"),
+    (("ar_product", "wl_guard", "nl_guard"), _NO_GUARD),
+    (("wl_wrong", "nl_wrong", "constrained_wrong"), _NO_TRUTH),
+    (("wl_", "nl_", "n_sd"), "no ambiguity resolution of this day (ambiguity.enabled false, "
+                             "or no AR product)"),
+    (("reference_",), "no reference orbit of this day (validation.reference_orbit)"),
+    (("slr_",), "no SLR normal points of this day (validation.slr)"),
+    (("pco_z",), "PCO-Z not estimated (pod.estimate_pco_z false)"),
+    (("isb_", "n_isb_"), "no inter-system bias: a single-system POD"),
+    (("vf_",), "not estimated (variance components off: pod.vce)"),
+    (("sigma_",), "no a-priori sigma of this observation group"),
+    (("sigma0",), "no POD parameters of this day"),
+    (("quality_gate",), "no quality gate of this day"),
+)
 _COUNT_PREFIXES = ("n_phase_", "n_sd_", "n_isb_", "wl_wrong_", "nl_wrong_",
                    "constrained_wrong_")
 
@@ -195,6 +266,66 @@ def column_meta(name: str) -> tuple[str, str]:
             unit, text = SYSTEM_COLUMNS[template]
             return unit, text.format(system=match["system"])
     raise KeyError(f"{name!r} is no column of the campaign summary")
+
+
+def _template(name: str) -> str:
+    """The :data:`COLUMNS` key or :data:`SYSTEM_COLUMNS` template of a column (with its system
+    filled into the returned label by the callers), ``name`` itself if it is neither."""
+    if name in COLUMNS:
+        return name
+    return next((t for t, p in _SYSTEM_PATTERNS.items() if p.fullmatch(name)), name)
+
+
+def column_label(name: str) -> str:
+    """Short readable header of a summary column, without its unit (``phase RMS G``)."""
+    return LABELS.get(_template(name), name).format(system=system_of_column(name))
+
+
+def column_kind(name: str) -> str:
+    """How a column's values read: ``count``, ``percent``, ``flag`` (1 yes, 0 no), ``level``
+    (the quality gate, :data:`leopod.validation.quality_gate.STATUS`) or ``number``."""
+    if name == "quality_gate":
+        return "level"
+    if _is_count(name):
+        return "count"
+    if _template(name) in _FLAGS:
+        return "flag"
+    return "percent" if column_meta(name)[0] == "%" else "number"
+
+
+def missing_reason(name: str, row: str, n_days: int) -> str:
+    """Why the value of column ``name`` in ``row`` (a day ``YYYY-DDD`` or one of
+    :data:`AGGREGATE_ROWS`) of a campaign of ``n_days`` days is missing, in words."""
+    if row == "std" and n_days < 2:
+        return "the STD over the days needs two days or more"
+    if row == "all_days" and not (_is_count(name) or name == "quality_gate"):
+        return ("all days: counts summed and the quality gate of the worst day; the other "
+                "figures have their mean and STD rows")
+    if row in ("mean", "std") and name == "quality_gate":
+        return "the quality gate of the worst day is in the all-days row"
+    if name.startswith("isb_") and name.endswith("_std_m"):
+        return "one ISB piece only (pod.isb_interval_s)"
+    if name in _MISSING:
+        return _MISSING[name]
+    return next((text for prefixes, text in _MISSING_PREFIXES if name.startswith(prefixes)),
+                "not available for this day and solution")
+
+
+def system_of_column(name: str) -> str | None:
+    """The GNSS system of a per-system column (``G`` of ``phase_rms_G_mm``), else None."""
+    template = _template(name)
+    return (_SYSTEM_PATTERNS[template].fullmatch(name)["system"]
+            if template in SYSTEM_COLUMNS else None)
+
+
+def csv_text(table: pd.DataFrame) -> str:
+    """The campaign table as CSV: counts and the quality gate as integers, other figures with
+    4 decimals, missing values empty."""
+    out = table.copy()
+    for name in out.columns:
+        if _is_count(name) or name == "quality_gate":
+            out[name] = out[name].round().astype("Int64")
+    return out.to_csv(float_format="%.4f")
 
 
 def _is_count(name: str) -> bool:
@@ -485,10 +616,11 @@ def excluded_row(date: str, solution: str, reason: str) -> dict:
 
 
 def campaign_table(rows: list[dict]) -> pd.DataFrame:
-    """Rows of :func:`day_row` as a table indexed by (date, solution), plus per solution a
-    ``mean`` row (means of the daily figures; counts summed; the worst quality gate) and a
-    ``std`` row (sample STD of the daily figures, NaN with one day; counts NaN); the text
-    column ``quality_gate_reasons`` of the rows is left out.
+    """Rows of :func:`day_row` as a table indexed by (date, solution), plus per solution three
+    rows of statistics over the days (:data:`AGGREGATE_ROWS`): ``mean`` (the mean of every
+    figure, counts included: a mean per day), ``std`` (their sample STD, NaN with one day) and
+    ``all_days`` (the counts summed and the quality gate of the worst day; NaN for the other
+    figures); the text column ``quality_gate_reasons`` of the rows is left out.
 
     Columns are :data:`COLUMNS` with the per-system columns of every system in ``rows``
     after ``n_phase``; a system missing from a row is NaN there.
@@ -496,17 +628,17 @@ def campaign_table(rows: list[dict]) -> pd.DataFrame:
     table = pd.DataFrame(rows).set_index(["date", "solution"])
     table = table.reindex(columns=_ordered(table.columns))
     counts = [c for c in table.columns if _is_count(c)]
-    means, stds = [], []
+    stats = {name: [] for name in AGGREGATE_ROWS}
     for solution, group in table.groupby(level="solution", sort=False):
         mean = group.mean(numeric_only=True)
         std = group.std(ddof=1, numeric_only=True)
-        for count in counts:
-            mean[count] = group[count].sum(min_count=1)
-            std[count] = np.nan
-        if "quality_gate" in group:         # the worst day, not a sum of levels
-            mean["quality_gate"] = group["quality_gate"].max()
-        means.append(mean.rename(("mean", solution)))
-        stds.append(std.rename(("std", solution)))
-    out = pd.concat([table, pd.DataFrame(means + stds)])
+        total = pd.Series(np.nan, index=mean.index)
+        total[counts] = group[counts].sum(min_count=1)
+        if "quality_gate" in group:         # a level: the worst day, no mean of levels
+            total["quality_gate"] = group["quality_gate"].max()
+            mean["quality_gate"] = std["quality_gate"] = np.nan
+        for name, row in zip(AGGREGATE_ROWS, (mean, std, total), strict=True):
+            stats[name].append(row.rename((name, solution)))
+    out = pd.concat([table, pd.DataFrame([r for name in AGGREGATE_ROWS for r in stats[name]])])
     out.index = pd.MultiIndex.from_tuples(out.index, names=["date", "solution"])
     return out
