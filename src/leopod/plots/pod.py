@@ -292,8 +292,9 @@ def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
     ax.set_yticklabels(["60°", "30°"])
     ax.set_rlabel_position(112.5)
     ax.grid(alpha=0.3)
-    ax.set_title(_heading(title, f"mean phase residual, {_BIN_DEG:g}° rings of equal-area "
-                                 "cells")
+    # one short line each: the polar axes leave no room for a long title line
+    ax.set_title((f"{title}\n" if title else "")
+                 + f"mean phase residual, {_BIN_DEG:g}° rings of equal-area cells"
                  + "\n(antenna frame, azimuth 0° = +X = flight direction)", fontsize=10)
     save_figure(fig, path)
 
