@@ -30,10 +30,10 @@ def main(quality_paths, outputs: Mapping, *, codes, settings: MapSettings,
     write_netcdf(maps, outputs["nc"], step="code_bias", inputs=quality_paths, time_system="GPS",
                  reference_frame="antenna", title=f"code-bias maps {title}")
     write_text(outputs["statistics"], statistics_csv(maps))
-    plot_code_bias_maps(maps, outputs["maps"], title=f"code-bias maps {title}")
-    plot_code_bias_counts(maps, outputs["counts"], title=f"observations per node {title}")
+    plot_code_bias_maps(maps, outputs["maps"], title=title)
+    plot_code_bias_counts(maps, outputs["counts"], title=title)
     plot_mp_elevation({s: (st.el_deg, st.before_m, st.after_m) for s, st in stats.items()},
-                      maps, outputs["mp_elevation"], title=f"code multipath {title}")
+                      maps, outputs["mp_elevation"], title=title)
 
 
 def run(sm) -> None:

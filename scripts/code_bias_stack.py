@@ -26,7 +26,7 @@ def main(map_paths, outputs: Mapping, *, title: str) -> None:
     stacked = stack_maps(maps)
     write_netcdf(stacked, outputs["nc"], step="code_bias_stack", inputs=map_paths,
                  time_system="GPS", reference_frame="antenna",
-                 title=f"stacked code-bias maps {title}")
+                 title=f"{title} stacked")
     lines = ["period_a,period_b,signal,mode,rms_difference_m"]
     for a, b in itertools.pairwise(maps):
         _, rms = map_difference(a, b)
@@ -37,7 +37,7 @@ def main(map_paths, outputs: Mapping, *, title: str) -> None:
                 log.info("map difference %s - %s %s mode %d: RMS %.3f m", b.attrs["period"],
                          a.attrs["period"], sig, mode, value)
     write_text(outputs["differences"], "\n".join(lines) + "\n")
-    plot_code_bias_maps(stacked, outputs["maps"], title=f"stacked code-bias maps {title}")
+    plot_code_bias_maps(stacked, outputs["maps"], title=f"{title} stacked")
     plot_map_difference(maps[-2], maps[-1], outputs["difference"],
                         title=f"{title} {maps[-1].attrs['period']} minus "
                               f"{maps[-2].attrs['period']}")

@@ -198,7 +198,8 @@ def _maps_figure(maps: xr.Dataset, *, title: str, field: str, units: str) -> Fig
         norm = mcolors.Normalize(-limit, limit)
         cmap = "RdBu_r"
     name = _FIELD_NAMES.get(field, field)
-    fig, axes = _panel_grid(maps, _heading(title, f"antenna-frame code-bias maps ({name})"),
+    what = "antenna-frame code-bias maps" + ("" if field == "value_m" else f" ({name})")
+    fig, axes = _panel_grid(maps, _heading(title, what),
                             _blank_note(maps))
     _draw_maps(fig, axes, maps, values, norm, cmap, f"{name} [{units}]")
     return fig
