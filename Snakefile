@@ -4,20 +4,15 @@
 # Results: results/<campaign>/<step>/<sat>/<YYYY-DDD>.*, logs/<campaign>/<step>/...,
 # logs/<campaign>/benchmarks/<step>/..., inputs under resources/<campaign>/
 # (leopod.workflow.layout; downloads shared: resources/download/).
-import os
-
 from snakemake.utils import min_version
 
 min_version("8.20")
 
 
-# Jobs import leopod from this checkout (PYTHONPATH): in a --use-conda environment
-# (envs/leopod.yaml holds leopod's dependencies only) because Snakemake builds it from a copy
-# of the env file, where no relative pip path would find the checkout; elsewhere it is the
-# same source that `make setup` installs in editable mode.
-os.environ["PYTHONPATH"] = os.pathsep.join(
-    p for p in (f"{workflow.basedir}/src", os.environ.get("PYTHONPATH")) if p
-)
+# Jobs import leopod from this checkout (PYTHONPATH; envs/leopod.yaml for --use-conda).
+from leopod.workflow.boundary import source_on_python_path
+
+source_on_python_path(workflow.basedir)
 
 
 # --configfile replaces the default campaign instead of being merged into it

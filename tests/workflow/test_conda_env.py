@@ -7,6 +7,7 @@ free of paths that break when Snakemake builds the environment from a copy of th
 
 from __future__ import annotations
 
+import os
 import re
 import tomllib
 from pathlib import Path
@@ -44,3 +45,20 @@ def test_the_conda_environment_names_no_path():
     env = yaml.safe_load((REPO / "envs" / "leopod.yaml").read_text())
     (pip,) = [d["pip"] for d in env["dependencies"] if isinstance(d, dict)]
     assert not [p for p in pip if p.startswith(("-e", ".", "/")) or "/" in p]
+
+
+def test_the_jobs_find_leopod_of_the_checkout_first(monkeypatch, tmp_path):
+    # the Snakefile calls source_on_python_path(workflow.basedir) before any job starts;
+    # a job's python then imports the checkout's leopod (authority: Python's PYTHONPATH rule,
+    # its entries come before site-packages)
+    import subprocess
+    import sys
+
+    from leopod.workflow.boundary import source_on_python_path
+
+    monkeypatch.setenv("PYTHONPATH", str(tmp_path))
+    source_on_python_path(REPO)
+    assert os.environ["PYTHONPATH"].split(os.pathsep) == [str(REPO / "src"), str(tmp_path)]
+    found = subprocess.run([sys.executable, "-c", "import leopod; print(leopod.__file__)"],
+                           capture_output=True, text=True, check=True).stdout.strip()
+    assert Path(found) == REPO / "src" / "leopod" / "__init__.py"

@@ -18,10 +18,20 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["REPOSITORY", "attitude_files", "mock_snakemake", "plain"]
+__all__ = ["REPOSITORY", "attitude_files", "mock_snakemake", "plain", "source_on_python_path"]
 
 #: Root of the repository checkout (Snakefile, config/, scripts/).
 REPOSITORY = Path(__file__).resolve().parents[3]
+
+
+def source_on_python_path(basedir) -> None:
+    """Put the checkout's ``src/`` (of the Snakefile folder ``basedir``) first on the
+    ``PYTHONPATH`` that the jobs inherit, so that they import leopod from this checkout: in a
+    ``--use-conda`` environment (envs/leopod.yaml holds leopod's dependencies only, since
+    Snakemake builds it from a copy of the file, where no relative pip path finds the
+    checkout) as elsewhere (the source that ``make setup`` installs in editable mode)."""
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        p for p in (str(Path(basedir) / "src"), os.environ.get("PYTHONPATH")) if p)
 
 
 def attitude_files(sm) -> list[str]:
