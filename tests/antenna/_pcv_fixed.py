@@ -17,6 +17,7 @@ term: the datum).
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 from types import SimpleNamespace
@@ -36,9 +37,15 @@ from leopod.antenna.pcv import (  # noqa: E402
     map_rms_m,
     stack_residuals,
 )
-from leopod.antenna.pcv_direct import day_normals, solve_normals  # noqa: E402
+from leopod.antenna.pcv_direct import (  # noqa: E402
+    AntennaColumns,
+    day_normals,
+    reduce_normals,
+    solve_normals,
+)
 from leopod.estimation.arc import run_arc  # noqa: E402
 from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc  # noqa: E402
+from leopod.estimation.normals import accumulate  # noqa: E402
 from leopod.gnss.leo_antenna import receiver_pcv_if  # noqa: E402
 from leopod.simulate.campaign import simulate_leo_day  # noqa: E402
 from leopod.validation.compare import difference_rtn, rms_rtn  # noqa: E402
@@ -124,6 +131,26 @@ def direct_map(pod: SimpleNamespace, settings: PcvSettings) -> tuple[xr.Dataset,
                          solution="fixed_pod"), neq
 
 
+def direct_truth(world: SimpleNamespace, pod: SimpleNamespace, settings: PcvSettings
+                 ) -> xr.Dataset:
+    """The map the direct method gives when the true ionosphere-free PCV is the only
+    misclosure of the rows: the normal matrix of :func:`direct_map` (same rows, weights,
+    constraints, reduction and datum) with the right-hand side of the true PCV at each row -
+    no noise, no orbit error. Its difference from the estimate is what noise and orbit
+    mismodelling do; its difference from :func:`true_map` is the weighting of the node fit.
+    Without PCO-Z only."""
+    fixed = pod.fixed
+    columns = AntennaColumns(settings.grid, False)
+    arc = fixed.pod.normals(fixed.constraints, columns=columns)
+    pcv_if = receiver_pcv_if(world.antenna, "G", PAIR)
+    rows = dataclasses.replace(arc.rows, misclosure=pcv_if(columns.el_deg, columns.az_deg))
+    rhs = accumulate(rows, settings.grid.design(columns.az_deg, columns.el_deg)).rhs
+    _, reduced = reduce_normals(arc.normals.matrix, rhs, settings.grid.n_nodes)
+    _, neq = direct_map(pod, settings)
+    neq["rhs"] = (neq.rhs.dims, reduced, neq.rhs.attrs)
+    return solve_normals([neq], settings)
+
+
 def map_truth_rms_m(world, estimate: xr.Dataset, residuals: xr.Dataset,
                     settings: PcvSettings, pco_z: bool = False) -> float:
     """RMS of a map against :func:`true_map` over its well-observed nodes [m]."""
@@ -135,39 +162,44 @@ def map_truth_rms_m(world, estimate: xr.Dataset, residuals: xr.Dataset,
 def table4(world: SimpleNamespace, apriori, *, hours=(0.0, 24.0), steps=(10.0, 5.0),
            iterations: int = 3, min_count: int = 30, pco_z: bool = False) -> list[dict]:
     """Rows of the Table-4 analogue (module docstring): ``solution``, ``orbit`` (R, T, N,
-    3D RMS [m]), ``map_rms_m`` (NaN for none/truth), ``pco_z_m``."""
+    3D RMS [m]); rows of a method also ``map`` (the estimate, the pattern used for the
+    residual method), ``truth`` (:func:`true_map` at the directions of the POD without PCV),
+    ``map_rms_m`` and ``pco_z_m`` (NaN without); direct rows without PCO-Z also
+    ``direct_truth`` (:func:`direct_truth`)."""
     rows = []
     none = fixed_pod_arc(world, apriori, hours)
-    rows.append({"solution": "no PCV", "orbit": orbit_rms_rtn_m(none.fixed.arc.orbit,
-                                                              world.truth_day),
-                 "map_rms_m": np.nan, "pco_z_m": np.nan})
     true = fixed_pod_arc(world, world.antenna, hours)
-    rows.append({"solution": "true PCV", "orbit": orbit_rms_rtn_m(true.fixed.arc.orbit,
-                                                                world.truth_day),
-                 "map_rms_m": np.nan, "pco_z_m": np.nan})
+    for name, pod in (("no PCV", none), ("true PCV", true)):
+        rows.append({"solution": name,
+                     "orbit": orbit_rms_rtn_m(pod.fixed.arc.orbit, world.truth_day)})
     residuals = none.fixed.arc.residuals
-    for step in steps:
-        settings = pcv_settings(step, min_count, method="direct", estimate_pco_z=pco_z)
-        est, _ = direct_map(none, settings)
-        after = fixed_pod_arc(world, estimated_antenna(apriori, est), hours)
-        rows.append({"solution": f"direct {step:g} deg",
-                     "orbit": orbit_rms_rtn_m(after.fixed.arc.orbit, world.truth_day),
-                     "map_rms_m": map_truth_rms_m(world, est, residuals, settings, pco_z),
-                     "pco_z_m": est.attrs["pco_z_m"]})
-    for step in steps:
-        settings = pcv_settings(step, min_count)
-        antenna, pod = apriori, none
-        for _ in range(iterations):
-            delta = stack_residuals([pod.fixed.arc.residuals], settings, period=DAY,
-                                    satellite=SAT, solution="fixed_pod")
-            antenna = estimated_antenna(antenna, delta)
-            pod = fixed_pod_arc(world, antenna, hours)
-        total = delta.copy()
-        zz, aa = np.meshgrid(total.zenith_deg.values, total.azimuth_deg.values)
-        total["pcv_if_m"] = (delta.pcv_if_m.dims,
-                             receiver_pcv_if(antenna, "G", PAIR)(90.0 - zz, aa))
-        rows.append({"solution": f"residual {step:g} deg ({iterations} it.)",
-                     "orbit": orbit_rms_rtn_m(pod.fixed.arc.orbit, world.truth_day),
-                     "map_rms_m": map_truth_rms_m(world, total, residuals, settings, pco_z),
-                     "pco_z_m": np.nan})
+    for method in ("direct", "residual"):
+        for step in steps:
+            settings = pcv_settings(step, min_count, method=method,
+                                    estimate_pco_z=pco_z and method == "direct")
+            truth = true_map(world, residuals, settings)
+            row = {"truth": truth, "pco_z_m": np.nan}
+            if method == "direct":
+                est, _ = direct_map(none, settings)
+                after = fixed_pod_arc(world, estimated_antenna(apriori, est), hours)
+                row.update(solution=f"direct {step:g} deg", pco_z_m=est.attrs["pco_z_m"])
+                if not pco_z:
+                    row["direct_truth"] = direct_truth(world, none, settings)
+            else:
+                antenna, after = apriori, none
+                for _ in range(iterations):
+                    delta = stack_residuals([after.fixed.arc.residuals], settings, period=DAY,
+                                            satellite=SAT, solution="fixed_pod")
+                    antenna = estimated_antenna(antenna, delta)
+                    after = fixed_pod_arc(world, antenna, hours)
+                est = delta.copy()
+                zz, aa = np.meshgrid(est.zenith_deg.values, est.azimuth_deg.values)
+                est["pcv_if_m"] = (delta.pcv_if_m.dims,
+                                   receiver_pcv_if(antenna, "G", PAIR)(90.0 - zz, aa))
+                est["count"] = truth["count"]
+                row["solution"] = f"residual {step:g} deg ({iterations} it.)"
+            row.update(map=est, orbit=orbit_rms_rtn_m(after.fixed.arc.orbit, world.truth_day),
+                       map_rms_m=map_rms_m(est, truth.pcv_if_m.values, min_count=min_count,
+                                           pco_z=pco_z))
+            rows.append(row)
     return rows

@@ -116,16 +116,20 @@ class AntennaColumns:
     ----------
     count : ndarray of int, shape (n_nodes,)
         Phase rows nearest to each node, set by the last call.
+    el_deg, az_deg : ndarray, shape (r,)
+        Antenna elevation and azimuth of the rows of the last call [deg].
     """
 
     def __init__(self, grid: AntennaGrid, pco_z: bool):
         self.grid, self.pco_z = grid, pco_z
         self.count = np.zeros(grid.n_nodes, dtype=np.int64)
+        self.el_deg = self.az_deg = np.zeros(0)
 
     def __call__(self, model, pair: np.ndarray, is_phase: np.ndarray) -> sp.csr_matrix:
         """Sparse (r, n_nodes [+ 1]) partials of the rows ``pair`` (observation indices of
         ``model``, a :class:`leopod.estimation.obsmodel.ModelResult`)."""
         el, az = model.el_deg[pair], model.az_deg[pair]
+        self.el_deg, self.az_deg = el, az
         node = self.grid.nearest(az[is_phase], el[is_phase])
         self.count = np.bincount(node[node >= 0], minlength=self.grid.n_nodes)
         a = self.grid.design(az, el)

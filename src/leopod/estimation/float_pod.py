@@ -1017,6 +1017,8 @@ class FixedPod:
             follow the ambiguities, without a-priori constraint.
         """
         prob = self._prob
+        if ambiguity_constraints is not None and np.asarray(ambiguity_constraints[0]).size == 0:
+            ambiguity_constraints = None
         state = prob.load(self._start)
         sol = _solve_linearised(prob, state, self._model, self._g, True, ambiguity_constraints)
         extra = None if columns is None else columns(self._model, sol.pair, sol.is_phase)

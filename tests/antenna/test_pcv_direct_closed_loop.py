@@ -1,0 +1,130 @@
+"""Closed loop of the direct-method PCV (leopod.antenna.pcv_direct) on a simulated arc.
+
+Authority: the simulation truth - orbit and the real AIUB GOCE pattern
+(../shared/data/antex/GOCE_MAIN_0001.ATX, Jäggi et al. 2009) with which the observations were
+simulated; the fixed POD runs without any PCV (tests/antenna/_pcv_fixed.py). The null
+directions are derived in leopod.antenna.pcv_direct: the constant (receiver clock) exactly,
+(PCO-Z = 1, PCV = −cos z) up to the bilinear interpolation of cos z; and the physics of a
+reduced-dynamic orbit: a horizontal offset of the phase centre in the body frame (PCV patterns
+cos e cos α, along-track, and cos e sin α, cross-track) is nearly an orbit offset.
+
+Measured here (fixed POD of 1-5 h, 10° x 10°, 25 nodes with >= 30 phase observations; orbit
+3D RMS against the truth): no PCV 27.6 mm, true PCV 15.3 mm, direct map 26.5 mm, direct map
+with PCO-Z 23.9 mm (PCO-Z -6 ± 10 mm); map RMS against the truth 7.9 mm (8.3 mm with PCO-Z,
+the cos z term removed). Scaled smallest eigenvalues of the reduced normal matrix: 1e-15
+(constant), 6e-6 (along-track offset), 1.5e-4 (cross-track offset), then 0.08. A 4-h arc
+cannot meet the issue's criteria (benchmarks/pcv_table.py measures whole days). About 70 s on
+one core.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _pcv_fixed import (
+    direct_map,
+    fixed_pod_arc,
+    goce_day,
+    map_truth_rms_m,
+    orbit_rms_rtn_m,
+    pcv_settings,
+    true_map,
+)
+from _simulated_arc import GOCE  # tests/estimation, on the path through _pcv_fixed
+
+from leopod.antenna.pcv import estimated_antenna
+
+pytestmark = pytest.mark.skipif(not GOCE.exists(), reason="needs ../shared/data/antex")
+
+HOURS = (1.0, 5.0)
+
+
+@pytest.fixture(scope="module")
+def loop(tmp_path_factory):
+    world = goce_day(tmp_path_factory.mktemp("pcv_direct"))
+    none = fixed_pod_arc(world, world.pco_only, HOURS)
+    out = {"world": world, "none": none, "orbit": {}, "maps": {}, "neq": {}}
+    out["orbit"]["none"] = orbit_rms_rtn_m(none.fixed.arc.orbit, world.truth_day)["3D"]
+    out["orbit"]["true"] = orbit_rms_rtn_m(fixed_pod_arc(world, world.antenna, HOURS)
+                                           .fixed.arc.orbit, world.truth_day)["3D"]
+    for pco_z in (False, True):
+        settings = pcv_settings(10.0, 30, method="direct", estimate_pco_z=pco_z)
+        est, neq = direct_map(none, settings)
+        after = fixed_pod_arc(world, estimated_antenna(world.pco_only, est), HOURS)
+        out["orbit"][pco_z] = orbit_rms_rtn_m(after.fixed.arc.orbit, world.truth_day)["3D"]
+        out["maps"][pco_z], out["neq"][pco_z] = est, neq
+        out[f"settings_{pco_z}"] = settings
+    return out
+
+
+def _scaled_eigen(neq, n_nodes):
+    n = neq.normal_matrix.values
+    keep = np.r_[np.flatnonzero(np.diag(n)[:n_nodes] > 0), np.arange(n_nodes, n.shape[0])]
+    sub = n[np.ix_(keep, keep)]
+    d = np.sqrt(np.diag(sub))
+    w, v = np.linalg.eigh(sub / np.outer(d, d))
+    return keep, d, w, v
+
+
+def test_the_clock_and_pco_z_directions_are_the_null_space(loop):
+    grid = loop["settings_False"].grid
+    n = loop["neq"][False].normal_matrix.values
+    observed = (np.diag(n) > 0).astype(float)
+    # constant on every observed node: taken by the epoch clocks exactly
+    assert np.linalg.norm(n @ observed) < 1e-12 * np.linalg.norm(n, 2) * np.linalg.norm(observed)
+    n = loop["neq"][True].normal_matrix.values
+    observed = np.diag(n)[:grid.n_nodes] > 0
+    cos_z = np.sin(np.radians(grid.node_directions()[1]))
+    ratio = {}
+    for sign in (1.0, -1.0):        # PCO-Z = 1 (body +Z, towards nadir) with PCV = ±cos z
+        v = np.r_[np.where(observed, sign * cos_z, 0.0), 1.0]
+        ratio[sign] = np.linalg.norm(n @ v) / np.linalg.norm(n, 2) / np.linalg.norm(v)
+    print(f"\n|N v| / |N||v|: PCV +cos z {ratio[1.0]:.2e}, -cos z {ratio[-1.0]:.2e}")
+    # -cos z: zero up to the interpolation error of cos z (≤ Δz²/8 = 0.4 %); +cos z: not
+    assert ratio[-1.0] < 4e-3 * ratio[1.0]
+
+
+def test_the_next_weakest_directions_are_horizontal_antenna_offsets(loop):
+    grid = loop["settings_False"].grid
+    keep, d, w, v = _scaled_eigen(loop["neq"][False], grid.n_nodes)
+    az, el = (np.radians(x)[keep] for x in grid.node_directions())
+    basis = np.column_stack([np.ones(keep.size), np.cos(el) * np.cos(az),
+                             np.cos(el) * np.sin(az)])
+    print("\nsmallest scaled eigenvalues: " + ", ".join(f"{x:.1e}" for x in w[:4]))
+    assert w[0] < 1e-12 and w[3] > 100 * w[2]
+    for i, column in ((1, 1), (2, 2)):
+        vec = v[:, i] / d
+        fit = basis[:, [column]] @ np.linalg.lstsq(basis[:, [column]], vec, rcond=None)[0]
+        assert np.sum(fit**2) / np.sum(vec**2) > 0.99
+
+
+def test_the_map_is_within_its_formal_sigmas_of_the_truth(loop):
+    est, settings = loop["maps"][False], loop["settings_False"]
+    truth = true_map(loop["world"], loop["none"].fixed.arc.residuals, settings)
+    well = np.isfinite(est.pcv_if_m.values)
+    d = est.pcv_if_m.values[well] - truth.pcv_if_m.values[well]
+    z = (d - d.mean()) / est.sigma_m.values[well]
+    rms = map_truth_rms_m(loop["world"], est, loop["none"].fixed.arc.residuals, settings)
+    print(f"\nmap RMS vs truth {rms * 1e3:.2f} mm, normalised RMS {np.sqrt(np.mean(z**2)):.2f}, "
+          f"sigma0 {est.attrs['sigma0']:.3f}, nodes {int(well.sum())}")
+    assert 0.3 < np.sqrt(np.mean(z**2)) < 3.0
+
+
+def test_the_estimated_map_improves_the_orbit(loop):
+    orbit = loop["orbit"]
+    print("\nfixed orbit 3D RMS vs truth [mm]: " + ", ".join(
+        f"{k} {v * 1e3:.2f}" for k, v in orbit.items())
+        + f"; PCO-Z {loop['maps'][True].attrs['pco_z_m'] * 1e3:.2f} mm")
+    assert orbit["true"] < orbit["none"] - 5e-3
+    assert orbit[False] < orbit["none"]
+    assert orbit[True] < orbit["none"] - 2e-3
+
+
+@pytest.mark.xfail(strict=True, reason="issue 22 criterion not met on a 4-h arc: the map is "
+                   "~8 mm RMS from the truth (noise of 25 nodes), the orbit ~9 mm worse than "
+                   "with the truth")
+def test_the_issue_criteria(loop):
+    rms = map_truth_rms_m(loop["world"], loop["maps"][False],
+                          loop["none"].fixed.arc.residuals, loop["settings_False"])
+    assert rms < 1e-3
+    assert loop["orbit"][False] < loop["orbit"]["true"] + 1e-3
