@@ -165,7 +165,8 @@ def table4(world: SimpleNamespace, apriori, *, hours=(0.0, 24.0), steps=(10.0, 5
     3D RMS [m]); rows of a method also ``map`` (the estimate, the pattern used for the
     residual method), ``truth`` (:func:`true_map` at the directions of the POD without PCV),
     ``map_rms_m`` and ``pco_z_m`` (NaN without); direct rows without PCO-Z also
-    ``direct_truth`` (:func:`direct_truth`)."""
+    ``direct_truth`` (:func:`direct_truth`). The direct method at each step with the datum
+    ``no_horizontal_offset`` and at the first step without it."""
     rows = []
     none = fixed_pod_arc(world, apriori, hours)
     true = fixed_pod_arc(world, world.antenna, hours)
@@ -173,33 +174,37 @@ def table4(world: SimpleNamespace, apriori, *, hours=(0.0, 24.0), steps=(10.0, 5
         rows.append({"solution": name,
                      "orbit": orbit_rms_rtn_m(pod.fixed.arc.orbit, world.truth_day)})
     residuals = none.fixed.arc.residuals
-    for method in ("direct", "residual"):
-        for step in steps:
-            settings = pcv_settings(step, min_count, method=method,
-                                    estimate_pco_z=pco_z and method == "direct")
-            truth = true_map(world, residuals, settings)
-            row = {"truth": truth, "pco_z_m": np.nan}
-            if method == "direct":
-                est, _ = direct_map(none, settings)
-                after = fixed_pod_arc(world, estimated_antenna(apriori, est), hours)
-                row.update(solution=f"direct {step:g} deg", pco_z_m=est.attrs["pco_z_m"])
-                if not pco_z:
-                    row["direct_truth"] = direct_truth(world, none, settings)
-            else:
-                antenna, after = apriori, none
-                for _ in range(iterations):
-                    delta = stack_residuals([after.fixed.arc.residuals], settings, period=DAY,
-                                            satellite=SAT, solution="fixed_pod")
-                    antenna = estimated_antenna(antenna, delta)
-                    after = fixed_pod_arc(world, antenna, hours)
-                est = delta.copy()
-                zz, aa = np.meshgrid(est.zenith_deg.values, est.azimuth_deg.values)
-                est["pcv_if_m"] = (delta.pcv_if_m.dims,
-                                   receiver_pcv_if(antenna, "G", PAIR)(90.0 - zz, aa))
-                est["count"] = truth["count"]
-                row["solution"] = f"residual {step:g} deg ({iterations} it.)"
-            row.update(map=est, orbit=orbit_rms_rtn_m(after.fixed.arc.orbit, world.truth_day),
-                       map_rms_m=map_rms_m(est, truth.pcv_if_m.values, min_count=min_count,
-                                           pco_z=pco_z))
-            rows.append(row)
+    cases = [("direct", step, True) for step in steps] + [("direct", steps[0], False)] + [
+        ("residual", step, True) for step in steps]
+    for method, step, horizontal_datum in cases:
+        settings = pcv_settings(step, min_count, method=method,
+                                estimate_pco_z=pco_z and method == "direct",
+                                no_horizontal_offset=horizontal_datum)
+        truth = true_map(world, residuals, settings)
+        row = {"truth": truth, "pco_z_m": np.nan}
+        if method == "direct":
+            est, _ = direct_map(none, settings)
+            after = fixed_pod_arc(world, estimated_antenna(apriori, est), hours)
+            row.update(solution=f"direct {step:g} deg" + (
+                "" if horizontal_datum else " (horiz. offset free)"),
+                pco_z_m=est.attrs["pco_z_m"])
+            if not pco_z:
+                row["direct_truth"] = direct_truth(world, none, settings)
+        else:
+            antenna, after = apriori, none
+            for _ in range(iterations):
+                delta = stack_residuals([after.fixed.arc.residuals], settings, period=DAY,
+                                        satellite=SAT, solution="fixed_pod")
+                antenna = estimated_antenna(antenna, delta)
+                after = fixed_pod_arc(world, antenna, hours)
+            est = delta.copy()
+            zz, aa = np.meshgrid(est.zenith_deg.values, est.azimuth_deg.values)
+            est["pcv_if_m"] = (delta.pcv_if_m.dims,
+                               receiver_pcv_if(antenna, "G", PAIR)(90.0 - zz, aa))
+            est["count"] = truth["count"]
+            row["solution"] = f"residual {step:g} deg ({iterations} it.)"
+        row.update(map=est, orbit=orbit_rms_rtn_m(after.fixed.arc.orbit, world.truth_day),
+                   map_rms_m=map_rms_m(est, truth.pcv_if_m.values, min_count=min_count,
+                                       pco_z=pco_z))
+        rows.append(row)
     return rows

@@ -38,16 +38,23 @@ def _day(grid: AntennaGrid, pattern: np.ndarray, pco_z_m: float, *, pco_z: bool,
     and a PCO-Z error: rows of bilinear weights (and the PCO-Z partial cos z, antenna
     boresight = body −Z, here interpolated from the nodes, so that (δ = 1, p = −cos z) is an
     exact null direction as the constant is), one free clock per epoch eliminated (projection
-    onto the complement of the epoch means), weights 1/(5 mm)²."""
+    onto the complement of the epoch means), a constant horizontal receiver offset (the part
+    of an orbit that a horizontal antenna offset mimics: partials cos e cos α, cos e sin α,
+    interpolated from the nodes, exact null directions too) reduced out as the arc
+    parameters are, weights 1/(5 mm)²."""
     rng = np.random.default_rng(seed)
     n = epochs * per_epoch
     az = rng.uniform(0.0, 360.0, n)
     el = np.degrees(np.arcsin(rng.uniform(0.0, 1.0, n)))
     epoch = np.repeat(np.arange(epochs), per_epoch)
     a = grid.design(az, el).toarray()
-    cos_z = a @ np.sin(np.radians(grid.node_directions()[1]))
+    node_az, node_el = (np.radians(v) for v in grid.node_directions())
+    cos_z = a @ np.sin(node_el)
+    offset = a @ np.column_stack([np.cos(node_el) * np.cos(node_az),
+                                  np.cos(node_el) * np.sin(node_az)])
     if pco_z:
         a = np.column_stack([a, cos_z])
+    a = np.column_stack([offset, a])
     clock = rng.normal(0.0, 100.0, epochs)
     l = grid.design(az, el) @ pattern + pco_z_m * cos_z + clock[epoch]
     # eliminate the clocks: every column and the observations minus their epoch mean
@@ -57,10 +64,11 @@ def _day(grid: AntennaGrid, pattern: np.ndarray, pco_z_m: float, *, pco_z: bool,
     l_c = l - (mean @ l)[epoch]
     w = 1.0 / 0.005**2
     node = grid.nearest(az, el)
-    k = a.shape[1]
+    k = a.shape[1] - 2
+    matrix, rhs = reduce_normals(w * a_c.T @ a_c, w * a_c.T @ l_c, k)
     return xr.Dataset(
-        {"normal_matrix": (("parameter", "parameter_2"), w * a_c.T @ a_c),
-         "rhs": ("parameter", w * a_c.T @ l_c),
+        {"normal_matrix": (("parameter", "parameter_2"), matrix),
+         "rhs": ("parameter", rhs),
          "count": ("node", np.bincount(node, minlength=grid.n_nodes))},
         coords={"parameter": np.arange(k), "parameter_2": np.arange(k)},
         attrs={"az_step_deg": grid.az_step_deg, "zenith_step_deg": grid.el_step_deg,
@@ -88,16 +96,24 @@ def test_noise_free_pattern_and_pco_z_are_recovered_under_the_datum(pco_z):
     if pco_z:
         v = np.r_[-np.sin(np.radians(grid.node_directions()[1])), 1.0]
         assert np.linalg.norm(n @ v) < 1e-9 * np.linalg.norm(n)
+    # the horizontal-offset patterns, taken by the reduced receiver offset
+    az, el = (np.radians(v) for v in grid.node_directions())
+    for term in (np.cos(el) * np.cos(az), np.cos(el) * np.sin(az)):
+        v = np.r_[term, np.zeros(int(pco_z))]
+        assert np.linalg.norm(n @ v) < 1e-9 * np.linalg.norm(n) * np.linalg.norm(v)
     settings = PcvSettings.from_config(with_defaults("pcv", {
         "az_step_deg": 30.0, "zenith_step_deg": 15.0, "min_count": 30, "method": "direct",
         "estimate_pco_z": pco_z}))
-    # the truth with the datum's part moved out: the mean (and the cos z-like term, into
-    # the PCO-Z)
+    # the truth with the datum's part moved out: the mean, the horizontal-offset terms
+    # (no_horizontal_offset, the default) and with a PCO-Z the cos z-like term (into it)
+    assert settings.no_horizontal_offset
     well = day["count"].values >= 30
     assert well.all()
-    c = datum_conditions(grid, well, "mean", pco_z, grid.n_nodes + int(pco_z))
-    cos_z = np.sin(np.radians(grid.node_directions()[1]))
-    basis = np.column_stack([np.ones(grid.n_nodes)] + ([cos_z] if pco_z else []))
+    c = datum_conditions(grid, well, "mean", pco_z, grid.n_nodes + int(pco_z),
+                         horizontal=settings.no_horizontal_offset)
+    az, el = (np.radians(v) for v in grid.node_directions())
+    basis = np.column_stack([np.ones(grid.n_nodes)] + ([np.sin(el)] if pco_z else [])
+                            + [np.cos(el) * np.cos(az), np.cos(el) * np.sin(az)])
     coef = np.linalg.solve(c[:, :grid.n_nodes] @ basis, c[:, :grid.n_nodes] @ truth)
     expected = truth - basis @ coef
     est = solve_normals([day], settings)

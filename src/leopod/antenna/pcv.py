@@ -117,6 +117,9 @@ class PcvSettings(Settings):
     estimate_pco_z : bool
         Direct method: estimate a PCO-Z correction with the map (its datum then removes a
         cos z-like part from the map).
+    no_horizontal_offset : bool
+        Direct method: the datum also removes the parts like a horizontal offset (nearly
+        singular with the orbit, :mod:`leopod.antenna.pcv_direct`).
     """
 
     SCHEMA_DEF = "pcv"
@@ -128,6 +131,7 @@ class PcvSettings(Settings):
     estimator: str
     method: str
     estimate_pco_z: bool
+    no_horizontal_offset: bool
 
     def __post_init__(self):
         if self.method not in _METHODS:
@@ -441,7 +445,7 @@ def estimated_antenna(antenna, pcv_map: xr.Dataset) -> LeoAntenna:
 
 
 def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int,
-              pco_z: bool = False) -> float:
+              pco_z: bool = False, horizontal: bool = False) -> float:
     """RMS of estimate minus truth over the nodes with ``count >= min_count`` [m], the mean
     over those nodes removed from both (the datum, module docstring).
 
@@ -455,12 +459,17 @@ def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int,
         Also remove the least-squares ``b cos z`` of the difference: what a PCO-Z error of
         ``-b`` gives a PCV (range change ``-ΔPCO_U cos z``), inseparable from it without a
         PCO datum.
+    horizontal : bool
+        Also remove the least-squares ``cos e cos α`` and ``cos e sin α`` (a horizontal
+        offset, nearly inseparable from the orbit: :mod:`leopod.antenna.pcv_direct`).
     """
     well = ((estimate["count"].values >= min_count) & np.isfinite(estimate.pcv_if_m.values)
             & _nodes_once(estimate.pcv_if_m.shape))
     d = estimate.pcv_if_m.values[well] - truth_if_m[well]
-    cos_z = np.broadcast_to(np.cos(np.radians(estimate.zenith_deg.values)),
-                            well.shape)[well]
-    basis = np.stack([np.ones_like(d), cos_z], axis=1) if pco_z else np.ones((d.size, 1))
+    zen = np.radians(np.broadcast_to(estimate.zenith_deg.values, well.shape)[well])
+    az = np.radians(np.broadcast_to(estimate.azimuth_deg.values[:, None], well.shape)[well])
+    terms = [np.ones_like(d)] + ([np.cos(zen)] if pco_z else []) + (
+        [np.sin(zen) * np.cos(az), np.sin(zen) * np.sin(az)] if horizontal else [])
+    basis = np.stack(terms, axis=1)
     d = d - basis @ np.linalg.lstsq(basis, d, rcond=None)[0]
     return float(np.sqrt(np.mean(d**2)))

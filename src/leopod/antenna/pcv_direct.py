@@ -34,16 +34,26 @@ is ``−e·Z_body = +cos z`` (z the antenna zenith angle: moving the antenna tow
 lengthens every range by ``δ cos z``), so ``δ = 1`` with ``p_j = −cos z_j`` changes every row
 by ``cos z − Σ w_j cos z_j``: zero up to the bilinear interpolation error of ``cos z``
 (≤ Δz²/8, 0.4 % on a 10° grid) - a near-null direction.
-Nothing else is singular: a pattern constant over a pass is absorbed by its ambiguity only
-if it is constant over the sky (the code rows, weak, tie the rest), the orbit and the
-reduced-dynamic pulses take a body-fixed horizontal offset only partly. The conditions that
-fix the datum (hard constraints, Lagrange multipliers) are those of the residual method plus
-one for the PCO-Z: over the well-observed nodes ``W`` (``count ≥ min_count``)
+A pattern constant over a pass is absorbed by its ambiguity only if it is constant over the
+sky (the code rows, weak, tie the rest). Two more directions are nearly singular, through the
+orbit: a horizontal offset ``Δ`` of the phase centre in the body frame is the PCV pattern
+``Δ_X cos e cos α + Δ_Y cos e sin α`` (e elevation, α azimuth from +X), and the same range
+change as moving the receiver by ``Δ`` - along-track (X) or cross-track (Y) in the nominal
+attitude. A constant along-track offset is nearly a Keplerian motion (a shift in time), a
+constant cross-track one is followed by the cross-track pulses: on a simulated day the
+scaled eigenvalues of the reduced normal matrix are 1e-15 (constant), 7e-6 (X), 2e-4 (Y), then
+0.26 (tests/antenna/test_pcv_direct_closed_loop.py). Whatever a map gets wrong in these
+patterns the orbit takes as a constant T/N offset of the same size when the map is applied
+(benchmarks/pcv_table.py). The conditions that fix the datum (hard constraints, Lagrange
+multipliers), over the well-observed nodes ``W`` (``count ≥ min_count``):
 
 - ``datum: mean``: ``Σ_{j∈W} p_j = 0``;  ``datum: zenith``: ``p_zenith = 0``;
 - with a PCO-Z (``estimate_pco_z``, or a PCO-Z reduced with the days' arc parameters):
   ``Σ_{j∈W} (cos z_j − mean_W cos z) p_j = 0`` - the map has no cos z-like part, the PCO-Z
-  takes it.
+  takes it;
+- ``no_horizontal_offset`` (default): the same for ``cos e cos α`` and ``cos e sin α`` - the
+  map has no part like a horizontal offset, the horizontal PCO stays the a-priori one (as
+  Wang et al. 2024, sec. 2.3, keep the ground PCO).
 
 Nodes without any observation are not estimated; all observed nodes get a weak a-priori pull
 towards no correction (σ :data:`leopod.antenna.pcv.WEAK_SIGMA_M`, in units of the phase
@@ -274,7 +284,7 @@ def arc_normals(date: str, data, signals, arc, pod, forces, antenna, float_solut
 
 
 def datum_conditions(grid: AntennaGrid, well: np.ndarray, datum: str, cos_z_term: bool,
-                     n_params: int) -> np.ndarray:
+                     n_params: int, horizontal: bool = False) -> np.ndarray:
     """Rows ``C`` (c, n_params) of the datum conditions ``C x = 0`` (module docstring).
 
     Parameters
@@ -287,18 +297,22 @@ def datum_conditions(grid: AntennaGrid, well: np.ndarray, datum: str, cos_z_term
         Add the condition that removes the cos z-like part (a PCO-Z is estimated).
     n_params : int
         Unknowns: the nodes and, after them, the PCO-Z if any.
+    horizontal : bool
+        Add the conditions that remove the parts like a horizontal offset, ``cos e cos α``
+        and ``cos e sin α`` (e elevation, α azimuth of the node).
     """
-    rows = []
     c = np.zeros(n_params)
     if datum == "zenith":
         c[grid.n_nodes - 1] = 1.0
     else:
         c[:grid.n_nodes] = well
-    rows.append(c)
-    if cos_z_term:
-        cos_z = np.sin(np.radians(grid.node_directions()[1]))
+    rows = [c]
+    az, el = (np.radians(v) for v in grid.node_directions())
+    terms = ([np.sin(el)] if cos_z_term else []) + (
+        [np.cos(el) * np.cos(az), np.cos(el) * np.sin(az)] if horizontal else [])
+    for term in terms:
         c = np.zeros(n_params)
-        c[:grid.n_nodes] = np.where(well, cos_z - cos_z[well].mean(), 0.0)
+        c[:grid.n_nodes] = np.where(well, term - term[well].mean(), 0.0)
         rows.append(c)
     return np.array(rows)
 
@@ -366,7 +380,8 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
         raise ValueError(f"PCV {satellite} {period}: zenith datum, but the zenith node has "
                          f"{count[-1]} phase observations (< {settings.min_count})")
     cos_z_term = pco_z or any(int(d.attrs["pod_pco_z"]) for d in days)
-    conditions = datum_conditions(grid, well, settings.datum, cos_z_term, matrix.shape[0])
+    conditions = datum_conditions(grid, well, settings.datum, cos_z_term, matrix.shape[0],
+                                  settings.no_horizontal_offset)
     use = np.flatnonzero(observed)
     pull = np.r_[np.full(n, WEAK_SIGMA_M**-2), np.zeros(int(pco_z))]
     x_use, q_use = _constrained_solve(matrix[np.ix_(use, use)] + np.diag(pull[use]),
@@ -382,7 +397,8 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
     log.info("PCV %s %s (direct): %d days, %d of %d nodes with >= %d phase observations, "
              "datum %s%s, sigma0 %.3f, map RMS %.2f mm%s", satellite, period, len(days),
              int(well.sum()), n, settings.min_count, settings.datum,
-             " + no cos z term" if cos_z_term else "", sigma0,
+             (" + no cos z term" if cos_z_term else "")
+             + (" + no horizontal-offset terms" if settings.no_horizontal_offset else ""), sigma0,
              1e3 * float(np.sqrt(np.nanmean(pcv**2))),
              f", PCO-Z {1e3 * x[-1]:.2f} ± {1e3 * sigma[-1]:.2f} mm" if pco_z else "")
     ds = map_dataset(grid, pcv, np.where(well, sigma[:n], np.nan), np.full(n, np.nan), count)
@@ -394,5 +410,6 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
                     pco_z_m=float(x[-1]) if pco_z else float("nan"),
                     pco_z_sigma_m=float(sigma[-1]) if pco_z else float("nan"),
                     datum_cos_z=int(cos_z_term),
+                    datum_horizontal=int(settings.no_horizontal_offset),
                     method="direct (Wang et al. 2024, eqs. 10-11)")
     return ds
