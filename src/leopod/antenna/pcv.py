@@ -306,8 +306,9 @@ def stack_maps(maps: Sequence[xr.Dataset], settings: PcvSettings) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        A map Dataset (module docstring) with the attributes of the first map and
-        ``period`` listing the periods.
+        A map Dataset (module docstring) with the attributes of the first map,
+        ``period`` listing the periods and, for direct-method maps with a PCO-Z, the
+        inverse-variance mean ``pco_z_m`` and its ``pco_z_sigma_m``.
 
     Raises
     ------
@@ -345,6 +346,11 @@ def stack_maps(maps: Sequence[xr.Dataset], settings: PcvSettings) -> xr.Dataset:
                                                           for m in maps]), axis=0)),
                              {"units": "m", "long_name": "root mean square over the periods "
                               "of the standard deviation of the node's residuals"})
+    pco = np.array([float(m.attrs.get("pco_z_m", np.nan)) for m in maps])
+    if np.isfinite(pco).all():      # direct-method PCO-Z: inverse-variance mean
+        w = np.array([float(m.attrs["pco_z_sigma_m"]) for m in maps]) ** -2.0
+        out.attrs.update(pco_z_m=float(np.sum(w * pco) / w.sum()),
+                         pco_z_sigma_m=float(w.sum() ** -0.5))
     out.attrs.update(period=" ".join(str(m.attrs.get("period", "?")) for m in maps),
                      datum=settings.datum, datum_offset_m=offset,
                      n_residuals=int(sum(int(m.attrs.get("n_residuals", 0)) for m in maps)),
