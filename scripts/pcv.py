@@ -33,7 +33,7 @@ def estimate(paths, settings: PcvSettings, *, sat: str, period: str, solution: s
     """The map of the period: phase residuals ``paths`` stacked (residual method) or the
     days' normal equations ``paths`` solved (direct method)."""
     if settings.method == "direct":
-        return solve_normals([load_netcdf(p, "PCV normal equations") for p in paths],
+        return solve_normals((load_netcdf(p, "PCV normal equations") for p in paths),
                              settings, period=period, satellite=sat, solution=solution)
     residuals = []
     for path in paths:

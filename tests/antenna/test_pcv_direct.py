@@ -15,9 +15,10 @@ import pytest
 import scipy.sparse as sp
 import xarray as xr
 
-from leopod.antenna.pcv import PcvSettings
+from leopod.antenna.pcv import PcvSettings, apriori_pattern, estimated_pattern, pco_shift_neu
 from leopod.antenna.pcv_direct import datum_conditions, reduce_normals, solve_normals
 from leopod.codebias.grid import AntennaGrid
+from leopod.gnss.leo_antenna import LeoAntenna
 from leopod.workflow.config import with_defaults
 
 
@@ -142,3 +143,25 @@ def test_unobserved_nodes_and_grid_mismatch_are_handled():
         solve_normals([day], other)
     with pytest.raises(ValueError, match="needs pcv.method: direct"):
         PcvSettings.from_config(with_defaults("pcv", {"estimate_pco_z": True}))
+
+
+def test_the_pco_z_correction_enters_the_antex_pco_in_the_antenna_frame():
+    """A PCO-Z correction along body +Z is −δ in Up of the default antenna frame (north +X,
+    up −Z, leopod.gnss.leo_antenna) and +δ in North of an antenna whose north is body +Z; the
+    written pattern's PCO moves by it on every frequency."""
+    table = {"L1": [0.1, 0.0, -0.5], "L2": [0.1, 0.0, -0.48]}
+    grid = AntennaGrid(30.0, 15.0)
+    day = _day(grid, _pattern(grid), 0.004, pco_z=True, epochs=1000)
+    settings = PcvSettings.from_config(with_defaults("pcv", {
+        "az_step_deg": 30.0, "zenith_step_deg": 15.0, "min_count": 30, "method": "direct",
+        "estimate_pco_z": True}))
+    est = solve_normals(iter([day]), settings)
+    dz = est.attrs["pco_z_m"]
+    np.testing.assert_allclose(pco_shift_neu(table, est), [0.0, 0.0, -dz], atol=1e-15)
+    pattern, _ = apriori_pattern(table)
+    sideways = LeoAntenna(pattern, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
+    np.testing.assert_allclose(pco_shift_neu(sideways, est), [dz, 0.0, 0.0], atol=1e-15)
+    new = estimated_pattern(pattern, est, pco_shift_neu_m=pco_shift_neu(table, est))
+    for f in pattern.frequencies:
+        np.testing.assert_allclose(new.pco_m(f) - pattern.pco_m(f), [0.0, 0.0, -dz])
+    assert new.meta["calibration_method"] == "DIRECT"

@@ -93,7 +93,7 @@ Journal of Geodesy 83, 1145-1162. doi:10.1007/s00190-009-0333-2
 from __future__ import annotations
 
 import logging
-from collections.abc import Sequence
+from collections.abc import Iterable
 
 import numpy as np
 import scipy.linalg
@@ -330,16 +330,45 @@ def _constrained_solve(matrix, rhs, conditions):
     return x, inverse[:n, :n]
 
 
-def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: str = "",
+def _summed(days: Iterable[xr.Dataset], grid: AntennaGrid) -> dict:
+    """Normal equations, counts, ``vᵀPv`` and degrees of freedom summed over the days (one
+    day in memory at a time); the days must share grid and PCO-Z."""
+    total: dict = {"n_days": 0}
+    for d in days:
+        pco_z = int(d.attrs["pco_z"])
+        if (float(d.attrs["az_step_deg"]) != grid.az_step_deg
+                or float(d.attrs["zenith_step_deg"]) != grid.el_step_deg
+                or pco_z != total.get("pco_z", pco_z)):
+            raise ValueError(f"PCV normal equations of {d.attrs.get('date')}: grid "
+                             f"{d.attrs['az_step_deg']} x {d.attrs['zenith_step_deg']} deg, "
+                             f"PCO-Z {pco_z}; the period needs {grid.az_step_deg:g} x "
+                             f"{grid.el_step_deg:g} deg and the PCO-Z of its first day")
+        if not total["n_days"]:
+            total.update(pco_z=pco_z, pod_pco_z=0, matrix=0.0, rhs=0.0, count=0, vtpv=0.0,
+                         dof=0)
+        total["matrix"] = total["matrix"] + d.normal_matrix.values
+        total["rhs"] = total["rhs"] + d.rhs.values
+        total["count"] = total["count"] + d["count"].values
+        total["vtpv"] += float(d.attrs["vtpv"])
+        total["dof"] += int(d.attrs["dof"])
+        total["pod_pco_z"] |= int(d.attrs["pod_pco_z"])
+        total["n_days"] += 1
+    if not total["n_days"]:
+        raise ValueError("PCV: no day normal equations to solve")
+    return total
+
+
+def solve_normals(days: Iterable[xr.Dataset], settings: PcvSettings, *, period: str = "",
                   satellite: str = "", solution: str = "") -> xr.Dataset:
     """PCV map (and PCO-Z) of the summed day normal equations of a period.
 
     Parameters
     ----------
-    days : sequence of xarray.Dataset
-        Day normal equations of :func:`day_normals` on the grid of ``settings``.
+    days : iterable of xarray.Dataset
+        Day normal equations of :func:`day_normals` on the grid of ``settings`` (read one at
+        a time if an iterator).
     settings : PcvSettings
-        Grid, ``min_count``, ``datum``.
+        Grid, ``min_count``, ``datum``, ``no_horizontal_offset``.
     period, satellite, solution : str
         Identification written into the attributes.
 
@@ -353,23 +382,13 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
     Raises
     ------
     ValueError
-        If the days differ in grid or parameters, no node is well observed, or the zenith
-        datum's node is not.
+        If there is no day, the days differ in grid or parameters, no node is well observed,
+        or the zenith datum's node is not.
     """
     grid = settings.grid
-    first = days[0]
-    for d in days:
-        if (float(d.attrs["az_step_deg"]) != grid.az_step_deg
-                or float(d.attrs["zenith_step_deg"]) != grid.el_step_deg
-                or int(d.attrs["pco_z"]) != int(first.attrs["pco_z"])):
-            raise ValueError(f"PCV normal equations of {d.attrs.get('date')}: grid "
-                             f"{d.attrs['az_step_deg']} x {d.attrs['zenith_step_deg']} deg, "
-                             f"PCO-Z {d.attrs['pco_z']}; the period needs {grid.az_step_deg:g} "
-                             f"x {grid.el_step_deg:g} deg, PCO-Z {first.attrs['pco_z']}")
-    pco_z = bool(first.attrs["pco_z"])
-    matrix = sum(d.normal_matrix.values for d in days)
-    rhs = sum(d.rhs.values for d in days)
-    count = sum(d["count"].values for d in days)
+    total = _summed(days, grid)
+    pco_z = bool(total["pco_z"])
+    matrix, rhs, count = total["matrix"], total["rhs"], total["count"]
     n = grid.n_nodes
     observed = np.r_[np.diag(matrix)[:n] > 0, np.ones(int(pco_z), bool)]
     well = count >= settings.min_count
@@ -379,15 +398,15 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
     if settings.datum == "zenith" and not well[-1]:
         raise ValueError(f"PCV {satellite} {period}: zenith datum, but the zenith node has "
                          f"{count[-1]} phase observations (< {settings.min_count})")
-    cos_z_term = pco_z or any(int(d.attrs["pod_pco_z"]) for d in days)
+    cos_z_term = pco_z or bool(total["pod_pco_z"])
     conditions = datum_conditions(grid, well, settings.datum, cos_z_term, matrix.shape[0],
                                   settings.no_horizontal_offset)
     use = np.flatnonzero(observed)
     pull = np.r_[np.full(n, WEAK_SIGMA_M**-2), np.zeros(int(pco_z))]
     x_use, q_use = _constrained_solve(matrix[np.ix_(use, use)] + np.diag(pull[use]),
                                       rhs[use], conditions[:, use])
-    vtpv = sum(float(d.attrs["vtpv"]) for d in days) - float(x_use @ rhs[use])
-    dof = sum(int(d.attrs["dof"]) for d in days) - use.size + conditions.shape[0]
+    vtpv = total["vtpv"] - float(x_use @ rhs[use])
+    dof = total["dof"] - use.size + conditions.shape[0]
     sigma0 = float(np.sqrt(max(vtpv, 0.0) / max(dof, 1)))
     x = np.full(matrix.shape[0], np.nan)
     sigma = np.full(matrix.shape[0], np.nan)
@@ -395,7 +414,7 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
     sigma[use] = sigma0 * np.sqrt(np.maximum(np.diag(q_use), 0.0))
     pcv = np.where(well, x[:n], np.nan)
     log.info("PCV %s %s (direct): %d days, %d of %d nodes with >= %d phase observations, "
-             "datum %s%s, sigma0 %.3f, map RMS %.2f mm%s", satellite, period, len(days),
+             "datum %s%s, sigma0 %.3f, map RMS %.2f mm%s", satellite, period, total["n_days"],
              int(well.sum()), n, settings.min_count, settings.datum,
              (" + no cos z term" if cos_z_term else "")
              + (" + no horizontal-offset terms" if settings.no_horizontal_offset else ""), sigma0,
@@ -406,7 +425,7 @@ def solve_normals(days: Sequence[xr.Dataset], settings: PcvSettings, *, period: 
                     az_step_deg=float(grid.az_step_deg), zenith_step_deg=float(grid.el_step_deg),
                     min_count=int(settings.min_count), n_residuals=int(count.sum()),
                     n_nodes_estimated=int(well.sum()), period=period, satellite=satellite,
-                    solution=solution, n_days=len(days), sigma0=sigma0,
+                    solution=solution, n_days=total["n_days"], sigma0=sigma0,
                     pco_z_m=float(x[-1]) if pco_z else float("nan"),
                     pco_z_sigma_m=float(sigma[-1]) if pco_z else float("nan"),
                     datum_cos_z=int(cos_z_term),
