@@ -90,7 +90,8 @@ def fixed_pod_arc(world: SimpleNamespace, antenna, hours: tuple[float, float]
                         sig.pod_code, product.wl_sat_cyc, ar).table
     start = FloatSolution(arc.parameters, arc.ambiguities, arc.residuals, arc.orbit)
     fixed = run_fixed_arc(*args[:7], table, start, ar, limits=limits)
-    return SimpleNamespace(float=arc, fixed=fixed, ar=ar)
+    return SimpleNamespace(float=arc, fixed=fixed, ar=ar, args=args, limits=limits,
+                           start=start)
 
 
 def orbit_rms_rtn_m(orbit: xr.Dataset, truth: xr.Dataset) -> dict[str, float]:

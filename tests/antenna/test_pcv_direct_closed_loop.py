@@ -33,6 +33,7 @@ from _pcv_fixed import (
 from _simulated_arc import GOCE  # tests/estimation, on the path through _pcv_fixed
 
 from leopod.antenna.pcv import estimated_antenna
+from leopod.antenna.pcv_direct import arc_normals, day_normals
 
 pytestmark = pytest.mark.skipif(not GOCE.exists(), reason="needs ../shared/data/antex")
 
@@ -134,6 +135,21 @@ def test_the_estimated_map_takes_the_pattern_out_of_the_residuals(loop):
     for case in (False, True):
         assert phase[case] < phase["none"] - 0.3 * (phase["none"] - phase["true"])
         assert orbit[case] < orbit["none"] - 5e-3
+
+
+def test_the_float_path_gives_the_normal_equations_of_the_float_system(loop):
+    """pcv.solution float_pod (no ambiguity table): arc_normals linearises at the float
+    solution without constraints - the same normal equations as day_normals of the fixed
+    POD's system without its constraints."""
+    none, settings = loop["none"], loop["settings_False"]
+    neq = arc_normals(*none.args, none.start, settings, satellite="x", limits=none.limits)
+    ref = day_normals(none.fixed.pod, settings.grid, sigma0=1.0)
+    assert neq.attrs["solution"] == "float_pod" and neq.attrs["n_ambiguity_constraints"] == 0
+    np.testing.assert_allclose(neq.normal_matrix.values, ref.normal_matrix.values,
+                               rtol=1e-9, atol=1e-9 * np.abs(ref.normal_matrix.values).max())
+    fixed = loop["neq"][False]
+    assert fixed.attrs["n_ambiguity_constraints"] > 0
+    assert not np.allclose(fixed.normal_matrix.values, ref.normal_matrix.values)
 
 
 @pytest.mark.xfail(strict=True, reason="issue 22 criterion not met on a 4-h arc: the map is "

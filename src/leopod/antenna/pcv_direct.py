@@ -26,7 +26,8 @@ reduced out by the Schur complement::
 
 Per period (:func:`solve_normals`): the reduced systems of the days are summed and solved once.
 
-Datum (derived in the tests, tests/antenna/test_pcv_direct.py). The interpolation weights of
+Datum (tested in tests/antenna/test_pcv_direct.py on exact synthetic normal equations and in
+tests/antenna/test_pcv_direct_closed_loop.py on a simulated arc). The interpolation weights of
 a direction sum to one, so adding a constant ``c`` to every node adds ``c`` to every
 observation of an epoch: the epoch clock absorbs it exactly and ``N_red 1 = 0``. With a PCO-Z
 estimated and the antenna boresight along body −Z (the default antenna frame), the PCO-Z row
@@ -76,8 +77,7 @@ Day normal equations (netCDF, :func:`day_normals`; dims ``parameter``, ``paramet
     Used phase observations nearest to each node [1].
 attrs: ``az_step_deg``, ``zenith_step_deg``, ``pco_z`` (1: last parameter is the PCO-Z),
 ``pod_pco_z`` (1: a daily PCO-Z was reduced), ``vtpv``, ``dof`` (of the day's POD solution),
-``n_rows``, ``n_phase``,
-``n_ambiguity_constraints``, ``date``, ``satellite``, ``solution``.
+``n_rows``, ``n_phase``, ``n_ambiguity_constraints``, ``date``, ``satellite``, ``solution``.
 
 References
 ----------
