@@ -45,7 +45,7 @@ constant cross-track one is followed by the cross-track pulses: on a simulated d
 scaled eigenvalues of the reduced normal matrix are 1e-15 (constant), 7e-6 (X), 2e-4 (Y), then
 0.26 (tests/antenna/test_pcv_direct_closed_loop.py). Whatever a map gets wrong in these
 patterns the orbit takes as a constant T/N offset of the same size when the map is applied
-(benchmarks/pcv_table.py). The conditions that fix the datum (hard constraints, Lagrange
+(README, "Antenna calibration"). The conditions that fix the datum (hard constraints, Lagrange
 multipliers), over the well-observed nodes ``W`` (``count ≥ min_count``):
 
 - ``datum: mean``: ``Σ_{j∈W} p_j = 0``;  ``datum: zenith``: ``p_zenith = 0``;
