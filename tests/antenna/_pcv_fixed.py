@@ -132,24 +132,30 @@ def direct_map(pod: SimpleNamespace, settings: PcvSettings) -> tuple[xr.Dataset,
                          solution="fixed_pod"), neq
 
 
-def direct_truth(world: SimpleNamespace, pod: SimpleNamespace, settings: PcvSettings
-                 ) -> xr.Dataset:
-    """The map the direct method gives when the true ionosphere-free PCV is the only
-    misclosure of the rows: the normal matrix of :func:`direct_map` (same rows, weights,
-    constraints, reduction and datum) with the right-hand side of the true PCV at each row -
-    no noise, no orbit error. Its difference from the estimate is what noise and orbit
-    mismodelling do; its difference from :func:`true_map` is the weighting of the node fit.
+def noise_free_normals(antenna, fixed, neq: xr.Dataset, settings: PcvSettings) -> xr.Dataset:
+    """Day normal equations ``neq`` of the fixed POD ``fixed`` (a FixedArc) with the
+    right-hand side of the true ionosphere-free PCV of ``antenna`` at each row as the only
+    misclosure (same rows, weights, constraints and reduction): no noise, no orbit error.
     Without PCO-Z only."""
-    fixed = pod.fixed
     columns = AntennaColumns(settings.grid, False)
     arc = fixed.pod.normals(fixed.constraints, columns=columns)
-    pcv_if = receiver_pcv_if(world.antenna, "G", PAIR)
+    pcv_if = receiver_pcv_if(antenna, "G", PAIR)
     rows = dataclasses.replace(arc.rows, misclosure=pcv_if(columns.el_deg, columns.az_deg))
     rhs = accumulate(rows, settings.grid.design(columns.az_deg, columns.el_deg)).rhs
     _, reduced = reduce_normals(arc.normals.matrix, rhs, settings.grid.n_nodes)
+    out = neq.copy()
+    out["rhs"] = (neq.rhs.dims, reduced, neq.rhs.attrs)
+    return out
+
+
+def direct_truth(world: SimpleNamespace, pod: SimpleNamespace, settings: PcvSettings
+                 ) -> xr.Dataset:
+    """The map the direct method gives from :func:`noise_free_normals` of the day. Its
+    difference from the estimate is what noise and orbit mismodelling do; its difference from
+    :func:`true_map` how the node values fit what the grid cannot represent."""
     _, neq = direct_map(pod, settings)
-    neq["rhs"] = (neq.rhs.dims, reduced, neq.rhs.attrs)
-    return solve_normals([neq], settings)
+    return solve_normals([noise_free_normals(world.antenna, pod.fixed, neq, settings)],
+                         settings)
 
 
 def map_truth_rms_m(world, estimate: xr.Dataset, residuals: xr.Dataset,
