@@ -11,11 +11,15 @@ both; also with a PCO-Z-like cos z removed), the wall time and the peak memory.
     .venv/bin/python benchmarks/pcv.py [--hours 0 24] [--step 10 10] [--iterations 3]
         [--estimator bilinear|mean]
     .venv/bin/python benchmarks/pcv.py --campaign <directory of a run of
-        config/hy2b-sim-pcv.yaml or of its iterations>
+        config/hy2b-sim-pcv.yaml or of its iterations> [--configfile <its campaign files>]
 
 ``--campaign`` compares the map that a workflow run wrote
-(results/hy2b-sim-pcv/pcv/hy2b-sim/2019-01.atx: the POD's PCV plus the map) with the GOCE truth
-stacked at the run's fixed-POD residual directions, over all nodes and above 10° elevation.
+(results/hy2b-sim-pcv/pcv/hy2b-sim/2019-01.atx:
+the POD's PCV plus the map) with the GOCE truth stacked at the run's fixed-POD residual
+directions, over all nodes and above 10° elevation. For a direct-method run, ``--configfile``
+(its campaign files) also splits the error: the map against the map of the same normal
+equations with the true PCV as the only misclosure (noise and orbit errors), and that map
+against the node fit of the truth (what the grid cannot represent, fitted as the POD weights).
 
 Measured 2026-11-27 (one day 0-24 h, 10° x 10°, 301 nodes with >= 30 residuals, float POD,
 another job sharing the 2 cores): orbit 3D RMS against the truth: no PCV 45.30 mm, true PCV
@@ -42,30 +46,46 @@ sys.path.insert(0, str(REPO / "tests" / "antenna"))
 
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
+from _pcv_fixed import noise_free_normals  # noqa: E402
 from _pcv_loop import pcv_loop  # noqa: E402
 from _simulated_arc import GOCE  # noqa: E402
 
+from leopod.ambiguity.resolve import ArSettings  # noqa: E402
 from leopod.antenna.pcv import PcvSettings, map_rms_m, stack_residuals  # noqa: E402
+from leopod.antenna.pcv_direct import solve_normals  # noqa: E402
+from leopod.estimation.arc import ArcData  # noqa: E402
+from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc  # noqa: E402
 from leopod.gnss.leo_antenna import leo_antenna, receiver_pcv_if  # noqa: E402
+from leopod.io.attitude import load_leo_attitude  # noqa: E402
+from leopod.workflow.boundary import (  # noqa: E402
+    attitude_files,
+    leo_antenna_of,
+    mock_snakemake,
+    plain,
+)
 from leopod.workflow.config import read_campaign, with_defaults  # noqa: E402
 from leopod.workflow.layout import Layout  # noqa: E402
+from leopod.workflow.settings import pod_settings  # noqa: E402
 
 SAT, PERIOD, DAYS = "hy2b-sim", "2019-01", ("2019-001", "2019-002", "2019-003")
 #: The products folder of config/hy2b-sim-pcv.yaml in its working directory.
 RESULTS = Layout.of(read_campaign(REPO / "config" / "hy2b-sim-pcv.yaml")).results
+TRUTH_ANTENNA = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
 
 
-def campaign_map(folder: Path) -> None:
+def campaign_map(folder: Path, configfiles=()) -> None:
     """Print the RMS of a workflow run's map against the GOCE truth (module docstring)."""
     pair = ("L1C", "L2W")
-    truth_if = receiver_pcv_if(leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"}),
-                               "G", pair)
+    truth_if = receiver_pcv_if(TRUTH_ANTENNA, "G", pair)
     est = xr.load_dataset(folder / RESULTS / f"pcv/{SAT}/{PERIOD}.nc")
     settings = PcvSettings.from_config(with_defaults("pcv", {
         "az_step_deg": float(est.attrs["az_step_deg"]),
         "zenith_step_deg": float(est.attrs["zenith_step_deg"]),
         "min_count": int(est.attrs["min_count"]), "datum": str(est.attrs["datum"]),
-        "estimator": str(est.attrs["estimator"])}))
+        # the truth is stacked as the residual method's estimator does; a direct-method map
+        # is compared with the bilinear fit (its nodes are those of the interpolation)
+        "estimator": ("bilinear" if est.attrs["estimator"] == "direct"
+                      else str(est.attrs["estimator"]))}))
     stacked = []
     for day in DAYS:
         res = xr.load_dataset(folder / RESULTS / f"fixed_pod/{SAT}/{day}_residuals.nc")
@@ -85,6 +105,41 @@ def campaign_map(folder: Path) -> None:
     rms_10 = map_rms_m(est, truth.pcv_if_m.values, min_count=settings.min_count)
     print(f"{folder}: map (POD's PCV + estimate) RMS vs truth {rms * 1e3:.2f} mm, above 10 deg "
           f"elevation {rms_10 * 1e3:.2f} mm; truth RMS {np.nanstd(truth.pcv_if_m) * 1e3:.2f} mm")
+    if est.attrs["estimator"] == "direct" and configfiles:
+        direct_split(folder, configfiles, settings, truth)
+
+
+def direct_split(folder: Path, configfiles, settings: PcvSettings, truth: xr.Dataset) -> None:
+    """A direct-method run: its map against the map of the same normal equations with the
+    true PCV as the only misclosure (the fixed POD of each day linearised again from the
+    run's files, as rule pcv_neq does), and that noise-free map against the node fit."""
+    noise_free, days = [], []
+    for day in DAYS:
+        job = mock_snakemake("pcv_neq", configfiles=configfiles, root=folder,
+                             snakefile=REPO / "Snakefile", sat=SAT, date=day)
+        p, files = job.params, plain(job.input)
+        pod = pod_settings(p.signals, p.pod, p.code_bias)
+        data = ArcData.read(files, signal_bias=getattr(p, "signal_bias", None),
+                            sampling_s=pod["arc"].sampling_s)
+        start = FloatSolution.read(**{k: files[f"float_{k}"] for k in
+                                      ("parameters", "ambiguities", "residuals", "orbit")})
+        fixed = run_fixed_arc(day, data, pod["signals"], pod["arc"], pod["pod"], pod["forces"],
+                              leo_antenna_of(p.pco_body_m, p.leo_antenna, files),
+                              xr.load_dataset(files["table"]), start,
+                              ArSettings.from_config(p.settings),
+                              code_correction=pod["code_correction"], yaw_flips=p.yaw_flips,
+                              attitude=load_leo_attitude(p.attitude, attitude_files(job)))
+        neq = xr.load_dataset(folder / RESULTS / f"pcv_neq/{SAT}/{day}.nc")
+        days.append(neq)
+        noise_free.append(noise_free_normals(TRUTH_ANTENNA, fixed, neq, settings))
+    direct = PcvSettings.from_config({**p.pcv, "min_count": settings.min_count})
+    est, ideal = solve_normals(days, direct), solve_normals(noise_free, direct)
+    for name, a, b in (("estimate - noise-free direct map", est, ideal.pcv_if_m.values),
+                       ("noise-free direct map - node fit", ideal, truth.pcv_if_m.values)):
+        high = a.copy()
+        high["count"] = high["count"].where(high.zenith_deg < 80.0, 0)
+        print(f"{name}: {1e3 * map_rms_m(a, b, min_count=settings.min_count):.2f} mm, above 10 "
+              f"deg {1e3 * map_rms_m(high, b, min_count=settings.min_count):.2f} mm")
 
 
 def main() -> None:
@@ -96,9 +151,12 @@ def main() -> None:
     parser.add_argument("--min-count", type=int, default=30)
     parser.add_argument("--estimator", choices=("mean", "bilinear"), default="bilinear")
     parser.add_argument("--campaign", type=Path, help="compare this workflow run's map only")
+    parser.add_argument("--configfile", nargs="*", default=(),
+                        help="with --campaign of a direct-method run: its campaign files, to "
+                        "split the map's error into noise and node fit")
     args = parser.parse_args()
     if args.campaign is not None:
-        campaign_map(args.campaign)
+        campaign_map(args.campaign, [str(Path(c).resolve()) for c in args.configfile])
         return
     with tempfile.TemporaryDirectory() as tmp:
         out = pcv_loop(Path(tmp), hours=tuple(args.hours), steps=tuple(args.step),

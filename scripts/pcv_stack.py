@@ -15,6 +15,7 @@ from leopod.antenna.pcv import (
     apriori_pattern,
     estimated_pattern,
     map_differences,
+    pco_shift_neu,
     stack_maps,
 )
 from leopod.io import write_text
@@ -37,12 +38,15 @@ def main(map_paths, outputs: Mapping, *, antenna, settings: PcvSettings, sat: st
     write_netcdf(stacked, outputs["nc"], step="pcv_stack", inputs=map_paths,
                  reference_frame="antenna", title=f"stacked PCV map {title}")
     apriori, _ = apriori_pattern(antenna)
-    write_antex(outputs["antex"], [estimated_pattern(apriori, stacked, serial=sat[:20])],
+    shift = pco_shift_neu(antenna, stacked)
+    write_antex(outputs["antex"], [estimated_pattern(apriori, stacked, serial=sat[:20],
+                                                     pco_shift_neu_m=shift)],
                 comments=[c[:60] for c in (
                     f"leopod rule pcv_stack: {sat}, {len(maps)} periods",
                     f"{stacked.attrs['period']}",
-                    "PCV = a-priori PCV + ionosphere-free residual map,",
-                    "filled in for every frequency; PCO as a priori")])
+                    "PCV = a-priori PCV + ionosphere-free map,",
+                    "filled in for every frequency; PCO as a priori"
+                    + (" + PCO-Z" if shift.any() else ""))])
     lines = ["period_a,period_b,rms_difference_m,n_nodes"]
     for a, b, rms, n in map_differences(maps):
         lines.append(f"{a},{b},{rms:.5f},{n}")

@@ -154,3 +154,31 @@ def test_epoch_clocks_equal_direct_formula():
     assert np.isnan(clocks[0]) and np.isfinite(clocks[s > 0]).all()
     np.testing.assert_allclose(clocks[s > 0], num[s > 0] / s[s > 0], rtol=1e-13, atol=1e-12)
     np.testing.assert_allclose(res, reduced - clocks[rows.epoch], rtol=0, atol=1e-11)
+
+
+def test_extra_sparse_columns_equal_explicit_least_squares():
+    """Further sparse columns (e.g. PCV node weights, leopod.antenna.pcv_direct) after the
+    ambiguities: the solution, covariance and residuals of the full least-squares problem with
+    those columns and one clock per epoch (numpy.linalg.lstsq)."""
+    rows = _problem(seed=11)
+    rng = np.random.default_rng(12)
+    r, x = rows.epoch.size, 6
+    extra = sp.random(r, x, density=0.4, random_state=13, format="csr")
+    truth = rng.normal(size=x)
+    rows.misclosure = rows.misclosure + extra @ truth
+    ne = accumulate(rows, extra)
+    dx, cov = solve(ne)
+    h = _full_design(rows)
+    k_a = h.shape[1] - rows.n_epochs
+    h = np.concatenate([h[:, :k_a], extra.toarray(), h[:, k_a:]], axis=1)
+    sw = np.sqrt(rows.weight)
+    ref, *_ = np.linalg.lstsq(h * sw[:, None], rows.misclosure * sw, rcond=None)
+    p = dx.size
+    assert np.allclose(dx, ref[:p], rtol=0, atol=1e-8)
+    ref_cov = np.linalg.inv((h * rows.weight[:, None]).T @ h)
+    assert np.allclose(cov, ref_cov[:p, :p], rtol=1e-8, atol=1e-14)
+    clocks, res = epoch_clocks(rows, dx, extra)
+    assert np.allclose(clocks, ref[p:], atol=1e-7)
+    # vᵀWv = lᵀWl − bᵀx, to the rounding of lᵀWl (large misclosures: clocks of 100 m)
+    assert np.isclose(np.sum(rows.weight * res**2), ne.ltpl - ne.rhs @ dx, rtol=0,
+                      atol=1e-12 * ne.ltpl)

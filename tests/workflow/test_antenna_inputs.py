@@ -100,3 +100,25 @@ def test_the_simulate_antenna_reaches_the_simulator_only(truth_campaign, monkeyp
     assert files["residuals"] == [f"results/hy2b-sim/fixed_pod/{SAT}/2019-00{d}_residuals.nc"
                                   for d in (1, 2, 3)]
     assert "leo_antex" not in files and pcv.params.solution == "fixed_pod"
+
+
+def test_the_direct_method_reads_the_day_normal_equations(truth_campaign, tmp_path,
+                                                          monkeypatch):
+    """pcv.method direct: rule pcv reads the pcv_neq files of the period's days, and
+    pcv_neq the fixed POD's inputs (float solution and ambiguity table) with the PCV
+    settings."""
+    cfg = yaml.safe_load(truth_campaign.read_text())
+    cfg["pcv"] = {"enabled": True, "method": "direct", "estimate_pco_z": True}
+    path = tmp_path / "direct.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    monkeypatch.chdir(Path.cwd())
+    pcv = mock_snakemake("pcv", configfiles=[path], sat=SAT, period="2019-01")
+    files = plain(pcv.input)
+    assert files["neq"] == [f"results/hy2b-sim/pcv_neq/{SAT}/2019-00{d}.nc" for d in (1, 2, 3)]
+    assert "residuals" not in files
+    neq = mock_snakemake("pcv_neq", configfiles=[path], sat=SAT, date="2019-002")
+    inputs = plain(neq.input)
+    assert inputs["table"] == f"results/hy2b-sim/ambiguity/{SAT}/2019-002.nc"
+    assert inputs["float_parameters"] == f"results/hy2b-sim/float_pod/{SAT}/2019-002_parameters.nc"
+    assert neq.params.pcv["method"] == "direct" and neq.params.pcv["estimate_pco_z"]
+    assert plain(neq.output)["neq"] == f"results/hy2b-sim/pcv_neq/{SAT}/2019-002.nc"

@@ -358,14 +358,31 @@ def pcv_solution(wildcards):
 
 
 def pcv_inputs(wildcards):
-    """Residuals of the POD days of a PCV period (the line's chosen solution) and the ANTEX
-    file of the satellite's antenna, if it has one (the a-priori PCV the map adds to)."""
+    """Residuals (residual method) or normal equations (direct method) of the POD days of a
+    PCV period (the line's chosen solution) and the ANTEX file of the satellite's antenna, if
+    it has one (the a-priori PCV the map adds to)."""
     days = period_days(CONFIG, wildcards.period, "pcv")
     if not days:
         raise ValueError(f"PCV period {wildcards.period} has no campaign day")
-    files = {"residuals": [fill(pod_output(pcv_solution(wildcards), "residuals"),
-                                sat=wildcards.sat, date=d) for d in days]}
+    if CONFIG["pcv"]["method"] == "direct":
+        files = {"neq": expand(rules.pcv_neq.output.neq, sat=wildcards.sat, date=days)}
+    else:
+        files = {"residuals": [fill(pod_output(pcv_solution(wildcards), "residuals"),
+                                    sat=wildcards.sat, date=d) for d in days]}
     return {**files, **apriori_antex(wildcards, days[0])}
+
+
+def pcv_neq_inputs(wildcards):
+    """float_pod's inputs of the day, its float solution and, for the fixed POD (pcv.solution),
+    the ambiguity table."""
+    files = float_pod_inputs(wildcards)
+    for name in ("orbit", "parameters", "ambiguities", "residuals"):
+        files[f"float_{name}"] = fill(pod_output("float_pod", name), sat=wildcards.sat,
+                                      date=wildcards.date)
+    if pcv_solution(wildcards) == "fixed_pod":
+        files["table"] = fill(rules.ambiguity.output.table, sat=wildcards.sat,
+                              date=wildcards.date)
+    return files
 
 
 def apriori_antex(wildcards, day):

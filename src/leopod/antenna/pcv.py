@@ -13,7 +13,7 @@ Wang et al. 2024) is a workflow matter: the written ANTEX is read back through
 
 Estimator (``estimator``). ``mean``: the cell mean itself, the paper's averaging.
 ``bilinear``: the node values whose bilinear interpolation fits the residuals in the
-least-squares sense (with a weak pull of every node towards zero, :data:`_WEAK_SIGMA_M`). The
+least-squares sense (with a weak pull of every node towards zero, :data:`WEAK_SIGMA_M`). The
 POD applies an ANTEX grid by bilinear interpolation (Wang et al. 2024, eqs. 7-9), so the
 bilinear fit is a Gauss-Newton step of the map the POD uses; iterating cell means instead
 drives the map towards node values whose *interpolation* has the cell means, which sharpens
@@ -80,8 +80,9 @@ from leopod.gnss.leo_antenna import LeoAntenna, antex_frequency
 from leopod.io.antex import AntennaPattern
 from leopod.settings import Settings
 
-__all__ = ["PcvSettings", "apriori_pattern", "estimated_antenna", "estimated_pattern",
-           "map_differences", "map_rms_m", "stack_maps", "stack_residuals"]
+__all__ = ["WEAK_SIGMA_M", "PcvSettings", "apriori_pattern", "estimated_antenna",
+           "estimated_pattern", "map_dataset", "pco_shift_neu", "map_differences", "map_rms_m", "stack_maps",
+           "stack_residuals"]
 
 log = logging.getLogger(__name__)
 
@@ -90,8 +91,9 @@ ESTIMATED_TYPE = "LEOPOD PCV"
 
 _DATUMS = ("mean", "zenith")
 _ESTIMATORS = ("mean", "bilinear")
-_WEAK_SIGMA_M = 0.05
-"""A-priori sigma of a node value in the bilinear fit [m]: a weak pull towards no correction
+_METHODS = ("residual", "direct")
+WEAK_SIGMA_M = 0.05
+"""A-priori sigma of a node value in the bilinear fit and the direct method [m]: a weak pull towards no correction
 that keeps nodes without residuals determined (far above any PCV)."""
 
 
@@ -109,6 +111,15 @@ class PcvSettings(Settings):
         Condition removed from the map (module docstring).
     estimator : {"mean", "bilinear"}
         Node values from the residuals (module docstring).
+    method : {"residual", "direct"}
+        Residual method (this module) or the node values as parameters of the POD normal
+        equations (:mod:`leopod.antenna.pcv_direct`).
+    estimate_pco_z : bool
+        Direct method: estimate a PCO-Z correction with the map (its datum then removes a
+        cos z-like part from the map).
+    no_horizontal_offset : bool
+        Direct method: the datum also removes the parts like a horizontal offset (nearly
+        singular with the orbit, :mod:`leopod.antenna.pcv_direct`).
     """
 
     SCHEMA_DEF = "pcv"
@@ -118,8 +129,15 @@ class PcvSettings(Settings):
     min_count: int
     datum: str
     estimator: str
+    method: str
+    estimate_pco_z: bool
+    no_horizontal_offset: bool
 
     def __post_init__(self):
+        if self.method not in _METHODS:
+            raise ValueError(f"pcv.method must be one of {_METHODS}, not {self.method!r}")
+        if self.estimate_pco_z and self.method != "direct":
+            raise ValueError("pcv.estimate_pco_z needs pcv.method: direct")
         if self.datum not in _DATUMS:
             raise ValueError(f"pcv.datum must be one of {_DATUMS}, not {self.datum!r}")
         if self.estimator not in _ESTIMATORS:
@@ -207,24 +225,7 @@ def stack_residuals(residuals: Sequence[xr.Dataset], settings: PcvSettings, *,
              "removed), map RMS %.2f mm", satellite, period, settings.estimator, r.size,
              int(well.sum()), grid.n_nodes, settings.min_count, settings.datum, 1e3 * offset,
              1e3 * float(np.sqrt(np.nanmean(pcv**2))))
-    dims = ("azimuth_deg", "zenith_deg")
-    ds = xr.Dataset(
-        {"pcv_if_m": (dims, _ring_rows(grid, pcv),
-                      {"units": "m", "long_name": "estimated correction of the ionosphere-free "
-                       "phase centre variation (mean phase residual of the node, datum "
-                       "removed)"}),
-         "sigma_m": (dims, _ring_rows(grid, sigma),
-                     {"units": "m", "long_name": "standard deviation of the mean residual"}),
-         "residual_std_m": (dims, _ring_rows(grid, std),
-                            {"units": "m", "long_name": "standard deviation of the residuals "
-                             "of the node"}),
-         "count": (dims, _ring_rows(grid, count).astype(np.int64),
-                   {"units": "1", "long_name": "residuals in the node's neighbourhood"})},
-        coords={"azimuth_deg": grid.azimuth_deg,
-                "zenith_deg": 90.0 - grid.elevation_deg[::-1]})
-    ds["azimuth_deg"].attrs.update(units="degree", long_name="azimuth in the antenna frame "
-                                   "(from north, +X by default, towards east)")
-    ds["zenith_deg"].attrs.update(units="degree", long_name="zenith angle in the antenna frame")
+    ds = map_dataset(grid, pcv, sigma, std, count)
     ds.attrs.update(estimator=settings.estimator, datum=settings.datum, datum_offset_m=float(offset),
                     az_step_deg=float(settings.az_step_deg),
                     zenith_step_deg=float(settings.zenith_step_deg),
@@ -234,13 +235,38 @@ def stack_residuals(residuals: Sequence[xr.Dataset], settings: PcvSettings, *,
     return ds
 
 
+def map_dataset(grid: AntennaGrid, pcv: np.ndarray, sigma: np.ndarray, std: np.ndarray,
+                count: np.ndarray) -> xr.Dataset:
+    """The map Dataset (module docstring, without attributes) of node vectors (n_nodes,):
+    correction, its sigma, the residual scatter [m] and the counts of the nodes."""
+    dims = ("azimuth_deg", "zenith_deg")
+    ds = xr.Dataset(
+        {"pcv_if_m": (dims, _ring_rows(grid, pcv),
+                      {"units": "m", "long_name": "estimated correction of the ionosphere-free "
+                       "phase centre variation (datum removed)"}),
+         "sigma_m": (dims, _ring_rows(grid, sigma),
+                     {"units": "m", "long_name": "standard deviation of the node value"}),
+         "residual_std_m": (dims, _ring_rows(grid, std),
+                            {"units": "m", "long_name": "standard deviation of the residuals "
+                             "of the node"}),
+         "count": (dims, _ring_rows(grid, count).astype(np.int64),
+                   {"units": "1", "long_name": "phase observations in the node's "
+                    "neighbourhood"})},
+        coords={"azimuth_deg": grid.azimuth_deg,
+                "zenith_deg": 90.0 - grid.elevation_deg[::-1]})
+    ds["azimuth_deg"].attrs.update(units="degree", long_name="azimuth in the antenna frame "
+                                   "(from north, +X by default, towards east)")
+    ds["zenith_deg"].attrs.update(units="degree", long_name="zenith angle in the antenna frame")
+    return ds
+
+
 def _bilinear_fit(grid: AntennaGrid, az, el, r, std, count):
     """Node values (n_nodes,) whose bilinear interpolation fits the residuals ``r`` [m], and
     their formal sigmas [m], the residuals weighted by the pooled scatter of the nodes."""
     a = grid.design(az, el)
     sigma0 = float(np.sqrt(np.nansum(std**2 * np.maximum(count - 1, 0))
                            / max(int(np.sum(np.maximum(count - 1, 0))), 1))) or 1e-3
-    n = (a.T @ a).toarray() / sigma0**2 + np.eye(grid.n_nodes) / _WEAK_SIGMA_M**2
+    n = (a.T @ a).toarray() / sigma0**2 + np.eye(grid.n_nodes) / WEAK_SIGMA_M**2
     values = np.linalg.solve(n, a.T @ r / sigma0**2)
     sigma = np.sqrt(np.diag(np.linalg.inv(n)))
     return values, sigma
@@ -280,8 +306,9 @@ def stack_maps(maps: Sequence[xr.Dataset], settings: PcvSettings) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        A map Dataset (module docstring) with the attributes of the first map and
-        ``period`` listing the periods.
+        A map Dataset (module docstring) with the attributes of the first map,
+        ``period`` listing the periods and, for direct-method maps with a PCO-Z, the
+        inverse-variance mean ``pco_z_m`` and its ``pco_z_sigma_m``.
 
     Raises
     ------
@@ -319,6 +346,11 @@ def stack_maps(maps: Sequence[xr.Dataset], settings: PcvSettings) -> xr.Dataset:
                                                           for m in maps]), axis=0)),
                              {"units": "m", "long_name": "root mean square over the periods "
                               "of the standard deviation of the node's residuals"})
+    pco = np.array([float(m.attrs.get("pco_z_m", np.nan)) for m in maps])
+    if np.isfinite(pco).all():      # direct-method PCO-Z: inverse-variance mean
+        w = np.array([float(m.attrs["pco_z_sigma_m"]) for m in maps]) ** -2.0
+        out.attrs.update(pco_z_m=float(np.sum(w * pco) / w.sum()),
+                         pco_z_sigma_m=float(w.sum() ** -0.5))
     out.attrs.update(period=" ".join(str(m.attrs.get("period", "?")) for m in maps),
                      datum=settings.datum, datum_offset_m=offset,
                      n_residuals=int(sum(int(m.attrs.get("n_residuals", 0)) for m in maps)),
@@ -362,15 +394,28 @@ def apriori_pattern(antenna) -> tuple[AntennaPattern, LeoAntenna | None]:
     return pattern, None
 
 
+def pco_shift_neu(antenna, pcv_map: xr.Dataset) -> np.ndarray:
+    """The estimated PCO-Z correction of a map (attribute ``pco_z_m``, along body +Z) in the
+    antenna frame of the POD's antenna (north, east, up) [m], shape (3,); zeros without one."""
+    dz = float(pcv_map.attrs.get("pco_z_m", np.nan))
+    if not np.isfinite(dz):
+        return np.zeros(3)
+    frame = (antenna.frame if isinstance(antenna, LeoAntenna)
+             else antenna_frame((1.0, 0.0, 0.0), (0.0, 0.0, -1.0)))
+    return np.asarray(frame, dtype=float) @ np.array([0.0, 0.0, dz])
+
+
 def estimated_pattern(apriori: AntennaPattern, pcv_map: xr.Dataset, *,
-                      antenna_type: str = ESTIMATED_TYPE, serial: str = "") -> AntennaPattern:
+                      antenna_type: str = ESTIMATED_TYPE, serial: str = "",
+                      pco_shift_neu_m=(0.0, 0.0, 0.0)) -> AntennaPattern:
     """The a-priori pattern with the estimated correction: ``PCV_f + ΔPCV`` on the map's grid.
 
     The ionosphere-free correction is added to every frequency, so the ionosphere-free PCV
     of any pair gains exactly ΔPCV and the Melbourne-Wübbena combination none (as the
     ionosphere-free values filled in for both frequencies of GOCE, Jäggi et al. 2009). Nodes
-    without an estimate keep the a-priori value; the PCOs are kept. ``NOAZI`` is the
-    azimuth mean of each zenith row.
+    without an estimate keep the a-priori value; the PCOs are kept, plus
+    ``pco_shift_neu_m`` (north, east, up [m], every frequency: :func:`pco_shift_neu`).
+    ``NOAZI`` is the azimuth mean of each zenith row.
     """
     zen = pcv_map.zenith_deg.values
     az = np.r_[pcv_map.azimuth_deg.values, 360.0]
@@ -386,16 +431,18 @@ def estimated_pattern(apriori: AntennaPattern, pcv_map: xr.Dataset, *,
         valid_from=np.datetime64("NaT", "ns"), valid_until=np.datetime64("NaT", "ns"),
         zenith_deg=zen.astype(float), dazi_deg=float(pcv_map.attrs["az_step_deg"]),
         frequencies=tuple(apriori.frequencies),
-        pco={f: apriori.pco_m(f) for f in apriori.frequencies},
+        pco={f: apriori.pco_m(f) + np.asarray(pco_shift_neu_m, dtype=float)
+             for f in apriori.frequencies},
         noazi={f: grid[f][:-1].mean(axis=0) for f in apriori.frequencies}, grid=grid,
-        meta={"calibration_method": "RESIDUAL", "calibrated_by": "LEOPOD"})
+        meta={"calibration_method": ("DIRECT" if pcv_map.attrs.get("estimator") == "direct"
+                                     else "RESIDUAL"), "calibrated_by": "LEOPOD"})
 
 
 def estimated_antenna(antenna, pcv_map: xr.Dataset) -> LeoAntenna:
     """The POD's antenna (a :class:`LeoAntenna` or a PCO table) with the estimated map, in the
     same antenna frame and ARP (those of :func:`apriori_pattern` for a table)."""
     pattern, leo = apriori_pattern(antenna)
-    new = estimated_pattern(pattern, pcv_map)
+    new = estimated_pattern(pattern, pcv_map, pco_shift_neu_m=pco_shift_neu(antenna, pcv_map))
     if leo is None:
         return LeoAntenna(new, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, -1.0),
                           source=f"estimated {ESTIMATED_TYPE}")
@@ -404,7 +451,7 @@ def estimated_antenna(antenna, pcv_map: xr.Dataset) -> LeoAntenna:
 
 
 def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int,
-              pco_z: bool = False) -> float:
+              pco_z: bool = False, horizontal: bool = False) -> float:
     """RMS of estimate minus truth over the nodes with ``count >= min_count`` [m], the mean
     over those nodes removed from both (the datum, module docstring).
 
@@ -418,12 +465,17 @@ def map_rms_m(estimate: xr.Dataset, truth_if_m: np.ndarray, *, min_count: int,
         Also remove the least-squares ``b cos z`` of the difference: what a PCO-Z error of
         ``-b`` gives a PCV (range change ``-ΔPCO_U cos z``), inseparable from it without a
         PCO datum.
+    horizontal : bool
+        Also remove the least-squares ``cos e cos α`` and ``cos e sin α`` (a horizontal
+        offset, nearly inseparable from the orbit: :mod:`leopod.antenna.pcv_direct`).
     """
     well = ((estimate["count"].values >= min_count) & np.isfinite(estimate.pcv_if_m.values)
             & _nodes_once(estimate.pcv_if_m.shape))
     d = estimate.pcv_if_m.values[well] - truth_if_m[well]
-    cos_z = np.broadcast_to(np.cos(np.radians(estimate.zenith_deg.values)),
-                            well.shape)[well]
-    basis = np.stack([np.ones_like(d), cos_z], axis=1) if pco_z else np.ones((d.size, 1))
+    zen = np.radians(np.broadcast_to(estimate.zenith_deg.values, well.shape)[well])
+    az = np.radians(np.broadcast_to(estimate.azimuth_deg.values[:, None], well.shape)[well])
+    terms = [np.ones_like(d)] + ([np.cos(zen)] if pco_z else []) + (
+        [np.sin(zen) * np.cos(az), np.sin(zen) * np.sin(az)] if horizontal else [])
+    basis = np.stack(terms, axis=1)
     d = d - basis @ np.linalg.lstsq(basis, d, rcond=None)[0]
     return float(np.sqrt(np.mean(d**2)))

@@ -102,11 +102,14 @@ class FixedSolutions:
 
 @dataclass(eq=False)
 class FixedArc:
-    """Result of :func:`run_fixed_arc`: the solution and the constraints it kept."""
+    """Result of :func:`run_fixed_arc`: the solution, the constraints it kept and the
+    linearised system (for normal equations with further parameters,
+    :meth:`FixedPod.normals`)."""
 
     arc: ArcOutputs
     constraints: tuple
     dropped_rounds: int
+    pod: FixedPod | None = None
 
 
 def constraints_of(table: xr.Dataset, sigma_m: float) -> tuple:
@@ -129,12 +132,13 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
                   pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
                   table: xr.Dataset, float_solution: FloatSolution, settings: ArSettings, *,
                   code_correction: CodeCorrection | None = None, yaw_flips=None,
-                  eop=None, attitude: LeoAttitude | None = None) -> FixedArc:
+                  eop=None, attitude: LeoAttitude | None = None, limits=None) -> FixedArc:
     """Ambiguity-fixed POD of the arc of ``date`` (module docstring).
 
     Parameters
     ----------
-    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop, attitude
+    date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop,
+    attitude, limits
         As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
     table : xarray.Dataset
         Single differences of the ambiguity step.
@@ -155,7 +159,7 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
     fixed = FixedSolutions(date, data, signals, arc, pod, forces, pco_body_m, float_solution,
                            code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
-                           attitude=attitude)
+                           limits=limits, attitude=attitude)
     solution = fixed.solve(constraints)
     rounds = 0
     for _ in range(settings.max_rejection_rounds):
@@ -171,4 +175,5 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
         solution = fixed.solve(constraints)
         rounds += 1
     log.info("%d constraints in the fixed solution", constraints[0].size)
-    return FixedArc(arc=solution, constraints=constraints, dropped_rounds=rounds)
+    return FixedArc(arc=solution, constraints=constraints, dropped_rounds=rounds,
+                    pod=fixed.pod)

@@ -996,22 +996,39 @@ class FixedPod:
         orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, sol.dx[:prob.k_orbit])
         return _result("fixed POD", prob, state, orbit, self._model, sol, 1, converged)
 
-    def normals(self) -> ArcNormals:
-        """The arc's reduced normal equations at the float solution, without ambiguity
-        constraints, for a joint solution with another arc
-        (:mod:`leopod.estimation.baseline`).
+    def normals(self, ambiguity_constraints=None, columns=None) -> ArcNormals:
+        """The arc's reduced normal equations at the float solution, for a joint solution
+        with another arc (:mod:`leopod.estimation.baseline`) or with parameters common to
+        several arcs (:mod:`leopod.antenna.pcv_direct`).
 
         The rows are screened as in :meth:`solve` (continuing the float outliers); the
         a-priori constraints of the arc parameters are included.
+
+        Parameters
+        ----------
+        ambiguity_constraints : tuple, optional
+            As for :meth:`solve`: screening with them, and their pseudo-observations added
+            (None: the float system).
+        columns : callable, optional
+            ``columns(model, pair, is_phase) -> scipy.sparse (r, x)``: further columns of
+            the rows (:func:`leopod.estimation.normals.accumulate`) from the observation
+            model (:class:`~leopod.estimation.obsmodel.ModelResult`), the observation index
+            ``pair`` (r,) and the phase flag ``is_phase`` (r,) of each row; their unknowns
+            follow the ambiguities, without a-priori constraint.
         """
         prob = self._prob
+        if ambiguity_constraints is not None and np.asarray(ambiguity_constraints[0]).size == 0:
+            ambiguity_constraints = None
         state = prob.load(self._start)
-        sol = _solve_linearised(prob, state, self._model, self._g, True)
-        ne = accumulate(sol.rows)
-        n = sol.active.size
+        sol = _solve_linearised(prob, state, self._model, self._g, True, ambiguity_constraints)
+        extra = None if columns is None else columns(self._model, sol.pair, sol.is_phase)
+        ne = accumulate(sol.rows, extra)
+        n = ne.rhs.size - prob.k
         ne.matrix[np.diag_indices_from(ne.matrix)] += np.concatenate(
             [prob.constraint_weight, np.zeros(n)])
         ne.rhs += np.concatenate([prob.constraint_rhs(state), np.zeros(n)])
+        if ambiguity_constraints is not None:
+            constrain_differences(ne, prob.k, sol.active, prob.ambiguity, ambiguity_constraints)
         return ArcNormals(normals=ne, k=prob.k, active=sol.active,
                           ambiguity_m=prob.ambiguity[sol.active].copy(), _solution=sol,
                           _state=state, names=tuple(prob.names),
@@ -1048,8 +1065,9 @@ class ArcNormals:
     Attributes
     ----------
     normals : NormalEquations
-        Over ``[arc parameters (k), ambiguities of the passes active (a)]``, a-priori
-        constraints of the arc parameters included.
+        Over ``[arc parameters (k), ambiguities of the passes active (a)]`` (and the further
+        columns of :meth:`FixedPod.normals`, after them), a-priori constraints of the arc
+        parameters included.
     k : int
         Number of arc parameters.
     active : ndarray of int, shape (a,)
@@ -1076,3 +1094,8 @@ class ArcNormals:
     values: np.ndarray | None = None
     t_ref: np.datetime64 | None = None
     pulse_epochs_s: np.ndarray | None = None
+
+    @property
+    def rows(self) -> Rows:
+        """The screened observation rows of the normal equations."""
+        return self._solution.rows

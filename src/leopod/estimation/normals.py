@@ -34,6 +34,11 @@ epoch, and since ``Σ_{r∈e} w_r ũ_r = 0``::
 in the block (pulses act only after their epoch, piecewise parameters only after the start of
 their interval), which more than halves the work of the dominant product for a POD arc with
 pulses.
+
+Further sparse columns ``X`` (r, x) - parameters that do not factor through the epoch, e.g.
+the bilinear weights of antenna PCV nodes (:mod:`leopod.antenna.pcv_direct`) - join the
+ambiguities: with ``S = [A_a X]`` every ambiguity formula above holds for ``S``, and the
+unknowns become ``[x_o, x_a, x_x]``.
 """
 
 from __future__ import annotations
@@ -146,9 +151,24 @@ def _quadratic_sum(p: np.ndarray, c: np.ndarray) -> np.ndarray:
     return out
 
 
-def accumulate(rows: Rows) -> NormalEquations:
-    """Normal equations of ``rows`` with the epoch clocks pre-eliminated (module docstring)."""
+def accumulate(rows: Rows, extra: sp.spmatrix | None = None) -> NormalEquations:
+    """Normal equations of ``rows`` with the epoch clocks pre-eliminated (module docstring).
+
+    Parameters
+    ----------
+    rows : Rows
+    extra : scipy.sparse matrix, shape (r, x), optional
+        Further columns of the rows (module docstring), unknowns after the ambiguities.
+
+    Returns
+    -------
+    NormalEquations
+        Over ``[x_o (k), x_a (n_amb), x_x (x)]``.
+    """
     e, a = rows._incidence()
+    if extra is not None:
+        a = sp.hstack([a, sp.csr_matrix(extra)]).tocsr()
+    n_s = a.shape[1]
     w = rows.weight
     l = rows.misclosure
     ep = rows.epoch
@@ -160,20 +180,21 @@ def accumulate(rows: Rows) -> NormalEquations:
     wu = u * w[:, None]
     c = _per_epoch(ep, (wu[:, :, None] * u[:, None, :]).reshape(-1, d * d), m)
     p = rows.partials.reshape(m * d, k)
-    ph = rows.amb >= 0
-    q_a = sp.csr_matrix((wu[ph].ravel(), ((ep[ph, None] * d + np.arange(d)).ravel(),
-                                          np.repeat(rows.amb[ph], d))),
-                        shape=(m * d, rows.n_amb))                       # (m d, n_a) sparse
-    wa = sp.diags(w) @ a                                                 # (r, n_a) sparse
-    g_a = (e.T @ wa).tocsr()                                             # (m, n_a) sparse
+    r = l.size
+    wu_rows = sp.csr_matrix((wu.ravel(), (np.repeat(np.arange(r), d),
+                                          (ep[:, None] * d + np.arange(d)).ravel())),
+                            shape=(r, m * d))                            # (r, m d) sparse
+    q_a = (wu_rows.T @ a).tocsr()                                        # (m d, n_s) sparse
+    wa = sp.diags(w) @ a                                                 # (r, n_s) sparse
+    g_a = (e.T @ wa).tocsr()                                             # (m, n_s) sparse
     g_l = np.bincount(ep, weights=w * l, minlength=m)                    # (m,)
-    n = np.empty((k + rows.n_amb, k + rows.n_amb))
+    n = np.empty((k + n_s, k + n_s))
     n[:k, :k] = _quadratic_sum(rows.partials, c.reshape(m, d, d))
     n_oa = np.asarray((q_a.T @ p).T)
     n[:k, k:] = n_oa
     n[k:, :k] = n_oa.T
     n[k:, k:] = (a.T @ wa - g_a.T @ sp.diags(s_inv) @ g_a).toarray()
-    b = np.empty(k + rows.n_amb)
+    b = np.empty(k + n_s)
     b[:k] = p.T @ _per_epoch(ep, wu * l[:, None], m).ravel()
     b[k:] = np.asarray(wa.T @ l).ravel() - np.asarray(g_a.T @ (s_inv * g_l)).ravel()
     ltpl = float(np.sum(w * l * l) - np.sum(s_inv * g_l**2))
@@ -214,8 +235,10 @@ def solve(ne: NormalEquations, constraint_weight: np.ndarray | None = None,
     return dx, inv / np.outer(d, d)
 
 
-def epoch_clocks(rows: Rows, dx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Receiver clocks and residuals after the solution ``dx`` of ``[x_o, x_a]``.
+def epoch_clocks(rows: Rows, dx: np.ndarray, extra: sp.spmatrix | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Receiver clocks and residuals after the solution ``dx`` of ``[x_o, x_a]`` (and
+    ``x_x`` of the ``extra`` columns (r, x) of :func:`accumulate`).
 
     Returns
     -------
@@ -229,6 +252,8 @@ def epoch_clocks(rows: Rows, dx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     reduced = rows.misclosure - np.sum(rows.direction * shift[rows.epoch], axis=1)
     ph = rows.amb >= 0
     reduced[ph] -= dx[k + rows.amb[ph]]
+    if extra is not None:
+        reduced -= sp.csr_matrix(extra) @ dx[k + rows.n_amb:]
     w = rows.weight
     s = np.bincount(rows.epoch, weights=w, minlength=rows.n_epochs)
     num = np.bincount(rows.epoch, weights=w * reduced, minlength=rows.n_epochs)

@@ -75,8 +75,9 @@ def plot_pcv_map(ds: xr.Dataset, path, title: str = "") -> None:
     mesh = ax.pcolormesh(theta, zen, np.ma.masked_less(count.T, 1), cmap="viridis",
                          norm=LogNorm(vmin=1, vmax=max(count.max(), 10)), shading="flat",
                          rasterized=True)
-    fig.colorbar(mesh, ax=ax, shrink=0.7, pad=0.1, label="residuals per node")
-    ax.set_title(f"residuals per node (estimated: ≥ {ds.attrs['min_count']})", fontsize=10)
+    fig.colorbar(mesh, ax=ax, shrink=0.7, pad=0.1, label="phase observations per node")
+    ax.set_title(f"phase observations per node (estimated: ≥ {ds.attrs['min_count']})",
+                 fontsize=10)
     head = f"{title}: " if title else ""
     fig.suptitle(f"{head}phase centre variation, {ds.attrs['az_step_deg']:g}° × "
                  f"{ds.attrs['zenith_step_deg']:g}° (antenna frame, azimuth 0° = +X = flight "
