@@ -65,7 +65,7 @@ from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, puls
 from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import NormalEquations, Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
-from leopod.estimation.orbit_correction import CorrectedOrbit
+from leopod.estimation.orbit_correction import CorrectedOrbit, epoch_covariance
 from leopod.estimation.vce import group_redundancy
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.frames.leo_attitude import LeoAttitude
@@ -89,6 +89,11 @@ _MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
 #: Largest shift of the reception times [ns] over which the ITRF -> GCRF matrices are carried
 #: by the Earth rotation angle alone (_ReceptionRotation).
 _ROTATION_CARRY_NS = 1000
+#: Margin [s] by which an integration spans the reception epochs and the nominal epochs at
+#: both ends, so that the orbit can be evaluated at the reception epochs of later clock
+#: estimates without a new integration (the fixed POD at the float POD's final clocks,
+#: leopod.estimation.linearisation): 1 ms, a clock change of 300 km.
+_SPAN_MARGIN_S = 1e-3
 
 
 @dataclass(frozen=True)
@@ -353,8 +358,7 @@ class PodResult:
         g = g[:, :3]
         if g.shape[2] < k:                       # PCO-Z column: no orbit partial
             g = np.concatenate([g, np.zeros(g.shape[:2] + (k - g.shape[2],))], axis=2)
-        cov = np.einsum("mil,mjl->mij", g @ self.covariance[:k, :k], g)
-        return states, cov, g
+        return states, epoch_covariance(g, self.covariance[:k, :k]), g
 
 
 def pulse_epochs(t_start_s: float, t_end_s: float, interval_s: float | None) -> np.ndarray:
@@ -506,9 +510,11 @@ class _Problem:
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
-        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs; forces
-        tabulated along a reference orbit (drag) follow it from then on."""
-        t_out = np.append(t_eval, self.t_nom_s[-1])
+        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs, both
+        by ``_SPAN_MARGIN_S``; forces tabulated along a reference orbit (drag) follow it from
+        then on."""
+        t_out = np.append(t_eval, [min(t_eval.min(), self.t_nom_s[0]) - _SPAN_MARGIN_S,
+                                   max(t_eval.max(), self.t_nom_s[-1]) + _SPAN_MARGIN_S])
         if self.pulses is None:
             traj = integrate(self.fm, self.t0, state0, self.params, t_out)
         else:
