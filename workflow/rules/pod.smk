@@ -7,9 +7,7 @@ rule float_pod:
         code=library_code("float_pod"),
     output:
         **pod_outputs("float_pod", "Float POD"),
-        # the last linearisation (orbit and partials at the fixed POD's epochs, ~20 MB), read
-        # by fixed_pod instead of integrating again (leopod.estimation.linearisation)
-        linearisation=temp("results/float_pod/{sat}/{date}_linearisation.nc"),
+        **float_linearisation(),
     log:
         "logs/float_pod/{sat}/{date}.log",
     benchmark:
@@ -89,7 +87,7 @@ use rule float_pod as fixed_pod with:
         float_parameters=rules.float_pod.output.parameters,
         float_ambiguities=rules.float_pod.output.ambiguities,
         float_residuals=rules.float_pod.output.residuals,
-        linearisation=rules.float_pod.output.linearisation,
+        **float_linearisation(),
         script=f"{workflow.basedir}/scripts/fixed_pod.py",
         code=library_code("fixed_pod"),
     output:

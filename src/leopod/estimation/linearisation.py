@@ -7,8 +7,10 @@ epochs. The float POD already has both: its orbit is its last integration ``y(t;
 the last correction ``G(t) Δx`` through the partials of that integration
 (:class:`leopod.estimation.orbit_correction.CorrectedOrbit`). Integrating again at
 ``x + Δx`` (what the fixed POD did) gives the same orbit to ``|Δr|²/r`` (1e-13 m for the
-float POD's last correction below 1 mm) and partials that differ by a relative ~1e-10:
-~1 s of computing for nothing.
+float POD's last correction below 1 mm) and partials that change by a relative amount of the
+order of ``|Δr|/r`` (1e-10): ~1 s of computing for nothing. Measured: the fixed solutions
+from the stored and from a new integration agree to 3e-9 m
+(tests/estimation/test_fixed_pod.py), 4e-9 m on the default campaign.
 
 So the float POD writes its last integration sampled at the epochs the fixed POD evaluates
 — the reception epochs of its final receiver clocks (nominal epochs minus the clock, as
@@ -22,8 +24,10 @@ float POD's interpolant) and refuses any other.
 Size: the state, the 6×6 transition matrix and the 6×P sensitivities at ~2 m epochs (m
 observation epochs; pulse partials follow from the transition matrix, Jäggi et al. 2006):
 for a 30-h arc at 30 s with 51 force parameters, (2 × 3600 + 119) × 6 × 58 doubles = 20 MB
-(stored without compression: its doubles do not compress and it lives only until the fixed POD
-has read it; the workflow marks it temporary).
+(stored without compression: zlib level 1 with shuffle makes it 9.3 MB but took 0.83 s to
+write and 0.19 s to read instead of 0.03 and 0.04 s, measured on a busy machine).
+It is a regular product of the float POD, not a temporary file, so that the fixed POD can run
+again alone (after a change of an ambiguity setting) and always from the same linearisation.
 
 Dataset (dims ``epoch``, ``row``, ``column``, ``correction``)
     ``t_s`` (epoch) [s since ``t_ref``], ``augmented`` (epoch, row, column)
