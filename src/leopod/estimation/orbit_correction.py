@@ -28,11 +28,9 @@ import numpy as np
 
 from leopod.dynamics.forces import PseudoStochasticPulses
 from leopod.dynamics.integrator import Trajectory, pulse_partials
+from leopod.estimation.normals import leading_blocks
 
 __all__ = ["CorrectedOrbit", "epoch_covariance"]
-
-#: Blocks of consecutive epochs of :func:`epoch_covariance` (one matrix product each).
-_N_BLOCKS = 16
 
 
 @dataclass(eq=False)
@@ -92,7 +90,7 @@ def epoch_covariance(partials: np.ndarray, covariance: np.ndarray) -> np.ndarray
     """Covariance ``G_e Q G_eᵀ`` of a linear function of the parameters at each epoch.
 
     Summed per block of consecutive epochs over the leading columns up to the last one that
-    is non-zero in the block: a pulse's partials are zero before its epoch (after t0) and a
+    is non-zero in the block (:func:`leopod.estimation.normals.leading_blocks`): a pulse's partials are zero before its epoch (after t0) and a
     piecewise parameter's before its interval, so the trailing columns of most blocks
     contribute exact zeros (about a third of the products of the full ``G Q Gᵀ`` for a
     30-h arc with 15-min pulses); the result differs from the full product by rounding only.
@@ -111,14 +109,8 @@ def epoch_covariance(partials: np.ndarray, covariance: np.ndarray) -> np.ndarray
     """
     m, d, _ = partials.shape
     out = np.zeros((m, d, d))
-    nonzero = np.any(partials != 0.0, axis=1)                             # (m, k)
-    size = max(-(-m // _N_BLOCKS), 1)
-    for start in range(0, m, size):
-        block = slice(start, start + size)
-        columns = np.flatnonzero(nonzero[block].any(axis=0))
-        if columns.size:
-            n = columns[-1] + 1
-            g = partials[block, :, :n]
-            gq = (g.reshape(-1, n) @ covariance[:n, :n]).reshape(g.shape)
-            out[block] = gq @ g.transpose(0, 2, 1)
+    for block, n in leading_blocks(partials):
+        g = partials[block, :, :n]
+        gq = (g.reshape(-1, n) @ covariance[:n, :n]).reshape(g.shape)
+        out[block] = gq @ g.transpose(0, 2, 1)
     return out
