@@ -61,7 +61,13 @@ from leopod.dynamics.forces import (
     constraint_sigmas,
     estimated_parameters,
 )
-from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, pulse_partials
+from leopod.dynamics.integrator import (
+    DEFAULT_STEP_S,
+    Trajectory,
+    apply_pulses,
+    integrate,
+    pulse_partials,
+)
 from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import NormalEquations, Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
@@ -510,11 +516,15 @@ class _Problem:
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
-        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs, both
-        by ``_SPAN_MARGIN_S``; forces tabulated along a reference orbit (drag) follow it from
-        then on."""
-        t_out = np.append(t_eval, [min(t_eval.min(), self.t_nom_s[0]) - _SPAN_MARGIN_S,
-                                   max(t_eval.max(), self.t_nom_s[-1]) + _SPAN_MARGIN_S])
+        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs, both by
+        at least ``_SPAN_MARGIN_S``, to ends on the integrator's step grid from t0 (so that
+        the last segment keeps whole steps and the pulses in it fall on nodes: no restarts);
+        forces tabulated along a reference orbit (drag) follow it from then on."""
+        step = DEFAULT_STEP_S
+        lo = min(t_eval.min(), self.t_nom_s[0]) - _SPAN_MARGIN_S
+        hi = max(t_eval.max(), self.t_nom_s[-1]) + _SPAN_MARGIN_S
+        t_out = np.append(t_eval, [self.t0 - step * np.ceil((self.t0 - lo) / step),
+                                   self.t0 + step * np.ceil((hi - self.t0) / step)])
         if self.pulses is None:
             traj = integrate(self.fm, self.t0, state0, self.params, t_out)
         else:
