@@ -5,7 +5,9 @@ in the working directory ``--directory``, default the repository; the float POD 
 there), then runs the float_pod, ambiguity and fixed_pod jobs of that day with their scripts,
 in-process as Snakemake would (:func:`leopod.workflow.boundary.mock_snakemake`: same inputs,
 settings and outputs), each step ``--repeat`` times in a fresh process, and prints per step the
-best wall time, the orbit integrations and force evaluations, and the peak memory: once for
+best wall time and the CPU time of that run (the job's process; on a machine shared with other
+work the CPU time is the steadier figure), the orbit integrations and force evaluations, and the
+peak memory: once for
 a job alone and once as in the workflow's warm worker (what the worker loads before it forks a
 job, :func:`leopod.workflow.worker.preload`, is loaded first and not timed; the ~0.2 s of the
 job process that hands the job over are not included either). The fixed POD's time is what it
@@ -65,12 +67,12 @@ def _one(step: str, date: str, root: Path, config: Path, sat: str, warm: bool) -
     spec = importlib.util.spec_from_file_location(step, REPO / "scripts" / f"{step}.py")
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
-    tic = time.perf_counter()
+    tic, cpu = time.perf_counter(), time.process_time()
     with IntegrationCounter() as counter:
         script.run(job)
-    wall = time.perf_counter() - tic
+    wall, cpu = time.perf_counter() - tic, time.process_time() - cpu
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(json.dumps({"wall_s": wall, "integrations": counter.integrations,
+    print(json.dumps({"wall_s": wall, "cpu_s": cpu, "integrations": counter.integrations,
                       "compiled": counter.compiled, "evaluations": counter.evaluations,
                       "peak_mb": peak_mb}))
 
@@ -115,7 +117,8 @@ def main() -> None:
                                      env=env)
                 runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
             best = min(runs, key=lambda r: r["wall_s"])
-            print(f"  {step:10s} wall {best['wall_s']:6.2f} s  {best['integrations']} "
+            print(f"  {step:10s} wall {best['wall_s']:6.2f} s (CPU {best['cpu_s']:6.2f} s)  "
+                  f"{best['integrations']} "
                   f"integrations ({best['compiled']} compiled), {best['evaluations']} force "
                   f"evaluations, peak memory {best['peak_mb']:.0f} MB")
 
