@@ -92,10 +92,15 @@ def test_linearisation_of_another_arc_is_refused(arc, tmp_path):
     path = tmp_path / "linearisation.nc"
     write_linearisation(arc.float, path, title="test", inputs=[])
     stored = read_linearisation(load_netcdf(path, "float POD linearisation"))
-    stored.t_ref = stored.t_ref + np.timedelta64(30, "s")
-    with pytest.raises(ValueError, match="not that of this float solution"):
-        FixedSolutions(*arc.args, _start(arc.float), code_correction=arc.code_correction,
-                       limits=arc.limits, linearisation=stored)
+    shifted = read_linearisation(load_netcdf(path, "float POD linearisation"))
+    shifted.t_ref = shifted.t_ref + np.timedelta64(30, "s")
+    # a float solution whose clocks moved by 1 µs: its reception epochs are not stored
+    start = _start(arc.float)
+    start.residuals = start.residuals.assign(clk_rx_m=start.residuals.clk_rx_m + 299.8)
+    for lin, fixed_start in ((shifted, _start(arc.float)), (stored, start)):
+        with pytest.raises(ValueError, match="linearisation.nc: .*not that of this float "):
+            FixedSolutions(*arc.args, fixed_start, code_correction=arc.code_correction,
+                           limits=arc.limits, linearisation=lin)
 
 
 def test_rounds_solve_the_same_linearisation_again(arc):

@@ -27,11 +27,12 @@ from leopod.codebias.apply import CodeCorrection
 from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, arc_outputs, setup_arc
 from leopod.estimation.float_pod import FixedPod, PodSettings
-from leopod.estimation.linearisation import FloatLinearisation
+from leopod.estimation.linearisation import FloatLinearisation, reception_epochs_s
 from leopod.estimation.outputs import pod_start
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.netcdf import load_netcdf
 from leopod.signals import SystemSignals
+from leopod.time.calendar import seconds_since
 
 __all__ = ["FixedArc", "FixedSolutions", "FloatSolution", "constraints_of", "run_fixed_arc"]
 
@@ -93,9 +94,9 @@ class FixedSolutions:
         p = self.problem
         float_orbit = None
         if linearisation is not None:
-            if linearisation.t_ref != p.t_ref:
-                raise ValueError(f"float POD linearisation of an arc from {linearisation.t_ref}"
-                                 f", not {p.t_ref}: not that of this float solution")
+            po = p.observations
+            linearisation.check(p.t_ref, reception_epochs_s(
+                seconds_since(po.times, p.t_ref), start.clk_rx_m, po.clk_rx_m))
             float_orbit = (linearisation.trajectory, linearisation.correction)
         self._pod = FixedPod(p.observations, p.products, p.force_model, p.t_ref, pod, start,
                              eop=eop, float_orbit=float_orbit, **p.antennas)

@@ -67,11 +67,26 @@ class FloatLinearisation:
         ``Δx`` of the float POD's last solution.
     t_ref : datetime64
         Time origin of ``trajectory`` (the arc's first observation epoch).
+    source : str
+        The file it was read from (for messages).
     """
 
     trajectory: Trajectory
     correction: np.ndarray
     t_ref: np.datetime64
+    source: str = "float POD linearisation"
+
+    def check(self, t_ref: np.datetime64, reception_s: np.ndarray) -> None:
+        """Refuse (``ValueError`` naming the file) a linearisation of another arc: another
+        time origin, or reception epochs [s] the trajectory was not sampled at."""
+        if self.t_ref != t_ref:
+            raise ValueError(f"{self.source}: float POD linearisation of an arc from "
+                             f"{self.t_ref}, not {t_ref}: not that of this float solution")
+        missing = ~np.isin(reception_s, self.trajectory.t_s)
+        if missing.any():
+            raise ValueError(f"{self.source}: {int(missing.sum())} reception epochs of the "
+                             "float solution are not among its epochs: not that of this float "
+                             "solution")
 
 
 def reception_epochs_s(t_nominal_s: np.ndarray, clk_rx_m: np.ndarray,
@@ -131,4 +146,5 @@ def read_linearisation(ds: xr.Dataset) -> FloatLinearisation:
     traj = sampled_trajectory(ds.t_s.values, ds.augmented.values, float(ds.attrs["t0_s"]),
                               str(ds.attrs["parameters"]).split(), ds.initial.values)
     return FloatLinearisation(trajectory=traj, correction=ds.correction.values.copy(),
-                              t_ref=np.datetime64(ds.attrs["t_ref"], "ns"))
+                              t_ref=np.datetime64(ds.attrs["t_ref"], "ns"),
+                              source=str(ds.encoding.get("source", "float POD linearisation")))
