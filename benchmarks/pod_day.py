@@ -2,19 +2,20 @@
 
 Prepares the day's inputs with the workflow (``snakemake
 results/<campaign>/ambiguity/<sat>/<date>.nc`` in the working directory ``--directory``, default
-the repository; the float POD runs once there), then runs the float_pod, ambiguity and fixed_pod
-jobs of that day with their scripts, in-process as Snakemake would
-(:func:`leopod.workflow.boundary.mock_snakemake`: same inputs, settings and outputs), each step
-``--repeat`` times in a fresh process, and prints per step the best wall time, the orbit
-integrations and force evaluations, and the peak memory: once for a job alone and once as in the
-workflow's warm worker (what the worker loads before it forks a job,
-:func:`leopod.workflow.worker.preload`, is loaded first and not timed; the ~0.2 s of the job
-process that hands the job over are not included either). The fixed POD's time is what it adds
-on top of the float POD and the ambiguity step. As in a workflow run, the job's process gets its
-``threads`` (1 for these rules) in the thread-count variables of the linear-algebra libraries
-(``OPENBLAS_NUM_THREADS`` etc., which Snakemake sets for a script job); a second BLAS thread
-made a Cholesky factorisation of the POD's normal matrix up to 0.6 s slower instead of faster on
-the 2-core development machine.
+the repository; the float POD runs once there), then runs the float_pod, ambiguity and fixed_pod jobs of that day with their scripts,
+in-process as Snakemake would (:func:`leopod.workflow.boundary.mock_snakemake`: same inputs,
+settings and outputs), each step ``--repeat`` times in a fresh process, and prints per step the
+best wall time and the CPU time of that run (the job's process; on a machine shared with other
+work the CPU time is the steadier figure), the orbit integrations and force evaluations, and the
+peak memory: once for
+a job alone and once as in the workflow's warm worker (what the worker loads before it forks a
+job, :func:`leopod.workflow.worker.preload`, is loaded first and not timed; the ~0.2 s of the
+job process that hands the job over are not included either). The fixed POD's time is what it
+adds on top of the float POD and the ambiguity step. As in a workflow
+run, the job's process gets its ``threads`` (1 for these rules) in the thread-count variables
+of the linear-algebra libraries (``OPENBLAS_NUM_THREADS`` etc., which Snakemake sets for a
+script job); a second BLAS thread made a Cholesky factorisation of the POD's normal matrix
+up to 0.6 s slower instead of faster on the 2-core development machine.
 
     .venv/bin/python benchmarks/pod_day.py [--date 2019-002] [--repeat 3] [--directory D]
                                            [--configfile F]
@@ -69,12 +70,12 @@ def _one(step: str, date: str, root: Path, config: Path, sat: str, warm: bool) -
     spec = importlib.util.spec_from_file_location(step, REPO / "scripts" / f"{step}.py")
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
-    tic = time.perf_counter()
+    tic, cpu = time.perf_counter(), time.process_time()
     with IntegrationCounter() as counter:
         script.run(job)
-    wall = time.perf_counter() - tic
+    wall, cpu = time.perf_counter() - tic, time.process_time() - cpu
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(json.dumps({"wall_s": wall, "integrations": counter.integrations,
+    print(json.dumps({"wall_s": wall, "cpu_s": cpu, "integrations": counter.integrations,
                       "compiled": counter.compiled, "evaluations": counter.evaluations,
                       "peak_mb": peak_mb}))
 
@@ -120,7 +121,8 @@ def main() -> None:
                                      env=env)
                 runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
             best = min(runs, key=lambda r: r["wall_s"])
-            print(f"  {step:10s} wall {best['wall_s']:6.2f} s  {best['integrations']} "
+            print(f"  {step:10s} wall {best['wall_s']:6.2f} s (CPU {best['cpu_s']:6.2f} s)  "
+                  f"{best['integrations']} "
                   f"integrations ({best['compiled']} compiled), {best['evaluations']} force "
                   f"evaluations, peak memory {best['peak_mb']:.0f} MB")
 

@@ -12,6 +12,7 @@ from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings
 from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc
 from leopod.estimation.float_pod import PodSettings
+from leopod.estimation.linearisation import read_linearisation
 from leopod.estimation.write import ARC_PRODUCTS, gate_arc, log_arc, write_arc
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
@@ -34,8 +35,9 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     """Ambiguity-fixed POD of the arc of ``date`` from ``inputs`` into ``outputs``.
 
     ``inputs``: those of scripts/float_pod.py plus ``table`` (ambiguity step) and
-    ``float_orbit``, ``float_parameters``, ``float_ambiguities``, ``float_residuals`` (float
-    POD); ``outputs``: the paths of ``ARC_PRODUCTS`` and ``ARC_FIGURES``; ``gate`` (the
+    ``float_orbit``, ``float_parameters``, ``float_ambiguities``, ``float_residuals`` and
+    optionally ``linearisation`` (float POD; without it the orbit is integrated again at the
+    float estimates); ``outputs``: the paths of ``ARC_PRODUCTS`` and ``ARC_FIGURES``; ``gate`` (the
     quality gate, :mod:`leopod.validation.quality_gate`) marks the day in the log and the
     parameters file.
     """
@@ -44,17 +46,21 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
                                         ambiguities=inputs["float_ambiguities"],
                                         residuals=inputs["float_residuals"],
                                         orbit=inputs["float_orbit"])
+    linearisation = (read_linearisation(load_netcdf(inputs["linearisation"],
+                                                    "float POD linearisation"))
+                     if "linearisation" in inputs else None)
     fixed = run_fixed_arc(date, data, signals, arc, pod, forces, pco_body_m,
                           load_netcdf(inputs["table"], "ambiguity table"), float_solution, ambiguity,
                           code_correction=code_correction, yaw_flips=yaw_flips,
-                          attitude=attitude)
+                          attitude=attitude, linearisation=linearisation)
     log_arc(fixed.arc, f"fixed POD {date}")
     if gate is not None:
         gate_arc(fixed.arc, gate, f"fixed POD {date}", parse_date_id(date), arc.sampling_s)
     write_arc(fixed.arc, **{k: outputs[k] for k in ARC_PRODUCTS}, step="fixed_pod",
               kind="ambiguity-fixed", title=title, sp3_id=sp3_id,
               inputs=[inputs["table"], inputs["float_orbit"], inputs["float_parameters"],
-                      *data.files], day=parse_date_id(date),
+                      *([inputs["linearisation"]] if linearisation else []), *data.files],
+              day=parse_date_id(date),
               coordinate_system=data.coordinate_system)
     plot_arc(fixed.arc.orbit, fixed.arc.residuals, **{k: outputs[k] for k in ARC_FIGURES},
              title=title, solution="ambiguity-fixed", reference="float POD orbit")

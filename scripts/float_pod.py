@@ -10,7 +10,7 @@ from leopod.codebias.apply import CodeCorrection
 from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcSettings, run_arc
 from leopod.estimation.float_pod import PodSettings
-from leopod.estimation.write import ARC_PRODUCTS, gate_arc, log_arc, write_arc
+from leopod.estimation.write import ARC_PRODUCTS, gate_arc, log_arc, write_arc, write_linearisation
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.attitude import load_leo_attitude
 from leopod.plots.pod import ARC_FIGURES, plot_arc
@@ -32,7 +32,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
 
     ``inputs``: lists ``obs``, ``quality``, ``leo``, ``orbit``, ``clock`` and optional
     ``antenna``, ``code_bias`` paths; ``outputs``: the paths of ``ARC_PRODUCTS`` and
-    ``ARC_FIGURES``.
+    ``ARC_FIGURES``, and optionally ``linearisation`` (the last linearisation, for the fixed
+    POD: :mod:`leopod.estimation.linearisation`).
     The settings are those of :func:`leopod.estimation.arc.run_arc`; ``gate`` (the quality
     gate, :mod:`leopod.validation.quality_gate`) marks the day in the log and the parameters
     file.
@@ -46,6 +47,8 @@ def main(date: str, inputs: Mapping, outputs: Mapping, *, signals: SystemSignals
     write_arc(solution, **{k: outputs[k] for k in ARC_PRODUCTS}, step="float_pod",
               kind="float", title=title, sp3_id=sp3_id, inputs=data.files,
               day=parse_date_id(date), coordinate_system=data.coordinate_system)
+    if "linearisation" in outputs:
+        write_linearisation(solution, outputs["linearisation"], title=title, inputs=data.files)
     plot_arc(solution.orbit, solution.residuals, **{k: outputs[k] for k in ARC_FIGURES},
              title=title, solution="float", reference="a-priori (code-only) orbit")
 

@@ -16,7 +16,7 @@ from leopod.dynamics.forces import (
     PointMassGravity,
     PseudoStochasticPulses,
 )
-from leopod.dynamics.integrator import integrate, pulse_partials
+from leopod.dynamics.integrator import integrate, pulse_partials, sampled_trajectory
 from leopod.frames.rtn import rtn_basis
 
 #: Near-circular LEO at 6878 km, inclined 87° (GCRF) [m, m/s].
@@ -58,3 +58,27 @@ def test_pulse_partials_equal_direct_formula(t0_s):
         assert not got.transpose(0, 2, 1)[~acts].any()       # exact zeros where no pulse acts
         np.testing.assert_allclose(got, ref[:, :n_rows], rtol=1e-13,
                                    atol=1e-13 * np.abs(ref).max())
+
+
+def test_sampled_trajectory_answers_at_its_epochs_only():
+    # authority: the integrated trajectory itself. A trajectory sampled at some epochs (the
+    # float POD's, stored for the fixed POD) gives the same bits there - states, partials and
+    # the pulse partials built from them - and refuses any other epoch
+    model = ForceModel([PointMassGravity(), ConstantAcceleration([0.0, 5400.0, 10800.0])])
+    params = np.array([1e-8, -2e-8, 3e-8, 0.0, 1e-8, 0.0])
+    epochs = np.arange(900.0, 21600.0, 900.0)
+    t0_s = 7200.0
+    epochs = epochs[epochs != t0_s]
+    traj = integrate(model, t0_s, STATE0, params, [0.0, 21600.0], step_s=30.0)
+    t = np.unique(np.concatenate([np.linspace(0.0, 21600.0, 97) + 0.25, epochs]))
+    t = t[(t <= 21600.0) & (t != t0_s)]
+    at = traj.at(t)
+    sampled = sampled_trajectory(t, at.augmented, t0_s, traj.parameters, traj.initial)
+    ask = np.concatenate([t[::-3], [t0_s]])
+    np.testing.assert_array_equal(sampled.at(ask).augmented, traj.at(ask).augmented)
+    np.testing.assert_array_equal(pulse_partials(sampled, epochs, ask),
+                                  pulse_partials(traj, epochs, ask))
+    with pytest.raises(ValueError, match="known at its epochs only"):
+        sampled.at([t[3] + 1e-6])
+    with pytest.raises(ValueError, match="outside the integrated span"):
+        sampled.at([t[-1] + 1.0])

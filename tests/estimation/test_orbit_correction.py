@@ -21,7 +21,7 @@ from leopod.dynamics.forces import (
 from leopod.dynamics.integrator import apply_pulses
 from leopod.dynamics.model_files import resolve_model_paths
 from leopod.estimation.float_pod import pulse_epochs
-from leopod.estimation.orbit_correction import CorrectedOrbit
+from leopod.estimation.orbit_correction import CorrectedOrbit, epoch_covariance
 
 T_REF = np.datetime64("2023-01-01T00:00:00", "ns")
 ARC_S = 6 * 3600.0
@@ -103,3 +103,21 @@ def test_correction_must_match_the_parameters(arc):
     model, pulses, _, _, base = arc
     with pytest.raises(ValueError, match="correction must have shape"):
         CorrectedOrbit(base, pulses, estimated_parameters(model), np.zeros(7))
+
+
+def test_epoch_covariance_equals_the_full_product(arc):
+    # analytic: G_e Q G_eᵀ per epoch, summed over the leading non-zero columns of blocks of
+    # epochs, equals the full product (the dropped columns are exact zeros: the pulses after
+    # an epoch) up to rounding; a wrong block boundary or column count would not
+    model, pulses, _, _, base = arc
+    est = estimated_parameters(model)
+    k = 6 + int(est.sum()) + 3 * pulses.epochs_s.size
+    _, g = CorrectedOrbit(base, pulses, est, np.zeros(k)).at(np.linspace(0.0, ARC_S, 997))
+    g = g[:, :3]
+    rng = np.random.default_rng(5)
+    a = rng.standard_normal((g.shape[2], g.shape[2]))
+    q = a @ a.T
+    full = np.einsum("mik,kl,mjl->mij", g, q, g)
+    assert np.mean(g == 0.0) > 0.2                 # there are trailing zero columns to skip
+    np.testing.assert_allclose(epoch_covariance(g, q), full, rtol=1e-12,
+                               atol=1e-12 * np.abs(full).max())

@@ -947,6 +947,17 @@ def retro_offset(wildcards):
 # --- resources functions -------------------------------------------------------------------
 
 
+def float_linearisation():
+    """The float POD's last linearisation (orbit and partials at the fixed POD's epochs,
+    ~20 MB for a 30-h arc), which fixed_pod reads instead of integrating again
+    (leopod.estimation.linearisation): an output of float_pod and an input of fixed_pod when
+    the campaign has a fixed solution. A regular file, not temp(): fixed_pod reruns alone
+    (e.g. after an ambiguity setting changed) without rerunning float_pod."""
+    if "fixed_pod" not in solutions():
+        return {}
+    return {"linearisation": result_path("float_pod/{sat}/{date}_linearisation.nc")}
+
+
 def pod_outputs(step, category):
     """Products and report figures of a POD step (float_pod or fixed_pod), named as
     scripts/float_pod.py and scripts/fixed_pod.py write them."""

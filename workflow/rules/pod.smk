@@ -7,6 +7,7 @@ rule float_pod:
         code=library_code("float_pod"),
     output:
         **pod_outputs("float_pod", "Float POD"),
+        **float_linearisation(),
     log:
         log_path("float_pod/{sat}/{date}.log"),
     benchmark:
@@ -87,6 +88,7 @@ use rule float_pod as fixed_pod with:
         float_parameters=rules.float_pod.output.parameters,
         float_ambiguities=rules.float_pod.output.ambiguities,
         float_residuals=rules.float_pod.output.residuals,
+        **float_linearisation(),
         script=f"{workflow.basedir}/scripts/fixed_pod.py",
         code=library_code("fixed_pod"),
     output:

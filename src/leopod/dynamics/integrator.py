@@ -79,7 +79,7 @@ from leopod.dynamics.gauss_jackson import (
 from leopod.frames.rtn import rtn_basis
 
 __all__ = ["DEFAULT_ORDER", "DEFAULT_STEP_S", "Trajectory", "apply_pulses", "integrate",
-           "pulse_partials"]
+           "pulse_partials", "sampled_trajectory"]
 
 log = logging.getLogger(__name__)
 
@@ -278,6 +278,76 @@ class Trajectory:
                 y[sel] = arc.evaluate(t[sel])
         return _trajectory_from(t, y, self.t0_s, self.parameters, self.n_evaluations,
                                 self._y0, self._arcs)
+
+
+    @property
+    def augmented(self) -> np.ndarray:
+        """``[y | Φ | S]`` at the output epochs, shape (m, 6, 1 + 6 + P) (partials needed):
+        what :func:`sampled_trajectory` takes back."""
+        if self.stm is None:
+            raise ValueError("a trajectory without partials has no augmented matrices")
+        return np.concatenate([self.states[:, :, None], self.stm, self.sensitivity], axis=2)
+
+    @property
+    def initial(self) -> np.ndarray:
+        """``[y | Φ | S]`` at t0, shape (6, C)."""
+        return self._y0
+
+
+@dataclass
+class _SampledSegment:
+    """Augmented matrices known at listed epochs only (:func:`sampled_trajectory`)."""
+
+    t_start: float
+    t_end: float
+    t_s: np.ndarray
+    y: np.ndarray
+
+    def evaluate(self, t_s: np.ndarray) -> np.ndarray:
+        i = np.clip(np.searchsorted(self.t_s, t_s), 0, self.t_s.size - 1)
+        missing = self.t_s[i] != t_s
+        if missing.any():
+            raise ValueError(f"a sampled trajectory is known at its epochs only, not at "
+                             f"{t_s[missing][:3]} s ({int(missing.sum())} epochs)")
+        return self.y[i].copy()
+
+
+def sampled_trajectory(t_s, augmented, t0_s: float, parameters, initial) -> Trajectory:
+    """A trajectory known at given epochs only, e.g. an integration stored in a file.
+
+    Its :meth:`Trajectory.at` returns the stored values at any of the epochs ``t_s`` (same
+    bits) and refuses other epochs with a ``ValueError``: it serves computations that ask
+    for exactly the epochs it was sampled at (the fixed POD at those of the float POD,
+    :mod:`leopod.estimation.linearisation`).
+
+    Parameters
+    ----------
+    t_s : array_like, shape (m,)
+        Epochs [TT s since the reference epoch], increasing.
+    augmented : array_like, shape (m, 6, C)
+        ``[y | Φ | S]`` at ``t_s`` (:attr:`Trajectory.augmented`).
+    t0_s : float
+        Epoch of the initial state [TT s].
+    parameters : list of str
+        Names of the ``C − 7`` sensitivity columns.
+    initial : array_like, shape (6, C)
+        ``[y | Φ | S]`` at t0 (:attr:`Trajectory.initial`).
+    """
+    t = np.asarray(t_s, dtype=float)
+    y = np.asarray(augmented, dtype=float)
+    if t.ndim != 1 or np.any(np.diff(t) <= 0):
+        raise ValueError("sampled trajectory: epochs must increase")
+    if y.shape[:2] != (t.size, 6) or y.shape[2] != _N_STATE_COLUMNS + len(parameters):
+        raise ValueError(f"sampled trajectory: augmented matrices of shape {y.shape} do not "
+                         f"fit {t.size} epochs and {len(parameters)} parameters")
+    arcs = []
+    for direction in (1, -1):
+        sel = (t - t0_s) * direction > 0
+        if sel.any():
+            ends = (float(t0_s), float(t[sel][-1] if direction > 0 else t[sel][0]))
+            arcs.append(_Arc(direction, [_SampledSegment(*ends, t[sel], y[sel])]))
+    return _trajectory_from(np.empty(0), np.empty((0,) + y.shape[1:]), t0_s, parameters, 0,
+                            np.asarray(initial, dtype=float), arcs).at(t)
 
 
 def _trajectory_from(t, y, t0_s, parameters, n_evaluations, y0, arcs) -> Trajectory:

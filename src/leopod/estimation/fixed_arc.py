@@ -4,7 +4,9 @@ The single differences that the ambiguity step fixed and chose as independent
 (``constrained`` in its table, :func:`leopod.ambiguity.resolve.resolve_arc`) become tight
 constraints of the POD linearised once at the float solution
 (:class:`leopod.estimation.float_pod.FixedPod`: one orbit integration and one observation
-model per arc, at the float estimates, clocks and outliers; no dynamic fit). Fixes that
+model per arc, at the float estimates, clocks and outliers; no dynamic fit; with the float
+POD's last linearisation, :mod:`leopod.estimation.linearisation`, no integration either:
+the orbit and its partials are the float POD's own). Fixes that
 raise the phase residuals of their passes (:func:`leopod.ambiguity.screening.degraded_passes`)
 have their constraints dropped and the same linearised system is solved again, at most
 ``max_rejection_rounds`` times.
@@ -25,10 +27,12 @@ from leopod.codebias.apply import CodeCorrection
 from leopod.dynamics.force_config import ForceModelSettings
 from leopod.estimation.arc import ArcData, ArcOutputs, ArcSettings, arc_outputs, setup_arc
 from leopod.estimation.float_pod import FixedPod, PodSettings
+from leopod.estimation.linearisation import FloatLinearisation, reception_epochs_s
 from leopod.estimation.outputs import pod_start
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.io.netcdf import load_netcdf
 from leopod.signals import SystemSignals
+from leopod.time.calendar import seconds_since
 
 __all__ = ["FixedArc", "FixedSolutions", "FloatSolution", "constraints_of", "run_fixed_arc"]
 
@@ -70,13 +74,17 @@ class FixedSolutions:
     attitude
         As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
     float_solution : FloatSolution
+    linearisation : FloatLinearisation, optional
+        The float POD's last linearisation at this arc's epochs: no orbit integration
+        (None: one integration at the float estimates).
     """
 
     def __init__(self, date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
                  pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
                  float_solution: FloatSolution, *,
                  code_correction: CodeCorrection | None = None, yaw_flips=None, eop=None,
-                 limits=None, attitude: LeoAttitude | None = None):
+                 limits=None, attitude: LeoAttitude | None = None,
+                 linearisation: FloatLinearisation | None = None):
         self.problem = setup_arc(date, data, signals, arc, forces, pco_body_m,
                                  code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
                                  limits=limits, apriori_orbit=float_solution.orbit.pos_itrf_m,
@@ -84,8 +92,14 @@ class FixedSolutions:
         start = pod_start(float_solution.parameters, float_solution.ambiguities,
                           float_solution.residuals, self.problem.observations)
         p = self.problem
+        float_orbit = None
+        if linearisation is not None:
+            po = p.observations
+            linearisation.check(p.t_ref, reception_epochs_s(
+                seconds_since(po.times, p.t_ref), start.clk_rx_m, po.clk_rx_m))
+            float_orbit = (linearisation.trajectory, linearisation.correction)
         self._pod = FixedPod(p.observations, p.products, p.force_model, p.t_ref, pod, start,
-                             eop=eop, **p.antennas)
+                             eop=eop, float_orbit=float_orbit, **p.antennas)
 
     @property
     def pod(self) -> FixedPod:
@@ -132,7 +146,8 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
                   pod: PodSettings, forces: ForceModelSettings, pco_body_m: Mapping | None,
                   table: xr.Dataset, float_solution: FloatSolution, settings: ArSettings, *,
                   code_correction: CodeCorrection | None = None, yaw_flips=None,
-                  eop=None, attitude: LeoAttitude | None = None, limits=None) -> FixedArc:
+                  eop=None, attitude: LeoAttitude | None = None, limits=None,
+                  linearisation: FloatLinearisation | None = None) -> FixedArc:
     """Ambiguity-fixed POD of the arc of ``date`` (module docstring).
 
     Parameters
@@ -140,6 +155,8 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
     date, data, signals, arc, pod, forces, pco_body_m, code_correction, yaw_flips, eop,
     attitude, limits
         As for :func:`leopod.estimation.arc.run_arc` (those of the float solution).
+    linearisation : FloatLinearisation, optional
+        As for :class:`FixedSolutions`.
     table : xarray.Dataset
         Single differences of the ambiguity step.
     float_solution : FloatSolution
@@ -159,7 +176,7 @@ def run_fixed_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSett
         log.warning("no fixed ambiguity: the fixed solution equals the float one")
     fixed = FixedSolutions(date, data, signals, arc, pod, forces, pco_body_m, float_solution,
                            code_correction=code_correction, yaw_flips=yaw_flips, eop=eop,
-                           limits=limits, attitude=attitude)
+                           limits=limits, attitude=attitude, linearisation=linearisation)
     solution = fixed.solve(constraints)
     rounds = 0
     for _ in range(settings.max_rejection_rounds):

@@ -61,11 +61,17 @@ from leopod.dynamics.forces import (
     constraint_sigmas,
     estimated_parameters,
 )
-from leopod.dynamics.integrator import Trajectory, apply_pulses, integrate, pulse_partials
+from leopod.dynamics.integrator import (
+    DEFAULT_STEP_S,
+    Trajectory,
+    apply_pulses,
+    integrate,
+    pulse_partials,
+)
 from leopod.dynamics.orbit_fit import STATE_NAMES
 from leopod.estimation.normals import NormalEquations, Rows, accumulate, epoch_clocks, solve
 from leopod.estimation.obsmodel import ModelResult, Pairs, compute_model
-from leopod.estimation.orbit_correction import CorrectedOrbit
+from leopod.estimation.orbit_correction import CorrectedOrbit, epoch_covariance
 from leopod.estimation.vce import group_redundancy
 from leopod.frames.earth_rotation import gcrf_from_itrf_matrices
 from leopod.frames.leo_attitude import LeoAttitude
@@ -89,6 +95,11 @@ _MIN_ELEVATION_FOR_WEIGHT_DEG = 1.0
 #: Largest shift of the reception times [ns] over which the ITRF -> GCRF matrices are carried
 #: by the Earth rotation angle alone (_ReceptionRotation).
 _ROTATION_CARRY_NS = 1000
+#: Margin [s] by which an integration spans the reception epochs and the nominal epochs at
+#: both ends, so that the orbit can be evaluated at the reception epochs of later clock
+#: estimates without a new integration (the fixed POD at the float POD's final clocks,
+#: leopod.estimation.linearisation): 1 ms, a clock change of 300 km.
+_SPAN_MARGIN_S = 1e-3
 
 
 @dataclass(frozen=True)
@@ -353,8 +364,7 @@ class PodResult:
         g = g[:, :3]
         if g.shape[2] < k:                       # PCO-Z column: no orbit partial
             g = np.concatenate([g, np.zeros(g.shape[:2] + (k - g.shape[2],))], axis=2)
-        cov = np.einsum("mil,mjl->mij", g @ self.covariance[:k, :k], g)
-        return states, cov, g
+        return states, epoch_covariance(g, self.covariance[:k, :k]), g
 
 
 def pulse_epochs(t_start_s: float, t_end_s: float, interval_s: float | None) -> np.ndarray:
@@ -506,9 +516,15 @@ class _Problem:
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
-        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs; forces
-        tabulated along a reference orbit (drag) follow it from then on."""
-        t_out = np.append(t_eval, self.t_nom_s[-1])
+        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs, both by
+        at least ``_SPAN_MARGIN_S``, to ends on the integrator's step grid from t0 (so that
+        the last segment keeps whole steps and the pulses in it fall on nodes: no restarts);
+        forces tabulated along a reference orbit (drag) follow it from then on."""
+        step = DEFAULT_STEP_S
+        lo = min(t_eval.min(), self.t_nom_s[0]) - _SPAN_MARGIN_S
+        hi = max(t_eval.max(), self.t_nom_s[-1]) + _SPAN_MARGIN_S
+        t_out = np.append(t_eval, [self.t0 - step * np.ceil((self.t0 - lo) / step),
+                                   self.t0 + step * np.ceil((hi - self.t0) / step)])
         if self.pulses is None:
             traj = integrate(self.fm, self.t0, state0, self.params, t_out)
         else:
@@ -565,21 +581,33 @@ class _Problem:
         return self.constraint_weight * (apriori - self.current_vector(state0))
 
     # -- observations -----------------------------------------------------------------------
-    def linearise(self, state0: np.ndarray):
-        """Integrate, model and build the observation rows at the current estimates."""
+    def linearise(self, state0: np.ndarray, orbit: CorrectedOrbit | None = None):
+        """Integrate, model and build the observation rows at the current estimates.
+
+        With ``orbit`` (the orbit at these estimates and its partials, e.g. the float POD's,
+        :mod:`leopod.estimation.linearisation`) nothing is integrated: the states and
+        partials are those of ``orbit`` and the trajectory returned is its own.
+        """
         dt_rx_s = np.nan_to_num(self.clk_rx_m) / C_LIGHT_M_S
         t_eval = self.t_nom_s - dt_rx_s
-        traj = self.integrate(state0, t_eval)
+        if orbit is None:
+            traj = self.integrate(state0, t_eval)
+            states = traj.states
+            g = _position_partials(traj, self.pulses, self.est, self.k)
+        else:
+            traj = orbit.trajectory
+            states, partials = orbit.at(t_eval)
+            g = np.zeros((t_eval.size, 3, self.k))
+            g[:, :, :self.k_orbit] = partials[:, :3]
         times_true = self.obs.times - (dt_rx_s * 1e9).round().astype("timedelta64[ns]")
         rot = self.rotation(times_true)
         pco = self.leo_pco + np.array([0.0, 0.0, self.pco_dz])
-        model = compute_model(self.pairs, self.t_nom_prod_s - dt_rx_s, traj.states[:, :3],
-                              traj.states[:, 3:], rot, self.products, self.sun,
+        model = compute_model(self.pairs, self.t_nom_prod_s - dt_rx_s, states[:, :3],
+                              states[:, 3:], rot, self.products, self.sun,
                               leo_pco_body_m=pco, sat_pco_body_m=self.sat_pco,
                               sat_pcv_m=self.sat_pcv,
                               nl_wavelength_m=self.obs.nl_wavelength_m,
                               leo_attitude=self.leo_attitude, leo_antenna=self.leo_antenna)
-        g = _position_partials(traj, self.pulses, self.est, self.k)
         return traj, model, g
 
     def rows(self, model: ModelResult, g: np.ndarray):
@@ -952,18 +980,34 @@ class FixedPod:
         As for :func:`float_pod` (the same as for the float solution).
     start : PodStart
         The float solution of the arc.
+    float_orbit : tuple (Trajectory, ndarray), optional
+        The float solution's orbit as its last integration, sampled at least at the epochs
+        of this solution (reception epochs of the float clocks, output and pulse epochs), and
+        its last correction (:class:`leopod.estimation.linearisation.FloatLinearisation`):
+        the linearisation without an integration. None: integrate at the float estimates.
     """
 
     def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
                  t_ref, settings: PodSettings, start: PodStart, *,
                  eop: EarthOrientation | None = None, leo_pco_body_m=None,
                  sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
-                 leo_attitude: LeoAttitude | None = None, leo_antenna=None):
+                 leo_attitude: LeoAttitude | None = None, leo_antenna=None,
+                 float_orbit: tuple | None = None):
         self._prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
                               sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna)
         self._start = start
-        _announce("fixed POD (linearised at the float solution)", self._prob)
-        self._traj, self._model, self._g = self._prob.linearise(self._prob.load(start))
+        p = self._prob
+        _announce("fixed POD (linearised at the float solution)", p)
+        orbit = None
+        self._base = np.zeros(p.k_orbit)     # correction of the trajectory at the estimates
+        if float_orbit is not None:
+            orbit = CorrectedOrbit(float_orbit[0], p.pulses, p.est, float_orbit[1])
+            self._base = orbit.correction
+            log.info("fixed POD: orbit and partials of the float POD's last integration, "
+                     "no integration")
+        self._traj, self._model, self._g = p.linearise(p.load(start), orbit)
+        # smallest orbit radius [m], scale of the linearisation error |Δr|²/r
+        self._radius_m = float(np.min(np.linalg.norm(self._traj.states[:, :3], axis=1)))
 
     def solve(self, ambiguity_constraints=None) -> PodResult:
         """The solution with the constraints ``(pass_i, pass_j, value_m, sigma_m)``.
@@ -982,8 +1026,7 @@ class FixedPod:
         prob = self._prob
         state = prob.load(self._start)       # every solve starts from the float estimates
         sol = _solve_linearised(prob, state, self._model, self._g, True, ambiguity_constraints)
-        radius_m = float(np.min(np.linalg.norm(self._traj.states[:, :3], axis=1)))
-        second_order_m = sol.shift_m**2 / radius_m
+        second_order_m = sol.shift_m**2 / self._radius_m
         converged = second_order_m < prob.settings.tolerance_m
         log.info("fixed solution: max position correction %.4f m (linearisation error ~%.1e "
                  "m), rejected %d code / %d phase", sol.shift_m, second_order_m,
@@ -993,7 +1036,8 @@ class FixedPod:
                         "leaves a linearisation error of ~%.1e m, above tolerance_m",
                         sol.shift_m, second_order_m)
         state = _update(prob, state, sol)
-        orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, sol.dx[:prob.k_orbit])
+        orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est,
+                               self._base + sol.dx[:prob.k_orbit])
         return _result("fixed POD", prob, state, orbit, self._model, sol, 1, converged)
 
     def normals(self, ambiguity_constraints=None, columns=None) -> ArcNormals:
@@ -1051,9 +1095,8 @@ class FixedPod:
         sol = _Solution(rows=sol.rows, pair=sol.pair, is_phase=sol.is_phase, active=sol.active,
                         dx=dx, cov=covariance, clocks=clocks, residuals=res, shift_m=shift)
         state = _update(prob, normals._state.copy(), sol)
-        orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, dx[:prob.k_orbit])
-        radius_m = float(np.min(np.linalg.norm(self._traj.states[:, :3], axis=1)))
-        converged = shift**2 / radius_m < prob.settings.tolerance_m
+        orbit = CorrectedOrbit(self._traj, prob.pulses, prob.est, self._base + dx[:prob.k_orbit])
+        converged = shift**2 / self._radius_m < prob.settings.tolerance_m
         return _result(label, prob, state, orbit, self._model, sol, 1, converged)
 
 

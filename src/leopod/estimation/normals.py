@@ -49,7 +49,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-__all__ = ["NormalEquations", "Rows", "accumulate", "epoch_clocks", "solve"]
+__all__ = ["NormalEquations", "Rows", "accumulate", "epoch_clocks", "leading_blocks", "solve"]
 
 #: Blocks of consecutive epochs of the ``N_oo`` sum: one matrix product each (few calls keep
 #: the overhead of threaded BLAS low; 16 blocks do 41 % of the full product on GRACE-A
@@ -137,18 +137,35 @@ def _quadratic_sum(p: np.ndarray, c: np.ndarray) -> np.ndarray:
     to the last one that is non-zero in the block (the columns after it contribute exact
     zeros).
     """
-    m, k = p.shape[0], p.shape[2]
+    k = p.shape[2]
     cp = np.einsum("mij,mjk->mik", c, p)
-    nonzero = np.any(p != 0.0, axis=1)                                   # (m, k)
     out = np.zeros((k, k))
-    size = max(-(-m // _N_BLOCKS), 1)
+    for block, n in leading_blocks(p):
+        out[:n, :n] += p[block, :, :n].reshape(-1, n).T @ cp[block, :, :n].reshape(-1, n)
+    return out
+
+
+def leading_blocks(p: np.ndarray, n_blocks: int = _N_BLOCKS):
+    """Blocks of consecutive epochs of partials ``p`` (m, d, k) and, for each, the number of
+    leading columns up to the last one that is non-zero in the block (blocks of zeros only
+    are left out): products over a block may stop there, the columns after it being exact
+    zeros (pulses after the block, piecewise parameters of later intervals).
+
+    Yields
+    ------
+    block : slice
+        Epochs of the block (``n_blocks`` blocks of equal size, the last one shorter).
+    n : int
+        Leading columns to keep, 1 ... k.
+    """
+    m = p.shape[0]
+    nonzero = np.any(p != 0.0, axis=1)                                   # (m, k)
+    size = max(-(-m // n_blocks), 1)
     for start in range(0, m, size):
         block = slice(start, start + size)
         columns = np.flatnonzero(nonzero[block].any(axis=0))
         if columns.size:
-            n = columns[-1] + 1
-            out[:n, :n] += p[block, :, :n].reshape(-1, n).T @ cp[block, :, :n].reshape(-1, n)
-    return out
+            yield block, int(columns[-1]) + 1
 
 
 def accumulate(rows: Rows, extra: sp.spmatrix | None = None) -> NormalEquations:

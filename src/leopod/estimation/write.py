@@ -9,12 +9,13 @@ import numpy as np
 
 from leopod import __version__
 from leopod.estimation.arc import ArcOutputs
+from leopod.estimation.linearisation import linearisation_dataset
 from leopod.estimation.outputs import sp3_dataset
 from leopod.io.netcdf import write_netcdf
 from leopod.io.sp3_write import write_sp3
 from leopod.validation.quality_gate import GateSettings, Verdict, check, pod_figures, stamp
 
-__all__ = ["ARC_PRODUCTS", "gate_arc", "log_arc", "write_arc"]
+__all__ = ["ARC_PRODUCTS", "gate_arc", "log_arc", "write_arc", "write_linearisation"]
 
 #: The files :func:`write_arc` writes (its path arguments).
 ARC_PRODUCTS = ("orbit", "sp3", "sp3_arc", "residuals", "parameters", "ambiguities")
@@ -103,3 +104,13 @@ def write_arc(arc: ArcOutputs, *, orbit, sp3, sp3_arc, residuals, parameters, am
                 "formal sigmas")
         write_sp3(sp3_dataset(arc.orbit, sp3_id, day=selected), path, orbit_type="FIT",
                   coordinate_system=coordinate_system, comments=tuple(textwrap.wrap(text, 77)))
+
+
+def write_linearisation(arc: ArcOutputs, path, *, title: str, inputs) -> None:
+    """Write the float POD's last linearisation for the fixed POD
+    (:mod:`leopod.estimation.linearisation`), uncompressed (doubles that do not compress,
+    read once)."""
+    write_netcdf(linearisation_dataset(arc.result, arc.observations, arc.orbit.time.values),
+                 path, step="float_pod", inputs=inputs, time_system="GPS",
+                 reference_frame="GCRF", title=f"float POD linearisation {title}",
+                 compress=False)

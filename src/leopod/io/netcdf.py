@@ -66,7 +66,8 @@ class atomic_path:
 
 def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
                  inputs: Iterable[str | Path] = (), time_system: str | None = None,
-                 reference_frame: str | None = None, title: str | None = None) -> Path:
+                 reference_frame: str | None = None, title: str | None = None,
+                 compress: bool = True) -> Path:
     """Write a Dataset with leopod's standard metadata and encoding, atomically.
 
     Parameters
@@ -87,6 +88,9 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
         Reference frame of positions (e.g. ``"ITRF"``, ``"GCRF"``, ``"antenna"``).
     title : str, optional
         Human-readable title (CF ``title``; default: ``"leopod <step> product"``).
+    compress : bool, optional
+        Lossless compression of the numeric variables (default); False for a large file of
+        doubles that hardly compress and is read once (compression would only cost time).
 
     Returns
     -------
@@ -127,7 +131,7 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
         enc = {}
         if np.issubdtype(var.dtype, np.datetime64):
             enc = {"units": TIME_UNITS, "calendar": "proleptic_gregorian", "dtype": "float64"}
-        elif var.dtype.kind in "fiub" and var.ndim > 0:
+        elif compress and var.dtype.kind in "fiub" and var.ndim > 0:
             enc = dict(_COMPRESSION)
         if var.dtype.kind == "b":
             out[name] = var.astype("i1")

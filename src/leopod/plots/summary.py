@@ -22,6 +22,8 @@ The PNGs carry no software or time stamp, so repeated runs give identical bytes.
 
 from __future__ import annotations
 
+import re
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -31,7 +33,6 @@ import numpy as np
 import pandas as pd
 
 from leopod.plots import save_figure
-from leopod.validation.summary import AGGREGATE_ROWS
 
 __all__ = ["plot_fixing_rates", "plot_isb", "plot_pco_z"]
 
@@ -42,13 +43,16 @@ _MAX_DAY_TICKS = 10
 """Campaigns up to this many days get one labelled tick (``YYYY-DDD``) per day."""
 _RATE_MARGIN_PCT = 5.0
 """Space below the lowest fixing rate of a panel [%] (the top is 100 % plus a fifth of it)."""
+_DAY = re.compile(r"\d{4}-\d{3}")
+"""A day id (YYYY-DDD) in the summary table's date index."""
 _NOTE = {"ha": "center", "va": "center", "fontsize": 11, "color": "grey"}
 
 
 def _days(table: pd.DataFrame, solution: str) -> pd.DataFrame:
     """Daily rows of one solution, indexed by the day's noon (datetime64)."""
     rows = table.xs(solution, level="solution")
-    rows = rows.loc[[d for d in rows.index if d not in AGGREGATE_ROWS]]
+    # the daily rows (YYYY-DDD), not the rows of statistics over the days (mean, std, ...)
+    rows = rows.loc[[d for d in rows.index if _DAY.fullmatch(str(d))]]
     rows.index = pd.to_datetime(rows.index, format="%Y-%j") + pd.Timedelta(hours=12)
     return rows
 
