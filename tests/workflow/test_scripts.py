@@ -102,7 +102,8 @@ def test_campaign_summary_main_with_two_systems_and_pco_z(tmp_path):
         ds.phase_rms_C_mm.attrs["long_name"]
     assert float(ds.pco_z_cm[0]) == pytest.approx(1.69)
     html = outputs["html"].read_text()
-    assert "pco_z_sigma_cm" in html and "phase_rms_G_mm" in html and "0.71" in html
+    # readable headers (column_label) of the per-system and PCO-Z columns
+    assert "PCO-Z sigma" in html and "phase RMS G" in html and "0.71" in html
     assert outputs["pco_z_png"].read_bytes().startswith(b"\x89PNG")
     assert outputs["fixing_png"].read_bytes().startswith(b"\x89PNG")
     assert outputs["isb_png"].read_bytes().startswith(b"\x89PNG")     # "no ISB" note

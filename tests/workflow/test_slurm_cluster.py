@@ -25,6 +25,9 @@ from _campaign_config import default_config, output_digests
 from leopod.workflow import local_slurm
 
 LEOPOD = str(Path(sys.executable).with_name("leopod"))
+#: Both runs write the same `history` time (leopod.io.provenance follows SOURCE_DATE_EPOCH,
+#: https://reproducible-builds.org/specs/source-date-epoch/; 2019-01-01 00:00:00 UTC).
+REPRODUCIBLE = {"SOURCE_DATE_EPOCH": "1546300800"}
 
 pytestmark = [
     pytest.mark.slow,
@@ -61,11 +64,12 @@ def _cancel_first(rule_part: str, env: dict, done: threading.Event, cancelled: l
 def test_the_one_day_campaign_on_a_slurm_cluster_equals_a_local_run(tmp_path):
     local = _campaign(tmp_path / "local")
     proc = subprocess.run([LEOPOD, "run", str(local), "--directory", str(local.parent),
-                           "--cores", "2"], capture_output=True, text=True, timeout=1800)
+                           "--cores", "2"], capture_output=True, text=True, timeout=1800,
+                          env={**os.environ, **REPRODUCIBLE})
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
 
     cluster = tmp_path / "cluster"
-    env = {**os.environ, **local_slurm.start(cluster)}
+    env = {**os.environ, **REPRODUCIBLE, **local_slurm.start(cluster)}
     try:
         slurm = _campaign(tmp_path / "slurm")
         done, cancelled = threading.Event(), []

@@ -498,7 +498,7 @@ def test_failed_days_are_left_out_and_listed_with_their_reasons(tmp_path, capsys
     overlay = yaml.safe_load((tmp_path / "results/hy2b-sim/failed_days.yaml").read_text())
     assert list(overlay["exclude_days"]) == ["2019-002"]
     summary = (tmp_path / "results/hy2b-sim/summary/hy2b-sim.html").read_text()
-    assert "2019-002 float_pod: failed (excluded from the campaign: ingest: " in summary
+    assert "2019-002 float: failed (excluded from the campaign: ingest: " in summary
     table = pd.read_csv(tmp_path / "results/hy2b-sim/summary/hy2b-sim.csv")
     assert list(table.date[:3]) == ["2019-001", "2019-002", "2019-003"]
     assert table.quality_gate[1] == 2
