@@ -134,11 +134,29 @@ def _check(args) -> int:
     if not missing:
         print(f"  every input file named by path exists (below {directory})")
         return 0
-    for entry, files in missing.items():
-        shown = ", ".join(files[:3]) + (f" and {len(files) - 3} more" if len(files) > 3 else "")
-        print(f"  {entry}: {len(files)} file(s) missing: {shown}")
+    _print_missing(missing)
     print("days whose files are missing fail alone in a run; the others go on")
     return 1
+
+
+def _print_missing(missing: dict[str, list[str]], prefix: str = "  ", file=None) -> None:
+    """One line per config entry with missing input files (the first three named)."""
+    for entry, files in missing.items():
+        shown = ", ".join(files[:3]) + (f" and {len(files) - 3} more" if len(files) > 3 else "")
+        print(f"{prefix}{entry}: {len(files)} file(s) missing: {shown}", file=file)
+
+
+def _warn_missing(args) -> None:
+    """Before a run (a dry run too, which Snakemake plans without complaint: the files are
+    located by jobs): the input files of the campaign that do not exist, as warnings."""
+    try:
+        missing, _ = missing_inputs(_campaign(args), args.directory.resolve())
+    except ValueError:    # leopod check names campaign problems; Snakemake stops on them
+        return
+    if missing:
+        print("leopod run: warning: input files missing (their days will fail alone):",
+              file=sys.stderr)
+        _print_missing(missing, prefix="  warning: ", file=sys.stderr)
 
 
 def _snakemake(args, extra: Sequence[str]) -> list[str]:
@@ -160,6 +178,7 @@ def _run(args) -> int:
                   if (REPO / "profiles" / args.profile).is_dir() else args.profile]
     if args.exclude_failed:
         extra.append("--keep-going")
+    _warn_missing(args)
     cmd = _snakemake(args, [*extra, *args.snakemake])
     print(" ".join(cmd), flush=True)
     status = _execute(cmd, args.progress)

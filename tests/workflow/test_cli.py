@@ -149,3 +149,17 @@ def test_compare_without_a_common_span_fails_with_one_line(tmp_path):
     proc = _leopod("compare", orbit, reference, cwd=tmp_path)
     assert proc.returncode == 1
     assert proc.stderr.strip() == "leopod compare: the orbit and the reference have no common span"
+
+
+def test_a_dry_run_with_missing_inputs_warns_and_lists_them(tmp_path, capsys, monkeypatch):
+    # issue 23: Snakemake plans a dry run of a campaign whose files are missing without a word
+    # (the files are located by jobs); leopod run warns first, per entry, naming the files.
+    # Authority: the file system (the GRACE-A campaign's ../shared paths from an empty folder).
+    calls = []
+    monkeypatch.setattr("leopod.cli._execute", lambda cmd, progress: calls.append(cmd) or 0)
+    assert main(["run", str(GRACE), "--directory", str(tmp_path), "--", "-n"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: input files missing" in err
+    assert ("warning: satellites.grace-a.observations: 1 file(s) missing: "
+            "../shared/data/grace-a_2007-080/graa0800.07o.gz") in err
+    assert len(calls) == 1 and "-n" in calls[0]
