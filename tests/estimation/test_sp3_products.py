@@ -61,3 +61,28 @@ def test_output_epochs_start_on_the_first_grid_epoch_of_the_data():
     t = output_epochs(day + np.timedelta64(31, "s"), end, 30.0)
     assert t[0] == day + np.timedelta64(60, "s")
     assert np.all(np.diff(t) == np.timedelta64(30, "s"))
+
+
+def test_arc_output_epochs_extend_the_data_to_the_day_within_the_margin():
+    # analytic: GRACE-A 2007-080 data from 00:00:30 to 23:59:30, a one-day arc, 10-s output:
+    # with the default 60-s margin the orbit covers the day (00:00:00 to 23:59:50, 8640
+    # epochs);
+    # without a margin, the data span; a 30-h arc whose data fill it ends before its end
+    from leopod.estimation.arc import arc_output_epochs
+
+    day = np.datetime64("2007-03-21T00:00", "ns")
+    one_day = np.timedelta64(1, "D")
+    obs = np.arange(day + np.timedelta64(30, "s"), day + np.timedelta64(86371, "s"),
+                    np.timedelta64(30, "s"))
+    t = arc_output_epochs(obs, day, day + one_day, 10.0, 60.0)
+    assert t[0] == day and t[-1] == day + one_day - np.timedelta64(10, "s") and t.size == 8640
+    t = arc_output_epochs(obs, day, day + one_day, 10.0, 0.0)
+    assert t[0] == obs[0] and t[-1] == obs[-1]
+    # data ending 20 min before 24:00 are extended by the margin only
+    t = arc_output_epochs(obs[obs < day + np.timedelta64(85200, "s")], day, day + one_day,
+                          30.0, 60.0)
+    assert t[-1] == day + np.timedelta64(85200 - 30 + 60, "s")
+    start, end = day - np.timedelta64(3, "h"), day + one_day + np.timedelta64(3, "h")
+    obs30h = np.arange(start, end, np.timedelta64(30, "s"))
+    t = arc_output_epochs(obs30h, start, end, 30.0, 60.0)
+    np.testing.assert_array_equal(t, obs30h)

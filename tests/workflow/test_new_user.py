@@ -30,6 +30,7 @@ import threading
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -112,6 +113,18 @@ def test_a_new_user_runs_grace_a_from_an_archive_mirror(shared_data, tmp_path):
     assert done and done[-1][0] == done[-1][1]
     assert {"download_cod_orbit", "ingest", "float_pod", "kinematic_pod"} <= {
         rule for _, _, rule in done}
+
+    # the daily SP3 covers its day: 00:00:00 to the last epoch before 24:00 at the output
+    # step, although the GRACE-A data of 2007-080 start at 00:00:30 and end at 23:59:30 (the
+    # SP3-d convention of a daily product; georinex, an independent reader, reads it)
+    gr = pytest.importorskip("georinex")
+    step = float(yaml.safe_load(campaign.read_text()).get("pod", {}).get("output_step_s", 30.0))
+    sp3 = gr.load(work / FLOAT)
+    t = sp3.time.values
+    assert t[0] == np.datetime64("2007-03-21T00:00:00", "ns")
+    assert t[-1] == np.datetime64("2007-03-22T00:00:00", "ns") - np.timedelta64(int(step), "s")
+    assert np.all(np.diff(t) == np.timedelta64(int(step), "s"))
+    assert np.isfinite(sp3.position.values).all()
 
     proc = _leopod("compare", KINEMATIC, FLOAT, cwd=work)
     assert proc.returncode == 0, proc.stderr

@@ -376,7 +376,8 @@ def _cannonball(name: str, cfg, value: float | None, coefficient: float,
                                                      cfg.mass_kg)
 
 
-def _drag(cfg: DragSettings, env: ArcEnvironment, plates: Plates | None) -> Drag:
+def _drag(cfg: DragSettings, env: ArcEnvironment, span_s: tuple[float, float],
+          plates: Plates | None) -> Drag:
     kind = cfg.density or ("msis" if cfg.space_weather is not None else "harris_priester")
     if kind == "msis":
         if cfg.space_weather is None:
@@ -388,15 +389,16 @@ def _drag(cfg: DragSettings, env: ArcEnvironment, plates: Plates | None) -> Drag
     else:
         raise ValueError(f"force config 'drag': unknown density '{kind}' "
                          "(harris_priester or msis)")
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+    edges = interval_edges(*span_s, cfg.interval_s)
     plates = _plates("drag", cfg, plates)
     coef = _cannonball("drag", cfg, cfg.cd_area_mass_m2_kg, cfg.drag_coefficient, plates)
     return Drag(env, density, coef, edges,
                 plates=plates, apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
-def _srp(cfg: SrpSettings, env: ArcEnvironment, plates: Plates | None) -> SolarRadiation:
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+def _srp(cfg: SrpSettings, env: ArcEnvironment, span_s: tuple[float, float],
+         plates: Plates | None) -> SolarRadiation:
+    edges = interval_edges(*span_s, cfg.interval_s)
     plates = _plates("srp", cfg, plates)
     coef = _cannonball("srp", cfg, cfg.cr_area_mass_m2_kg, cfg.reflectivity_coefficient, plates)
     return SolarRadiation(env, coef, edges, shadow=cfg.shadow, r_earth_m=cfg.r_earth_m, plates=plates,
@@ -404,8 +406,8 @@ def _srp(cfg: SrpSettings, env: ArcEnvironment, plates: Plates | None) -> SolarR
 
 
 def _earth_radiation(cfg: EarthRadiationSettings, env: ArcEnvironment,
-                     plates: Plates | None) -> EarthRadiation:
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+                     span_s: tuple[float, float], plates: Plates | None) -> EarthRadiation:
+    edges = interval_edges(*span_s, cfg.interval_s)
     plates = _plates("earth_radiation", cfg, plates)
     coef = _cannonball("earth_radiation", cfg, cfg.cr_area_mass_m2_kg,
                        cfg.reflectivity_coefficient, plates)
@@ -413,8 +415,8 @@ def _earth_radiation(cfg: EarthRadiationSettings, env: ArcEnvironment,
                           apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
 
-def _empirical(cfg: EmpiricalSettings, env: ArcEnvironment) -> Empirical:
-    edges = interval_edges(env.t_start_s, env.t_end_s, cfg.interval_s)
+def _empirical(cfg: EmpiricalSettings, span_s: tuple[float, float]) -> Empirical:
+    edges = interval_edges(*span_s, cfg.interval_s)
     model = EmpiricalModel(edges, directions=tuple(cfg.directions), terms=tuple(cfg.terms))
     return Empirical(model, apriori=cfg.apriori, estimate=cfg.estimate, sigma=cfg.sigma)
 
@@ -447,7 +449,8 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
     eop : EarthOrientation, optional
         EOP (default: installed IERS data).
     environment : ArcEnvironment, optional
-        Grids to reuse (must cover the arc); built from ``settings.environment`` otherwise.
+        Grids to reuse (must cover the arc, may cover more: e.g. output epochs beyond the
+        observations); built from ``settings.environment`` over the arc otherwise.
     manoeuvres : sequence of Manoeuvre, optional
         Burns of the satellite (:func:`leopod.io.manoeuvre.read_manoeuvres`; epochs GPS time);
         those acting inside the arc are modelled when ``settings.manoeuvre`` is on.
@@ -472,12 +475,13 @@ def build_force_model(settings: ForceModelSettings, t_ref, t_start_s: float, t_e
                                  settings.relativity.de_sitter))
     macro = settings.macro_model
     plates = None if macro is None else Plates(macro, attitude, env)
+    span = (t_start_s, t_end_s)     # the estimated parameters' intervals start at t_start_s
     for cfg, make in ((settings.drag, _drag), (settings.srp, _srp),
                       (settings.earth_radiation, _earth_radiation)):
         if cfg is not None:
-            forces.append(make(cfg, env, plates))
+            forces.append(make(cfg, env, span, plates))
     if settings.empirical is not None:
-        forces.append(_empirical(settings.empirical, env))
+        forces.append(_empirical(settings.empirical, span))
     burns = None
     if settings.manoeuvre is not None:
         burns = Manoeuvres.of(manoeuvres, t_ref, t_start_s, t_end_s,

@@ -58,8 +58,8 @@ from leopod.settings import Settings
 from leopod.signals import SystemSignals
 from leopod.time.calendar import parse_date_id, seconds_since
 
-__all__ = ["ArcData", "ArcOutputs", "ArcProblem", "ArcSettings", "arc_limits", "arc_outputs",
-           "run_arc", "setup_arc"]
+__all__ = ["ArcData", "ArcOutputs", "ArcProblem", "ArcSettings", "arc_limits",
+           "arc_output_epochs", "arc_outputs", "run_arc", "setup_arc"]
 
 log = logging.getLogger(__name__)
 
@@ -79,6 +79,9 @@ class ArcSettings(Settings):
         Arc start before 00:00 and end after 24:00 of the day [s].
     output_step_s : float
         Step of the written orbit [s].
+    output_margin_s : float
+        The written orbit holds the epochs of its step inside the arc that are at most this
+        before the first or after the last observation [s] (:func:`arc_output_epochs`).
     apriori_fit_sigma_m : float
         Sigma of the a-priori positions in the initial dynamic fit [m].
     apriori_fit_degree : int
@@ -95,6 +98,7 @@ class ArcSettings(Settings):
     arc_before_s: float
     arc_after_s: float
     output_step_s: float
+    output_margin_s: float
     apriori_fit_sigma_m: float
     apriori_fit_degree: int
     gnss_attitude: str
@@ -232,6 +236,8 @@ class ArcProblem:
         ``apriori_diff_rtn_m``.
     output_step_s : float
         Step of the orbit datasets [s].
+    output_times : ndarray of datetime64[ns], shape (o,)
+        Epochs of the orbit datasets (:func:`arc_output_epochs`); the integrations cover them.
     eop : EarthOrientation or None
     environment : ArcEnvironment
         The grids of ``force_model``, shared by other force models of the arc.
@@ -244,8 +250,15 @@ class ArcProblem:
     antennas: dict
     apriori_itrf_m: xr.DataArray
     output_step_s: float
+    output_times: np.ndarray
     eop: object = None
     environment: ArcEnvironment | None = None
+
+    @property
+    def output_span_s(self) -> tuple[float, float]:
+        """First and last output epoch [s since ``t_ref``]."""
+        t = seconds_since(self.output_times[[0, -1]], self.t_ref)
+        return float(t[0]), float(t[1])
 
 
 def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
@@ -254,6 +267,35 @@ def arc_limits(date: str, arc_before_s: float, arc_after_s: float):
     one_day = np.timedelta64(86400, "s")
     return (day - np.timedelta64(round(arc_before_s * 1e9), "ns"),
             day + one_day + np.timedelta64(round(arc_after_s * 1e9), "ns"))
+
+
+def arc_output_epochs(obs_times: np.ndarray, start, end, step_s: float,
+                      margin_s: float) -> np.ndarray:
+    """Epochs of an arc's written orbit: those of the ``step_s`` grid of the day in the arc
+    ``[start, end)`` and no more than ``margin_s`` before the first or after the last
+    observation epoch (datetime64[ns]).
+
+    With the default margin a daily file covers its day from 00:00:00 to the last epoch
+    before 24:00 although the data of a day often start and end some seconds inside it
+    (GRACE-A 2007-080: first POD epoch 00:00:30, last 23:59:30); the dynamic orbit there is
+    integrated beyond the data, and its formal sigmas say how well it is known.
+
+    Parameters
+    ----------
+    obs_times : ndarray of datetime64, shape (m,)
+        Epochs of the arc's observations (sorted).
+    start, end : datetime64
+        The arc (:func:`arc_limits`); ``end`` is not included.
+    step_s : float
+        Output step [s].
+    margin_s : float
+        Largest extension beyond the observations [s].
+    """
+    margin = np.timedelta64(round(margin_s * 1e9), "ns")
+    lo = max(np.datetime64(start, "ns"), np.datetime64(obs_times[0], "ns") - margin)
+    hi = min(np.datetime64(end, "ns") - np.timedelta64(1, "ns"),
+             np.datetime64(obs_times[-1], "ns") + margin)
+    return output_epochs(lo, hi, step_s)
 
 
 def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
@@ -339,7 +381,12 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
         per_system = {x: receiver_pco_if(pco_body_m, x, sig) for x, sig in by_system.items()}
         leo_pco = np.array([per_system[str(sv)[0]] for sv in po.sv]).reshape(-1, 3)
     t_s = seconds_since(po.times, t_ref)
-    environment = arc_environment(forces, t_ref, t_s[0], t_s[-1], eop=eop)
+    output_times = arc_output_epochs(po.times, start, end, float(arc.output_step_s),
+                                     float(arc.output_margin_s))
+    t_out = seconds_since(output_times[[0, -1]], t_ref)
+    # the grids cover the output epochs too, the force model's intervals start at t_s[0]
+    environment = arc_environment(forces, t_ref, min(t_s[0], t_out[0]), max(t_s[-1], t_out[1]),
+                                  eop=eop)
     force_model = build_force_model(forces, t_ref, t_s[0], t_s[-1], eop=eop,
                                     environment=environment, manoeuvres=data.manoeuvres,
                                     attitude=attitude)
@@ -358,15 +405,15 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
                       antennas={"leo_pco_body_m": leo_pco, "sat_pco_body_m": sat_pco,
                                 "sat_pcv_m": sat_pcv, "leo_attitude": attitude,
                                 "leo_antenna": receiver_antenna(pco_body_m, po.sv, by_system)},
-                      apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s), eop=eop,
-                      environment=environment)
+                      apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s),
+                      output_times=output_times, eop=eop, environment=environment)
 
 
 def arc_outputs(problem: ArcProblem, result: PodResult,
                 fit: FitResult | None = None) -> ArcOutputs:
     """The datasets of a solution of the arc (:mod:`leopod.estimation.outputs`)."""
     po = problem.observations
-    out_times = output_epochs(po.times[0], po.times[-1], problem.output_step_s)
+    out_times = problem.output_times
     orbit_ds = orbit_dataset(result, out_times, eop=problem.eop,
                              apriori_itrf_m=problem.apriori_itrf_m.reindex(time=out_times).values)
     return ArcOutputs(result=result, observations=po, orbit=orbit_ds,
@@ -408,5 +455,6 @@ def run_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings,
              *fit.rms_rtn_m, fit.integrations, fit.force_evaluations)
     problem.force_model.follow(fit.trajectory.positions)    # closer than the a-priori orbit
     result = float_pod(po, problem.products, problem.force_model, problem.t_ref,
-                       fit.state0_gcrf, pod, eop=eop, **problem.antennas)
+                       fit.state0_gcrf, pod, eop=eop, cover_s=problem.output_span_s,
+                       **problem.antennas)
     return arc_outputs(problem, result, fit)

@@ -96,10 +96,12 @@ class FixedSolutions:
         if linearisation is not None:
             po = p.observations
             linearisation.check(p.t_ref, reception_epochs_s(
-                seconds_since(po.times, p.t_ref), start.clk_rx_m, po.clk_rx_m))
+                seconds_since(po.times, p.t_ref), start.clk_rx_m, po.clk_rx_m),
+                seconds_since(p.output_times, p.t_ref))
             float_orbit = (linearisation.trajectory, linearisation.correction)
         self._pod = FixedPod(p.observations, p.products, p.force_model, p.t_ref, pod, start,
-                             eop=eop, float_orbit=float_orbit, **p.antennas)
+                             eop=eop, float_orbit=float_orbit, cover_s=p.output_span_s,
+                             **p.antennas)
 
     @property
     def pod(self) -> FixedPod:

@@ -454,8 +454,10 @@ class _Problem:
 
     def __init__(self, obs: PodObservations, products: GnssProducts, force_model: ForceModel,
                  t_ref, settings: PodSettings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m,
-                 leo_attitude: LeoAttitude | None = None, leo_antenna=None):
+                 leo_attitude: LeoAttitude | None = None, leo_antenna=None,
+                 cover_s: tuple[float, float] | None = None):
         self.obs, self.products, self.fm, self.settings = obs, products, force_model, settings
+        self.cover_s = cover_s
         self.eop = eop
         self.rotation = _ReceptionRotation(eop)
         self.leo_pco = (np.zeros(3) if leo_pco_body_m is None
@@ -525,13 +527,14 @@ class _Problem:
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
-        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs, both by
-        at least ``_SPAN_MARGIN_S``, to ends on the integrator's step grid from t0 (so that
+        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs and
+        ``cover_s`` (the output epochs), all by at least ``_SPAN_MARGIN_S``, to ends on the integrator's step grid from t0 (so that
         the last segment keeps whole steps and the pulses in it fall on nodes: no restarts);
         forces tabulated along a reference orbit (drag) follow it from then on."""
         step = DEFAULT_STEP_S
-        lo = min(t_eval.min(), self.t_nom_s[0]) - _SPAN_MARGIN_S
-        hi = max(t_eval.max(), self.t_nom_s[-1]) + _SPAN_MARGIN_S
+        cover = (self.t_nom_s[0], self.t_nom_s[-1]) if self.cover_s is None else self.cover_s
+        lo = min(t_eval.min(), self.t_nom_s[0], cover[0]) - _SPAN_MARGIN_S
+        hi = max(t_eval.max(), self.t_nom_s[-1], cover[1]) + _SPAN_MARGIN_S
         t_out = np.append(t_eval, [self.t0 - step * np.ceil((self.t0 - lo) / step),
                                    self.t0 + step * np.ceil((hi - self.t0) / step)])
         if self.pulses is None:
@@ -896,7 +899,8 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
               state0_gcrf: np.ndarray, settings: PodSettings, *,
               eop: EarthOrientation | None = None, leo_pco_body_m=None,
               sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
-              leo_attitude: LeoAttitude | None = None, leo_antenna=None) -> PodResult:
+              leo_attitude: LeoAttitude | None = None, leo_antenna=None,
+              cover_s: tuple[float, float] | None = None) -> PodResult:
     """Float reduced-dynamic orbit from ionosphere-free code and phase (module docstring).
 
     Parameters
@@ -923,6 +927,9 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         Attitude law of the LEO (PCO, wind-up, PCO-Z partial); None: nominal.
     leo_antenna : leopod.estimation.obsmodel.ReceiverAntenna, optional
         Antenna frame and ionosphere-free PCV of an ANTEX LEO antenna; None: none.
+    cover_s : (float, float), optional
+        First and last epoch [s since ``t_ref``] the integrated orbit also covers (output
+        epochs beyond the observations); None: the observations.
 
     Returns
     -------
@@ -931,7 +938,7 @@ def float_pod(obs: PodObservations, products: GnssProducts, force_model: ForceMo
         without convergence, an integration at the final estimates.
     """
     prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
-                    sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna)
+                    sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna, cover_s)
     state = np.asarray(state0_gcrf, dtype=float).copy()
     _announce("float POD", prob)
     screening = False
@@ -993,7 +1000,7 @@ class FixedPod:
     Parameters
     ----------
     obs, products, force_model, t_ref, settings, eop, leo_pco_body_m, sat_pco_body_m, sat_pcv_m,
-    leo_attitude, leo_antenna
+    leo_attitude, leo_antenna, cover_s
         As for :func:`float_pod` (the same as for the float solution).
     start : PodStart
         The float solution of the arc.
@@ -1009,9 +1016,10 @@ class FixedPod:
                  eop: EarthOrientation | None = None, leo_pco_body_m=None,
                  sat_pco_body_m: np.ndarray | None = None, sat_pcv_m=None,
                  leo_attitude: LeoAttitude | None = None, leo_antenna=None,
-                 float_orbit: tuple | None = None):
+                 float_orbit: tuple | None = None,
+                 cover_s: tuple[float, float] | None = None):
         self._prob = _Problem(obs, products, force_model, t_ref, settings, eop, leo_pco_body_m,
-                              sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna)
+                              sat_pco_body_m, sat_pcv_m, leo_attitude, leo_antenna, cover_s)
         self._start = start
         p = self._prob
         _announce("fixed POD (linearised at the float solution)", p)

@@ -76,9 +76,10 @@ class FloatLinearisation:
     t_ref: np.datetime64
     source: str = "float POD linearisation"
 
-    def check(self, t_ref: np.datetime64, reception_s: np.ndarray) -> None:
+    def check(self, t_ref: np.datetime64, reception_s: np.ndarray,
+              output_s: np.ndarray | None = None) -> None:
         """Refuse (``ValueError`` naming the file) a linearisation of another arc: another
-        time origin, or reception epochs [s] the trajectory was not sampled at."""
+        time origin, or reception or output epochs [s] the trajectory was not sampled at."""
         if self.t_ref != t_ref:
             raise ValueError(f"{self.source}: float POD linearisation of an arc from "
                              f"{self.t_ref}, not {t_ref}: not that of this float solution")
@@ -87,6 +88,11 @@ class FloatLinearisation:
             raise ValueError(f"{self.source}: {int(missing.sum())} reception epochs of the "
                              "float solution are not among its epochs: not that of this float "
                              "solution")
+        if output_s is not None and not (np.isin(output_s, self.trajectory.t_s)
+                                         | (output_s == self.trajectory.t0_s)).all():
+            raise ValueError(f"{self.source}: the output epochs of the arc are not all among "
+                             "its epochs: written for other output epochs (run the float POD "
+                             "again)")
 
 
 def reception_epochs_s(t_nominal_s: np.ndarray, clk_rx_m: np.ndarray,
