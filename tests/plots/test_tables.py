@@ -65,3 +65,43 @@ def test_table_has_units_dashes_and_footnotes():
     assert "nan" not in page.lower().replace("nanum", "")
     assert "one day only (phase_rms_mm)" in page and "one day only (n_phase)" in page
     assert page.count("<li id='note-") == 2
+
+
+def test_quality_summary_page_writes_each_indicator_by_its_kind():
+    # the daily quality page (scripts/quality.py) of a combined G+C day: shares in per cent,
+    # counts as integers with separators, metres in centimetres, a footnoted dash where a
+    # system has no value (values chosen by hand, expected text by the rules above)
+    import xarray as xr
+
+    from leopod.plots.quality import summary_html
+
+    def part(system, completeness, n_phase, noise_m):
+        q = xr.Dataset({
+            f"{system}_completeness": ((), completeness,
+                                       {"units": "1", "long_name": f"{system}: epochs with "
+                                        "data / expected epochs"}),
+            f"{system}_n_phase_obs": ((), np.int64(n_phase),
+                                      {"units": "1", "long_name": f"{system}: satellite-epochs "
+                                       "with dual-frequency phase and code"}),
+            f"{system}_noise_C2W_min_m": ((), noise_m, {"units": "m", "long_name":
+                                                        f"{system}: C2W noise: minimum STD"}),
+        })
+        q.attrs["system"] = system
+        return q
+
+    page = summary_html([part("G", 0.9987, 24959, 0.0007616),
+                         part("C", 0.5, 1200, np.nan)], "LT-1A 2022-200")
+    parser = _Cells()
+    parser.feed(page)
+    cells = parser.cells
+    assert cells[:3] == ["indicator", "G", "C"]
+
+    def row(label):
+        i = cells.index(label)
+        return cells[i + 1:i + 3]
+
+    assert row("epochs with data / expected epochs [%]") == ["99.9", "50.0"]
+    assert row("satellite-epochs with dual-frequency phase and code") == ["24,959", "1,200"]
+    noise = row("C2W noise: minimum STD [cm]")
+    assert noise[0] == "0.08" and noise[1].startswith("\u2013")
+    assert "nan" not in page and "no such value for this system" in page

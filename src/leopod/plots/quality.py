@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from leopod.plots import dots, save_figure
+from leopod.plots.tables import Column, Footnotes, format_value, html_page
 
 __all__ = ["plot_mp_elevation", "plot_skyplot", "plot_code_noise", "plot_visibility",
            "summary_html"]
@@ -133,20 +134,50 @@ def plot_visibility(q: xr.Dataset, path, title: str) -> None:
     save_figure(fig, path)
 
 
+#: Indicators that are shares of 1, shown in per cent.
+_PERCENT = ("completeness", "utilisation", "iod_above_threshold")
+
+
+def _indicator(system: str, name: str, var: xr.DataArray) -> tuple[Column, float]:
+    """The table column of a daily indicator ``<system>_<name>`` and the factor of its value:
+    shares in per cent, counts as integers, metres in centimetres (a code noise of 0.8 mm
+    is not "0.001 m")."""
+    label = str(var.attrs.get("long_name", name)).removeprefix(f"{system}: ")
+    unit = str(var.attrs.get("units", "1"))
+    if name in _PERCENT:
+        return Column(name, label, "%", "percent", label), 100.0
+    if var.dtype.kind in "iu":
+        return Column(name, label, "1", "count", label), 1.0
+    if unit == "m":
+        return Column(name, label, "cm", "number", label), 100.0
+    return Column(name, label, unit.replace("min-1", "/min").replace(" /", "/"), "number",
+                  label), 1.0
+
+
 def summary_html(parts: list[xr.Dataset], title: str) -> str:
-    """An HTML table of the daily indicators (one row per indicator, per system)."""
-    rows = []
-    for q in parts:
-        system = q.attrs["system"]
-        for name, var in q.data_vars.items():
-            if var.ndim == 0 and name.startswith(f"{system}_"):
-                value = float(var)
-                unit = var.attrs.get("units", "")
-                text = f"{value:.4g}" if np.isfinite(value) else str(value)
-                rows.append(f"<tr><td>{html.escape(var.attrs.get('long_name', name))}</td>"
-                            f"<td style='text-align:right'>{text}</td><td>{html.escape(unit)}</td></tr>")
-    return ("<html><head><meta charset='utf-8'><title>" + html.escape(title) + "</title></head>"
-            "<body><h3>Data quality: " + html.escape(title) + "</h3><table border='1' "
-            "cellpadding='3' style='border-collapse:collapse;font-family:sans-serif;font-size:small'>"
-            "<tr><th>indicator</th><th>value</th><th>unit</th></tr>" + "".join(rows)
-            + "</table></body></html>\n")
+    """An HTML page of the daily indicators: one row per indicator, one column per system
+    (:mod:`leopod.plots.tables`: units in the labels, shares in per cent, counts as integers,
+    a dash with a footnote where a system has no value)."""
+    systems = [q.attrs["system"] for q in parts]
+    rows: dict[str, list] = {}
+    for j, q in enumerate(parts):
+        for var_name, var in q.data_vars.items():
+            name = var_name.removeprefix(f"{systems[j]}_")
+            if var.ndim or name == var_name:
+                continue
+            column, factor = _indicator(systems[j], name, var)
+            entry = rows.setdefault(name, [column, [np.nan] * len(parts)])
+            entry[1][j] = float(var) * factor
+    notes = Footnotes()
+    table_rows = []
+    for column, values in rows.values():
+        text = [format_value(v, column) for v in values]
+        cells = "".join(f"<td>{t}</td>" if t is not None else
+                        f"<td class='missing'>{notes.dash('no such value for this system')}</td>"
+                        for t in text)
+        table_rows.append(f"<tr><td class='label' title='{html.escape(column.description)}'>"
+                          f"{html.escape(column.header)}</td>{cells}</tr>")
+    head = "<th>indicator</th>" + "".join(f"<th>{html.escape(x)}</th>" for x in systems)
+    table = (f"<table><thead><tr>{head}</tr></thead><tbody>\n" + "\n".join(table_rows)
+             + "\n</tbody></table>\n")
+    return html_page(f"Data quality: {title}", table + notes.html())
