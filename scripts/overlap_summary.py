@@ -14,6 +14,7 @@ import xarray as xr
 
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf, write_netcdf
+from leopod.plots.tables import frame_tables, html_page
 from leopod.plots.validation import plot_overlaps
 from leopod.time.calendar import parse_date_id
 from leopod.validation.orbit_statistics import statistics_table
@@ -33,7 +34,7 @@ def _pair_label(path) -> str:
 
 def main(overlaps: Mapping, outputs: Mapping, *, title: str) -> None:
     """Summary of the overlap files of every solution (``{solution: [paths]}``) into
-    ``outputs``: ``nc``, ``csv`` and ``figure``."""
+    ``outputs``: ``nc``, ``csv``, ``html`` (report table) and ``figure``."""
     summaries = {}
     for solution, files in overlaps.items():
         summaries[solution] = overlap_summary([load_netcdf(p) for p in files],
@@ -49,6 +50,10 @@ def main(overlaps: Mapping, outputs: Mapping, *, title: str) -> None:
     tables = [statistics_table(s).assign(solution=k).set_index("solution", append=True)
               for k, s in summaries.items()]
     write_text(outputs["csv"], pd.concat(tables).to_csv(float_format="%.5f"))
+    write_text(outputs["html"], html_page(f"{title}: orbit overlaps", frame_tables(
+        {k: statistics_table(s) for k, s in summaries.items()}, row_header="arc pair (day b)",
+        missing="campaign rows: mean and STD over the pairs of the RMS only",
+        aggregate=lambda label: label.startswith("campaign"))))
     plot_overlaps(summaries, outputs["figure"], title=f"{title} overlaps")
 
 

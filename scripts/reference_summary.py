@@ -13,6 +13,7 @@ import xarray as xr
 
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf, write_netcdf
+from leopod.plots.tables import frame_tables, html_page
 from leopod.plots.validation import plot_daily_statistics, plot_reference_differences
 from leopod.validation.orbit_statistics import orbit_statistics, statistics_table
 from leopod.workflow.boundary import plain
@@ -23,7 +24,8 @@ log = logging.getLogger(__name__)
 
 def main(differences: Mapping, outputs: Mapping, *, title: str) -> None:
     """Statistics of the daily difference files of every solution (``{solution: [paths]}``)
-    into ``outputs``: ``nc``, ``csv``, ``differences`` and ``daily`` (PNG)."""
+    into ``outputs``: ``nc``, ``csv``, ``html`` (report table), ``differences`` and ``daily``
+    (PNG)."""
     diffs, stats = {}, {}
     for solution, files in differences.items():
         days = [load_netcdf(p)[["diff_rtn_m", "diff_3d_m"]] for p in files]
@@ -39,6 +41,9 @@ def main(differences: Mapping, outputs: Mapping, *, title: str) -> None:
     tables = [statistics_table(s).assign(solution=k).set_index("solution", append=True)
               for k, s in stats.items()]
     write_text(outputs["csv"], pd.concat(tables).to_csv(float_format="%.5f"))
+    write_text(outputs["html"], html_page(f"{title}: orbit minus reference", frame_tables(
+        {k: statistics_table(s) for k, s in stats.items()}, row_header="day",
+        missing="no value", aggregate=lambda label: label == "total")))
     plot_reference_differences(diffs, outputs["differences"], title=title)
     plot_daily_statistics(stats, outputs["daily"], title=title)
 

@@ -14,6 +14,7 @@ import xarray as xr
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf, write_netcdf
 from leopod.plots.slr import plot_slr_elevation, plot_slr_residuals_time, plot_slr_stations
+from leopod.plots.tables import frame_tables, html_page
 from leopod.validation.slr_statistics import (
     elevation_statistics,
     rtn_projection,
@@ -25,20 +26,31 @@ from leopod.workflow.log import configure_logging
 log = logging.getLogger(__name__)
 
 
-def _table(stats: dict[str, xr.Dataset], dim: str, names) -> str:
-    frames = []
+#: The columns of the per-station and per-elevation tables.
+_COLUMNS = ("n_np", "mean_m", "std_m", "rms_m")
+
+
+def _frames(stats: dict[str, xr.Dataset], dim: str) -> dict[str, pd.DataFrame]:
+    """``{solution: table}`` of the statistics along ``dim`` (:data:`_COLUMNS`)."""
+    frames = {}
     for solution, ds in stats.items():
-        df = pd.DataFrame({n: ds[n].values for n in names}, index=ds[dim].values.astype(str))
+        df = pd.DataFrame({n: ds[n].values for n in _COLUMNS}, index=ds[dim].values.astype(str))
         df.index.name = dim
-        frames.append(df.assign(solution=solution).set_index("solution", append=True))
-    return pd.concat(frames).to_csv(float_format="%.5f")
+        frames[solution] = df
+    return frames
+
+
+def _table(stats: dict[str, xr.Dataset], dim: str) -> str:
+    """CSV of the statistics of every solution along ``dim``."""
+    return pd.concat([df.assign(solution=s).set_index("solution", append=True)
+                      for s, df in _frames(stats, dim).items()]).to_csv(float_format="%.5f")
 
 
 def main(residual_files: Mapping, outputs: Mapping, *, elevation_bin_deg: float,
          title: str) -> None:
     """Statistics of the daily SLR residual files of every solution (``{solution: [paths]}``,
     the last one is plotted over time) into ``outputs``: ``nc``, ``stations_csv``,
-    ``elevation_csv``, ``stations_png``, ``elevation_png``, ``time_png``."""
+    ``stations_html`` (report table), ``elevation_csv``, ``stations_png``, ``elevation_png``, ``time_png``."""
     solutions = list(residual_files)
     residuals = {s: xr.concat([load_netcdf(p) for p in files], dim="point")
                  for s, files in residual_files.items()}
@@ -59,10 +71,12 @@ def main(residual_files: Mapping, outputs: Mapping, *, elevation_bin_deg: float,
     write_netcdf(ds, outputs["nc"], step="slr_summary",
                  inputs=[f for files in residual_files.values() for f in files],
                  time_system="UTC", title=f"SLR residual statistics {title}")
-    write_text(outputs["stations_csv"],
-               _table(stations, "station", ("n_np", "mean_m", "std_m", "rms_m")))
-    write_text(outputs["elevation_csv"], _table(elevation, "elevation_deg",
-                                                ("n_np", "mean_m", "std_m", "rms_m")))
+    write_text(outputs["stations_csv"], _table(stations, "station"))
+    write_text(outputs["stations_html"], html_page(f"{title}: SLR residuals per station",
+                                                   frame_tables(
+        _frames(stations, "station"), row_header="station", missing="no normal points",
+        aggregate=lambda label: label == "total")))
+    write_text(outputs["elevation_csv"], _table(elevation, "elevation_deg"))
     plot_slr_stations(stations, outputs["stations_png"], title=title)
     plot_slr_elevation(residuals, elevation, outputs["elevation_png"], title=title)
     plot_slr_residuals_time(residuals[solutions[-1]], outputs["time_png"],

@@ -105,3 +105,27 @@ def test_quality_summary_page_writes_each_indicator_by_its_kind():
     noise = row("C2W noise: minimum STD [cm]")
     assert noise[0] == "0.08" and noise[1].startswith("\u2013")
     assert "nan" not in page and "no such value for this system" in page
+
+
+def test_validation_tables_in_centimetres_with_counts_and_campaign_rows():
+    # the overlap/reference/SLR report tables (scripts/*_summary.py): metres shown in cm with
+    # two decimals (a value that rounds to zero without a sign), counts as integers, empty
+    # cells of the campaign rows as footnoted dashes (values chosen by hand)
+    import pandas as pd
+
+    from leopod.plots.tables import frame_tables
+
+    frame = pd.DataFrame({"mean_R_m": [-0.00004, np.nan], "rms_3D_m": [0.01234, 0.0047],
+                          "n_epochs": [2880, np.nan]},
+                         index=pd.Index(["2019-01-02", "campaign mean"], name="pair"))
+    page = html_page("t", frame_tables({"float_pod": frame}, row_header="arc pair",
+                                       missing="campaign rows: RMS only",
+                                       aggregate=lambda label: label.startswith("campaign")))
+    parser = _Cells()
+    parser.feed(page)
+    cells = parser.cells
+    assert cells[:4] == ["arc pair", "mean R [cm]", "RMS 3D [cm]", "epochs"]
+    assert cells[4:8] == ["2019-01-02", "0.00", "1.23", "2,880"]
+    assert cells[8] == "campaign mean" and cells[10] == "0.47"
+    assert cells[9].startswith("\u2013") and cells[11].startswith("\u2013")
+    assert "campaign rows: RMS only" in page and "class='aggregate'" in page

@@ -35,8 +35,9 @@ rule overlap_summary:
         code=library_code("overlap_summary"),
     output:
         nc=result_path("overlap/{sat}/summary.nc"),
-        csv=report(
-            result_path("overlap/{sat}/summary.csv"),
+        csv=result_path("overlap/{sat}/summary.csv"),
+        html=report(
+            result_path("overlap/{sat}/summary.html"),
             caption="../report/overlap_table.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "overlap table"},
@@ -98,8 +99,9 @@ rule reference_summary:
         code=library_code("reference_summary"),
     output:
         nc=result_path("reference_orbit/{sat}/summary.nc"),
-        csv=report(
-            result_path("reference_orbit/{sat}/summary.csv"),
+        csv=result_path("reference_orbit/{sat}/summary.csv"),
+        html=report(
+            result_path("reference_orbit/{sat}/summary.html"),
             caption="../report/reference_table.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "reference-orbit table"},
@@ -169,8 +171,9 @@ rule slr_summary:
         code=library_code("slr_summary"),
     output:
         nc=result_path("slr/{sat}/summary.nc"),
-        stations_csv=report(
-            result_path("slr/{sat}/stations.csv"),
+        stations_csv=result_path("slr/{sat}/stations.csv"),
+        stations_html=report(
+            result_path("slr/{sat}/stations.html"),
             caption="../report/slr_stations_table.rst",
             category="Validation",
             labels={"satellite": "{sat}", "figure": "SLR per station (table)"},

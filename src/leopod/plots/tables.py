@@ -19,8 +19,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 
-__all__ = ["Column", "Footnotes", "format_value", "html_page", "html_table"]
+__all__ = ["Column", "Footnotes", "format_value", "frame_tables", "html_page", "html_table"]
 
 #: Kinds of column: how their values are written (:func:`format_value`).
 KINDS = ("count", "percent", "flag", "level", "number")
@@ -85,7 +86,8 @@ def format_value(value, column: Column, *, aggregate: bool = False) -> str | Non
     decimal; ``flag``: ``yes`` (1) or ``no`` (0), a number in an ``aggregate`` row (the mean
     of a flag is a share, its STD no flag);
     ``level``: the name of the level (``column.levels``), a number otherwise; ``number``:
-    decimals by unit (3 for m and unitless, 2 for cm and mm).
+    decimals by unit (3 for m and unitless, 2 for cm and mm), a value that rounds to zero
+    without a sign.
     """
     try:
         v = float(value)
@@ -99,7 +101,8 @@ def format_value(value, column: Column, *, aggregate: bool = False) -> str | Non
         return "yes" if v else "no"
     if column.kind == "level" and v == round(v) and 0 <= v < len(column.levels):
         return column.levels[int(v)]
-    return f"{v:.{_DECIMALS.get(column.unit, 3)}f}"
+    text = f"{v:.{_DECIMALS.get(column.unit, 3)}f}"
+    return text.removeprefix("-") if float(text) == 0.0 else text     # no "-0.00"
 
 
 class Footnotes:
@@ -161,3 +164,53 @@ def html_page(title: str, body: str) -> str:
     t = html.escape(title)
     return (f"<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>{t}</title>"
             f"<style>{_STYLE}</style></head>\n<body><h3>{t}</h3>\n{body}</body></html>\n")
+
+
+#: Readable names of the statistics of the validation tables (column name parts).
+_STATISTICS = {"mean": "mean", "std": "STD", "rms": "RMS"}
+#: Readable names of the count columns of the validation tables.
+_COUNTS = {"n_epochs": "epochs", "n_np": "normal points"}
+
+
+def _frame_column(name: str) -> tuple[Column, float]:
+    """Column and factor of a validation table column: ``<stat>[_<component>]_m`` in cm,
+    ``n_*`` a count."""
+    if name in _COUNTS or name.startswith("n_"):
+        return Column(name, _COUNTS.get(name, name[2:]), "1", "count", name), 1.0
+    if name.endswith("_m"):
+        stat, *component = name[:-2].split("_")
+        label = " ".join([_STATISTICS.get(stat, stat), *component])
+        return Column(name, label, "cm", "number", f"{label} [cm] (column {name} in m)"), 100.0
+    return Column(name, name.replace("_", " "), "1", "number", name), 1.0
+
+
+def frame_tables(frames: dict[str, pd.DataFrame], *, row_header: str, missing: str,
+                 aggregate=lambda label: False) -> str:
+    """HTML tables (one per solution, a heading each) of validation statistics in metres
+    (:func:`leopod.validation.orbit_statistics.statistics_table`, the SLR station table):
+    centimetres with two decimals, counts as integers, a footnoted dash where a cell is
+    empty (``missing`` says why), rows for which ``aggregate(label)`` holds drawn apart.
+
+    Parameters
+    ----------
+    frames : dict of str to pandas.DataFrame
+        ``{solution: table}``, the index the row labels, columns ``*_m`` and ``n_*``.
+    row_header : str
+        Header of the label column.
+    missing : str
+        Footnote of an empty cell.
+    aggregate : callable
+        ``aggregate(label) -> bool``: a row of statistics over other rows.
+    """
+    notes = Footnotes()
+    parts = []
+    for solution, frame in frames.items():
+        specs = [_frame_column(c) for c in frame.columns]
+        columns = [c for c, _ in specs]
+        rows = [((label,), [float(v) * f if pd.notna(v) else np.nan
+                            for v, (_, f) in zip(values, specs, strict=True)],
+                 lambda _c: missing, aggregate(str(label)))
+                for label, values in zip(frame.index, frame.itertuples(index=False), strict=True)]
+        parts.append(f"<h4>{html.escape(solution)}</h4>\n"
+                     + html_table(columns, rows, notes, row_header=[row_header]))
+    return "".join(parts) + notes.html()
