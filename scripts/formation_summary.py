@@ -8,22 +8,14 @@ hand_off(globals())  # run in the warm worker process of this run, if it has one
 import logging
 from collections.abc import Mapping
 
-import numpy as np
-
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf
 from leopod.plots.validation import plot_formation_summary
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
-from leopod.validation.formation import formation_day_row, formation_table
+from leopod.validation.formation import formation_day_row, formation_html, formation_table
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)
-
-
-def _cell(value: float) -> str:
-    if not np.isfinite(value):
-        return "&ndash;"
-    return f"{value:.0f}" if value == round(value) and abs(value) >= 100 else f"{value:.3g}"
 
 
 def _wrong(files: Mapping, phases: Mapping) -> dict | None:
@@ -52,16 +44,7 @@ def main(files: Mapping, outputs: Mapping, *, phases: Mapping, title: str) -> No
     table, meta = formation_table(rows)
     log.info("formation summary:\n%s", table.T.to_string(float_format=lambda v: f"{v:.3g}"))
     write_text(outputs["csv"], table.to_csv(float_format="%.4f"))
-    # one row per figure (its description and unit), one column per day, mean and STD
-    head = "".join(f"<th>{d}</th>" for d in table.index)
-    body = "\n".join(
-        f"<tr><td>{meta[c][1]}</td><td>{meta[c][0]}</td>"
-        + "".join(f"<td>{_cell(v)}</td>" for v in table[c].to_numpy(dtype=float)) + "</tr>"
-        for c in table.columns)
-    write_text(outputs["html"],
-               f"<html><body><h3>{title}: formation summary</h3>\n<table border='1' "
-               f"cellpadding='3'><tr><th>figure</th><th>unit</th>{head}</tr>\n{body}"
-               "</table></body></html>\n")
+    write_text(outputs["html"], formation_html(table, meta, title))
     plot_formation_summary(table, outputs["figure"], title=title)
 
 

@@ -49,7 +49,7 @@ def test_the_page_shows_mean_and_std_per_line_and_solution():
     table = compare_lines({"a": _table({"G01": 0.002}), "a_C": _table({"C19": 0.004})})
     html = comparison_html(table, {n: column_meta(n) for n in table.index}, "test")
     assert "<th>a<br>fixed_pod</th>" in html and "<th>a_C<br>float_pod</th>" in html
-    assert "4 &plusmn; 2.8" in html          # 2 and 6 mm: mean 4, STD 2.83
+    assert "4.00 &plusmn; 2.83" in html      # 2 and 6 mm: mean 4, STD 2.83 (mm: 2 decimals)
     assert "&ndash;" in html                 # a figure a line lacks
 
 

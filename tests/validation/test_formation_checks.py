@@ -20,6 +20,7 @@ from leopod.validation.formation import (
     burn_windows,
     difference_rtn,
     formation_day_row,
+    formation_html,
     formation_table,
     range_residuals,
     rms_rtn,
@@ -93,6 +94,17 @@ def test_formation_table_rows_means_and_counts():
     assert table.loc["mean", "sd_phase_residual_G_fixed"] == pytest.approx(5.0)
     assert meta["sd_phase_residual_G_fixed"][0] == "mm"
     assert "sd_code_residual_G_fixed" not in table
+    # the report page of that table: rates in per cent, mm with two decimals, counts as
+    # integers (their mean column the sum), no "nan" but a footnoted dash
+    page = formation_html(table, meta, "LT-1")
+    assert "<th>mean (counts: sum)</th><th>STD</th>" in page
+    row = next(r for r in page.split("<tr>") if meta["dd_nl_rate"][1] in r)
+    assert "<td>99.0</td><td>97.0</td><td>98.0</td>" in row
+    row = next(r for r in page.split("<tr>") if meta["dd_constraints"][1] in r)
+    assert "<td>400</td><td>400</td><td>800</td><td class='missing'>" in row
+    row = next(r for r in page.split("<tr>") if meta["dynamic_fixed_vs_truth_3d"][1] in r)
+    assert "<td>3.00</td><td>5.00</td><td>4.00</td><td>1.41</td>" in row
+    assert "nan" not in page
 
 
 def test_baseline_overlap_on_common_epochs():

@@ -9,8 +9,6 @@ visibility/IOD (Wang et al. 2024, Figs. 3, 5).
 
 from __future__ import annotations
 
-import html
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -19,7 +17,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from leopod.plots import dots, save_figure
-from leopod.plots.tables import Column, Footnotes, format_value, html_page
+from leopod.plots.tables import Column, Footnotes, html_page, row_table
 
 __all__ = ["plot_mp_elevation", "plot_skyplot", "plot_code_noise", "plot_visibility",
            "summary_html"]
@@ -159,25 +157,15 @@ def summary_html(parts: list[xr.Dataset], title: str) -> str:
     (:mod:`leopod.plots.tables`: units in the labels, shares in per cent, counts as integers,
     a dash with a footnote where a system has no value)."""
     systems = [q.attrs["system"] for q in parts]
-    rows: dict[str, list] = {}
+    rows: dict[str, tuple[Column, list]] = {}
     for j, q in enumerate(parts):
         for var_name, var in q.data_vars.items():
             name = var_name.removeprefix(f"{systems[j]}_")
             if var.ndim or name == var_name:
                 continue
             column, factor = _indicator(systems[j], name, var)
-            entry = rows.setdefault(name, [column, [np.nan] * len(parts)])
-            entry[1][j] = float(var) * factor
+            rows.setdefault(name, (column, [np.nan] * len(parts)))[1][j] = float(var) * factor
     notes = Footnotes()
-    table_rows = []
-    for column, values in rows.values():
-        text = [format_value(v, column) for v in values]
-        cells = "".join(f"<td>{t}</td>" if t is not None else
-                        f"<td class='missing'>{notes.dash('no such value for this system')}</td>"
-                        for t in text)
-        table_rows.append(f"<tr><td class='label' title='{html.escape(column.description)}'>"
-                          f"{html.escape(column.header)}</td>{cells}</tr>")
-    head = "<th>indicator</th>" + "".join(f"<th>{html.escape(x)}</th>" for x in systems)
-    table = (f"<table><thead><tr>{head}</tr></thead><tbody>\n" + "\n".join(table_rows)
-             + "\n</tbody></table>\n")
+    table = row_table(["indicator", *systems], list(rows.values()), notes,
+                      "no such value for this system")
     return html_page(f"Data quality: {title}", table + notes.html())

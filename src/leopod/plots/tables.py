@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-__all__ = ["Column", "Footnotes", "format_value", "frame_tables", "html_page", "html_table"]
+__all__ = ["Column", "Footnotes", "format_value", "frame_tables", "html_page", "html_table",
+           "row_table", "unit_column"]
 
 #: Kinds of column: how their values are written (:func:`format_value`).
 KINDS = ("count", "percent", "flag", "level", "number")
@@ -157,6 +158,29 @@ def html_table(columns: Sequence[Column], rows: Iterable[tuple], notes: Footnote
         body.append(f"<tr{style}>{''.join(cells)}</tr>")
     return f"<table><thead><tr>{head}</tr></thead><tbody>\n" + "\n".join(body) + \
         "\n</tbody></table>\n"
+
+
+def row_table(headers: Sequence[str], rows: Sequence[tuple[Column, Sequence]],
+              notes: Footnotes, missing: str) -> str:
+    """An HTML table with one row per quantity (its own :class:`Column`: label, unit and
+    kind) and one value cell per column of ``headers[1:]`` (days, systems, ...); ``headers[0]``
+    heads the labels. A missing value is a dash with the footnote ``missing``."""
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in headers)
+    body = []
+    for column, values in rows:
+        texts = [format_value(v, column) for v in values]
+        cells = "".join(f"<td>{t}</td>" if t is not None
+                        else f"<td class='missing'>{notes.dash(missing)}</td>" for t in texts)
+        body.append(f"<tr><td class='label' title='{html.escape(column.description, quote=True)}'>"
+                    f"{html.escape(column.header)}</td>{cells}</tr>")
+    return f"<table><thead><tr>{head}</tr></thead><tbody>\n" + "\n".join(body) + \
+        "\n</tbody></table>\n"
+
+
+def unit_column(key: str, label: str, unit: str, description: str = "") -> Column:
+    """A column whose kind follows its unit: ``%`` per cent, ``1`` a count, else a number."""
+    kind = {"%": "percent", "1": "count"}.get(unit, "number")
+    return Column(key, label, unit, kind, description or label)
 
 
 def html_page(title: str, body: str) -> str:

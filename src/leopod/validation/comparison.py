@@ -8,10 +8,14 @@ Zhang et al. (2024, Tables 3-5).
 
 from __future__ import annotations
 
+import html
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
+
+from leopod.plots.tables import Column, Footnotes, format_value, html_page, unit_column
 
 __all__ = ["compare_lines", "comparison_html"]
 
@@ -46,29 +50,30 @@ def compare_lines(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     return out
 
 
-def _cell(mean: float, std: float) -> str:
-    if not np.isfinite(mean):
-        return "&ndash;"
-    text = f"{mean:.0f}" if mean == round(mean) and abs(mean) >= 1000 else f"{mean:.3g}"
-    return text + (f" &plusmn; {std:.2g}" if np.isfinite(std) else "")
+def _cell(mean: float, std: float, column: Column, notes: Footnotes) -> str:
+    """``mean ± std`` written by the column's kind (a count's "mean" is its sum)."""
+    text = format_value(mean, column)
+    if text is None:
+        return f"<td class='missing'>{notes.dash('no value in that line')}</td>"
+    spread = format_value(std, replace(column, kind="number")) if column.kind != "count" else None
+    return f"<td>{text}" + (f" &plusmn; {spread}" if spread is not None else "") + "</td>"
 
 
 def comparison_html(table: pd.DataFrame, meta: Mapping[str, tuple[str, str]], title: str) -> str:
     """HTML page of :func:`compare_lines`: one row per figure, one column per line and
-    solution with ``mean +- std`` over the days."""
+    solution with ``mean ± std`` over the days (:mod:`leopod.plots.tables` conventions)."""
     keys = [(line, sol) for line, sol, stat in table.columns if stat == "mean"]
-    head = "".join(f"<th>{line}<br>{sol}</th>" for line, sol in keys)
+    head = "".join(f"<th>{html.escape(line)}<br>{html.escape(sol)}</th>" for line, sol in keys)
+    notes = Footnotes()
     rows = []
     for name, row in table.iterrows():
         unit, text = meta[name]
-        cells = "".join(
-            f"<td>{_cell(row[(line, sol, 'mean')], row.get((line, sol, 'std'), np.nan))}</td>"
-            for line, sol in keys
-        )
-        rows.append(f"<tr><td title='{text}'>{name} [{unit}]</td>{cells}</tr>")
-    body = "\n".join(rows)
-    return (
-        f"<html><body><h3>{title}: solution variants side by side (mean &plusmn; STD over "
-        f"the days)</h3><table border='1' cellpadding='3'><tr><th>figure</th>{head}</tr>\n"
-        f"{body}</table></body></html>\n"
-    )
+        column = unit_column(name, name.replace("_", " "), unit, text)
+        cells = "".join(_cell(row[(line, sol, "mean")], row.get((line, sol, "std"), np.nan),
+                              column, notes) for line, sol in keys)
+        rows.append(f"<tr><td class='label' title='{html.escape(text, quote=True)}'>"
+                    f"{html.escape(column.header)}</td>{cells}</tr>")
+    body = (f"<table><thead><tr><th>figure</th>{head}</tr></thead><tbody>\n"
+            + "\n".join(rows) + "\n</tbody></table>\n" + notes.html())
+    return html_page(f"{title}: solution variants side by side (mean and STD over the days)",
+                     body)
