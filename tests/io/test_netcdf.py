@@ -53,7 +53,8 @@ def job(tmp_path):
     job = JobProvenance(rule="float_pod", script="scripts/float_pod.py",
                         settings=json.dumps({"pod": {"elevation_mask_deg": 7.0}}),
                         inputs=(str(tmp_path / "abc.txt"),), config_sha256="0" * 64,
-                        references="Peng et al. (2021)", started="2019-01-01T00:00:00Z")
+                        references="Peng et al. (2021)", institution="Some University",
+                        started="2019-01-01T00:00:00Z")
     set_job(job)
     yield job
     set_job(None)
@@ -75,12 +76,14 @@ def test_a_job_s_files_carry_cf_attributes_settings_inputs_and_config_hash(tmp_p
     assert json.loads(attrs["leopod_inputs"]) == {str(tmp_path / "abc.txt"): (
         "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad")}
     assert attrs["leopod_config_sha256"] == "0" * 64
+    assert attrs["institution"] == "Some University"       # the campaign's, not a placeholder
 
 
 def test_outside_a_job_the_history_has_no_time_and_no_job_attributes(tmp_path):
     with xr.open_dataset(write_netcdf(_ds(), tmp_path / "a.nc", step="s")) as back:
         assert back.attrs["history"].endswith(" s")
         assert not [k for k in back.attrs if k.startswith("leopod_")]
+        assert "institution" not in back.attrs             # nobody named: none written
 
 
 def test_the_history_time_is_source_date_epoch_or_now(monkeypatch):

@@ -237,11 +237,12 @@ def pod_output(solution, name):
 
 
 def reference_template(sat):
-    """Path template of the satellite's reference orbit (simulated: the truth), or None."""
+    """Path template of the satellite's reference orbit (simulated: the truth, its netCDF
+    file: exact, and read in a tenth of the time of its SP3 copy), or None."""
     if sat_file(sat, "reference_orbit"):
         return sat_file(sat, "reference_orbit")
     if is_simulated(sat):
-        return str(rules.simulate.output.truth_sp3)
+        return str(rules.simulate.output.truth_nc)
     return None
 
 

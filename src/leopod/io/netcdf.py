@@ -5,9 +5,9 @@ carry the same provenance attributes, encode time the same way, are compressed l
 never appear half-written (a failed step leaves no partial output).
 
 Attributes follow the CF conventions 1.10 (Eaton et al. 2022, sec. 2.6.2 "Description of file
-contents": ``Conventions``, ``title``, ``institution``, ``source``, ``history``,
-``references``); the time coordinate carries the CF standard name ``time`` (CF standard name
-table). Inside a workflow job (:mod:`leopod.io.provenance`) ``history`` holds the UTC time, the
+contents": ``Conventions``, ``title``, ``institution`` (a workflow job of a campaign that names
+one), ``source``, ``history``, ``references``); the time coordinate carries the CF standard
+name ``time`` (CF standard name table). Inside a workflow job (:mod:`leopod.io.provenance`) ``history`` holds the UTC time, the
 rule and the script, and leopod's ``leopod_settings``, ``leopod_inputs`` and
 ``leopod_config_sha256`` are added.
 """
@@ -108,7 +108,6 @@ def write_netcdf(ds: xr.Dataset, path: str | Path, *, step: str,
     attrs.update({
         "Conventions": "CF-1.10",
         "title": title or attrs.get("title") or f"leopod {step} product",
-        "institution": "leopod",
         "source": f"leopod {__version__}",
         "processing_step": step,
         "input_files": " ".join(sorted(Path(p).name for p in inputs)),

@@ -49,6 +49,8 @@ class JobProvenance:
         SHA-256 (hex) of the campaign as given (:func:`leopod.workflow.provenance.config_sha256`).
     references : str
         The publications of the step's methods (author-year, ``REFERENCES.md``), or "".
+    institution : str
+        Who produces the products (campaign key ``institution``), or "" (not written).
     started : str
         UTC time of the job, ISO 8601 (``YYYY-MM-DDThh:mm:ssZ``).
     """
@@ -59,6 +61,7 @@ class JobProvenance:
     inputs: tuple[str, ...]
     config_sha256: str
     references: str = ""
+    institution: str = ""
     started: str = field(default_factory=_started)
 
     @property
@@ -79,6 +82,8 @@ class JobProvenance:
                  "leopod_config_sha256": self.config_sha256}
         if self.references:
             attrs["references"] = self.references
+        if self.institution:
+            attrs["institution"] = self.institution
         return attrs
 
 

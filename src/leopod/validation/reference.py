@@ -41,12 +41,12 @@ def _one(path: Path, sv: str | None) -> xr.Dataset:
     kind = _kind(path)
     if kind == "csv":
         return read_grace_orbit_csv(path)
-    if kind == "netcdf":
-        ds = xr.load_dataset(path)
-        if "pos_itrf_m" not in ds or "time" not in ds.coords:
-            raise ValueError(f"{path}: no orbit variable pos_itrf_m (time, xyz) [m]; a leopod "
-                             "orbit file is <step>/<sat>/<day>_orbit.nc")
-        return ds[[v for v in ("pos_itrf_m", "vel_itrf_m_s") if v in ds]]
+    if kind == "netcdf":       # only the orbit is read (a simulated truth file holds more)
+        with xr.open_dataset(path) as ds:
+            if "pos_itrf_m" not in ds or "time" not in ds.coords:
+                raise ValueError(f"{path}: no orbit variable pos_itrf_m (time, xyz) [m]; a "
+                                 "leopod orbit file is <step>/<sat>/<day>_orbit.nc")
+            return ds[[v for v in ("pos_itrf_m", "vel_itrf_m_s") if v in ds]].load()
     sp3 = read_sp3(path)
     ids = [str(s) for s in sp3.sv.values]
     if sv is None:

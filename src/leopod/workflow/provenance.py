@@ -92,7 +92,8 @@ def job_provenance(sm) -> JobProvenance:
     return JobProvenance(rule=sm.rule, script=f"scripts/{script}", settings=settings,
                          inputs=tuple(_files(sm.input)),
                          config_sha256=config_sha256(dict(sm.config)),
-                         references=STEP_REFERENCES.get(sm.rule, ""))
+                         references=STEP_REFERENCES.get(sm.rule, ""),
+                         institution=str(sm.config.get("institution") or ""))
 
 
 def record_job(sm) -> JobProvenance:
