@@ -10,9 +10,10 @@ from collections.abc import Mapping
 
 from leopod.io import write_text
 from leopod.io.netcdf import load_netcdf
+from leopod.plots.pages import formation_html
 from leopod.plots.validation import plot_formation_summary
 from leopod.simulate.dd_truth import true_double_differences, wrong_dd_fixes
-from leopod.validation.formation import formation_day_row, formation_html, formation_table
+from leopod.validation.formation import formation_day_row, formation_table
 from leopod.workflow.log import configure_logging
 
 log = logging.getLogger(__name__)

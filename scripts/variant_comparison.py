@@ -11,7 +11,8 @@ from collections.abc import Mapping
 import xarray as xr
 
 from leopod.io import write_text
-from leopod.validation.comparison import compare_lines, comparison_html
+from leopod.plots.pages import comparison_html
+from leopod.validation.comparison import compare_lines
 from leopod.validation.summary import column_meta
 from leopod.workflow.boundary import plain
 from leopod.workflow.log import configure_logging

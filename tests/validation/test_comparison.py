@@ -10,7 +10,8 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from leopod.validation.comparison import compare_lines, comparison_html
+from leopod.plots.pages import comparison_html
+from leopod.validation.comparison import compare_lines
 from leopod.validation.summary import campaign_table, column_meta, day_row
 
 

@@ -20,7 +20,6 @@ from leopod.validation.formation import (
     burn_windows,
     difference_rtn,
     formation_day_row,
-    formation_html,
     formation_table,
     range_residuals,
     rms_rtn,
@@ -96,6 +95,8 @@ def test_formation_table_rows_means_and_counts():
     assert "sd_code_residual_G_fixed" not in table
     # the report page of that table: rates in per cent, mm with two decimals, counts as
     # integers (their mean column the sum), no "nan" but a footnoted dash
+    from leopod.plots.pages import formation_html
+
     page = formation_html(table, meta, "LT-1")
     assert "<th>mean (counts: sum)</th><th>STD</th>" in page
     row = next(r for r in page.split("<tr>") if meta["dd_nl_rate"][1] in r)

@@ -8,16 +8,11 @@ Zhang et al. (2024, Tables 3-5).
 
 from __future__ import annotations
 
-import html
 from collections.abc import Mapping
-from dataclasses import replace
 
-import numpy as np
 import pandas as pd
 
-from leopod.plots.tables import Column, Footnotes, format_value, html_page, unit_column
-
-__all__ = ["compare_lines", "comparison_html"]
+__all__ = ["compare_lines"]
 
 
 def compare_lines(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
@@ -48,32 +43,3 @@ def compare_lines(tables: Mapping[str, pd.DataFrame]) -> pd.DataFrame:
     out = pd.DataFrame(parts).reindex(order)
     out.columns = pd.MultiIndex.from_tuples(out.columns, names=["line", "solution", "statistic"])
     return out
-
-
-def _cell(mean: float, std: float, column: Column, notes: Footnotes) -> str:
-    """``mean ± std`` written by the column's kind (a count's "mean" is its sum)."""
-    text = format_value(mean, column)
-    if text is None:
-        return f"<td class='missing'>{notes.dash('no value in that line')}</td>"
-    spread = format_value(std, replace(column, kind="number")) if column.kind != "count" else None
-    return f"<td>{text}" + (f" &plusmn; {spread}" if spread is not None else "") + "</td>"
-
-
-def comparison_html(table: pd.DataFrame, meta: Mapping[str, tuple[str, str]], title: str) -> str:
-    """HTML page of :func:`compare_lines`: one row per figure, one column per line and
-    solution with ``mean ± std`` over the days (:mod:`leopod.plots.tables` conventions)."""
-    keys = [(line, sol) for line, sol, stat in table.columns if stat == "mean"]
-    head = "".join(f"<th>{html.escape(line)}<br>{html.escape(sol)}</th>" for line, sol in keys)
-    notes = Footnotes()
-    rows = []
-    for name, row in table.iterrows():
-        unit, text = meta[name]
-        column = unit_column(name, name.replace("_", " "), unit, text)
-        cells = "".join(_cell(row[(line, sol, "mean")], row.get((line, sol, "std"), np.nan),
-                              column, notes) for line, sol in keys)
-        rows.append(f"<tr><td class='label' title='{html.escape(text, quote=True)}'>"
-                    f"{html.escape(column.header)}</td>{cells}</tr>")
-    body = (f"<table><thead><tr><th>figure</th>{head}</tr></thead><tbody>\n"
-            + "\n".join(rows) + "\n</tbody></table>\n" + notes.html())
-    return html_page(f"{title}: solution variants side by side (mean and STD over the days)",
-                     body)

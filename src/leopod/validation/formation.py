@@ -24,11 +24,10 @@ import xarray as xr
 
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.rtn import rtn_matrix
-from leopod.plots.tables import Footnotes, html_page, row_table, unit_column
 from leopod.signals import system_of
 
 __all__ = ["baseline_overlap", "burn_windows", "difference_rtn", "formation_day_row",
-           "formation_html", "formation_table", "mutual_differences", "range_residuals", "rms_rtn",
+           "formation_table", "mutual_differences", "range_residuals", "rms_rtn",
            "sd_residual_rms",
            "truth_baseline_itrf"]
 
@@ -285,20 +284,6 @@ def formation_table(rows: Mapping[str, Mapping[str, tuple[float, str, str]]]
     out = pd.concat([table, pd.DataFrame([mean.rename("mean"), std.rename("std")])])
     out.index.name = "date"
     return out, meta
-
-
-def formation_html(table: pd.DataFrame, meta: Mapping[str, tuple[str, str]],
-                   title: str) -> str:
-    """HTML page of :func:`formation_table`: one row per figure (label with its unit, the
-    description as tooltip), one column per day, then the mean (of a count: the sum over the
-    days) and the STD (:mod:`leopod.plots.tables` conventions: counts as integers, rates in
-    per cent, a footnoted dash where a day has no value)."""
-    notes = Footnotes()
-    headers = ["figure", *(str(d) for d in table.index[:-2]), "mean (counts: sum)", "STD"]
-    rows = [(unit_column(c, meta[c][1], meta[c][0]), table[c].to_numpy(dtype=float))
-            for c in table.columns]
-    body = row_table(headers, rows, notes, "no value (no product, truth or data that day)")
-    return html_page(f"{title}: formation summary", body + notes.html())
 
 
 def baseline_overlap(times_a: np.ndarray, baseline_a: np.ndarray, times_b: np.ndarray,
