@@ -29,10 +29,10 @@ __all__ = ["comparison_html", "formation_html"]
 
 def formation_html(table: pd.DataFrame, meta: Mapping[str, tuple[str, str]],
                    title: str) -> str:
-    """HTML page of :func:`leopod.validation.formation.formation_table`: one row per figure (label with its unit, the
-    description as tooltip), one column per day, then the mean (of a count: the sum over the
-    days) and the STD (:mod:`leopod.plots.tables` conventions: counts as integers, rates in
-    per cent, a footnoted dash where a day has no value)."""
+    """HTML page of :func:`leopod.validation.formation.formation_table`: one row per figure
+    (label with its unit, the description as tooltip), one column per day, then the mean (of
+    a count: the sum over the days) and the STD (:mod:`leopod.plots.tables` conventions:
+    counts as integers, rates in per cent, a footnoted dash where a day has no value)."""
     notes = Footnotes()
     headers = ["figure", *(str(d) for d in table.index[:-2]), "mean (counts: sum)", "STD"]
     rows = [(unit_column(c, meta[c][1], meta[c][0]), table[c].to_numpy(dtype=float))
@@ -51,8 +51,9 @@ def _cell(mean: float, std: float, column: Column, notes: Footnotes) -> str:
 
 
 def comparison_html(table: pd.DataFrame, meta: Mapping[str, tuple[str, str]], title: str) -> str:
-    """HTML page of :func:`leopod.validation.comparison.compare_lines`: one row per figure, one column per line and
-    solution with ``mean ± std`` over the days (:mod:`leopod.plots.tables` conventions)."""
+    """HTML page of :func:`leopod.validation.comparison.compare_lines`: one row per figure,
+    one column per line and solution with ``mean ± std`` over the days
+    (:mod:`leopod.plots.tables` conventions)."""
     keys = [(line, sol) for line, sol, stat in table.columns if stat == "mean"]
     head = "".join(f"<th>{html.escape(line)}<br>{html.escape(sol)}</th>" for line, sol in keys)
     notes = Footnotes()
