@@ -283,6 +283,8 @@ def campaign_text(name: str, satellite: str, start: _dt.date, end: _dt.date, *,
         "#   leopod run <this file>       the whole campaign (a target path runs less: "
         "-- results/<campaign>/...)",
         f"campaign: {name}",
+        "# who produces the products (the CF 'institution' of every netCDF file); null: none",
+        "institution: null",
         "",
         "# days to process (GPS time, inclusive), quoted: YYYY-MM-DD",
         f"start_date: \"{start.isoformat()}\"",
