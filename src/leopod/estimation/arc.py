@@ -234,8 +234,6 @@ class ArcProblem:
     apriori_itrf_m : xarray.DataArray (time, xyz)
         A-priori ITRF positions [m]: the start of the initial fit and the reference of
         ``apriori_diff_rtn_m``.
-    output_step_s : float
-        Step of the orbit datasets [s].
     output_times : ndarray of datetime64[ns], shape (o,)
         Epochs of the orbit datasets (:func:`arc_output_epochs`); the integrations cover them.
     eop : EarthOrientation or None
@@ -249,7 +247,6 @@ class ArcProblem:
     force_model: ForceModel
     antennas: dict
     apriori_itrf_m: xr.DataArray
-    output_step_s: float
     output_times: np.ndarray
     eop: object = None
     environment: ArcEnvironment | None = None
@@ -405,8 +402,8 @@ def setup_arc(date: str, data: ArcData, signals: SystemSignals, arc: ArcSettings
                       antennas={"leo_pco_body_m": leo_pco, "sat_pco_body_m": sat_pco,
                                 "sat_pcv_m": sat_pcv, "leo_attitude": attitude,
                                 "leo_antenna": receiver_antenna(pco_body_m, po.sv, by_system)},
-                      apriori_itrf_m=apriori, output_step_s=float(arc.output_step_s),
-                      output_times=output_times, eop=eop, environment=environment)
+                      apriori_itrf_m=apriori, output_times=output_times, eop=eop,
+                      environment=environment)
 
 
 def arc_outputs(problem: ArcProblem, result: PodResult,

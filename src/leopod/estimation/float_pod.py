@@ -457,7 +457,6 @@ class _Problem:
                  leo_attitude: LeoAttitude | None = None, leo_antenna=None,
                  cover_s: tuple[float, float] | None = None):
         self.obs, self.products, self.fm, self.settings = obs, products, force_model, settings
-        self.cover_s = cover_s
         self.eop = eop
         self.rotation = _ReceptionRotation(eop)
         self.leo_pco = (np.zeros(3) if leo_pco_body_m is None
@@ -467,6 +466,10 @@ class _Problem:
         self.leo_antenna = leo_antenna
         self.t_ref = np.datetime64(t_ref, "ns")
         self.t_nom_s = seconds_since(obs.times, self.t_ref)
+        # what an integration spans besides its evaluation epochs: the nominal epochs and
+        # cover_s (output epochs beyond the observations)
+        cover = (self.t_nom_s[0], self.t_nom_s[-1]) if cover_s is None else cover_s
+        self.span_s = (min(self.t_nom_s[0], cover[0]), max(self.t_nom_s[-1], cover[1]))
         self.t_nom_prod_s = seconds_since(obs.times, products.ref)
         self.sun = sun_position_ef(obs.times)
         self.pairs = Pairs(epoch=obs.epoch, isv=products.sv_index(obs.sv)[obs.sat],
@@ -527,14 +530,14 @@ class _Problem:
 
     # -- orbit ------------------------------------------------------------------------------
     def integrate(self, state0: np.ndarray, t_eval: np.ndarray) -> Trajectory:
-        """Orbit at ``t_eval`` [s] whose dense output also spans the nominal epochs and
-        ``cover_s`` (the output epochs), all by at least ``_SPAN_MARGIN_S``, to ends on the integrator's step grid from t0 (so that
-        the last segment keeps whole steps and the pulses in it fall on nodes: no restarts);
-        forces tabulated along a reference orbit (drag) follow it from then on."""
+        """Orbit at ``t_eval`` [s] whose dense output also spans ``span_s`` (the nominal and
+        output epochs), both by at least ``_SPAN_MARGIN_S``, to ends on the integrator's step
+        grid from t0 (so that the last segment keeps whole steps and the pulses in it fall on
+        nodes: no restarts); forces tabulated along a reference orbit (drag) follow it from
+        then on."""
         step = DEFAULT_STEP_S
-        cover = (self.t_nom_s[0], self.t_nom_s[-1]) if self.cover_s is None else self.cover_s
-        lo = min(t_eval.min(), self.t_nom_s[0], cover[0]) - _SPAN_MARGIN_S
-        hi = max(t_eval.max(), self.t_nom_s[-1], cover[1]) + _SPAN_MARGIN_S
+        lo = min(t_eval.min(), self.span_s[0]) - _SPAN_MARGIN_S
+        hi = max(t_eval.max(), self.span_s[1]) + _SPAN_MARGIN_S
         t_out = np.append(t_eval, [self.t0 - step * np.ceil((self.t0 - lo) / step),
                                    self.t0 + step * np.ceil((hi - self.t0) / step)])
         if self.pulses is None:
