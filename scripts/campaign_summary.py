@@ -43,8 +43,10 @@ log = logging.getLogger(__name__)
 
 
 def _load(files: dict, key: str, date: str):
+    """The day's file of product ``key``, opened lazily: the table reads a few of its
+    variables (e.g. the residuals' RMS, not their directions)."""
     path = files.get(key, {}).get(date)
-    return load_netcdf(path) if path else None
+    return load_netcdf(path, lazy=True) if path else None
 
 
 #: Row labels of the solutions and of the statistics over the days in the HTML table.
@@ -111,7 +113,7 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
     ``isb_png``; ``phases`` (phase pair per system) count the wrong fixes against the truth;
     ``input_files`` are recorded as provenance; the days ``excluded`` from the campaign
     (day -> reason, config ``exclude_days``) get rows without figures, gate failed."""
-    rows, isb = [], []
+    rows, isb, truths = [], [], {}
     excluded = dict(excluded or {})
     for solution, products in files.items():
         for date in sorted([*days, *excluded]):
@@ -122,7 +124,10 @@ def main(files: Mapping, days, input_files, outputs: Mapping, *, title: str,
             residuals = _load(products, "residuals", date)
             parameters = _load(products, "parameters", date)
             ambiguity = _load(products, "ambiguity", date)
-            truth = [load_netcdf(p) for p in products.get("truth", {}).get(date, [])]
+            # an arc spans up to three days' truth files, and each solution counts its fixes
+            paths = products.get("truth", {}).get(date, [])
+            truths.update({p: load_netcdf(p, lazy=True) for p in paths if p not in truths})
+            truth = [truths[p] for p in paths]
             wrong = (wrong_fix_counts(ambiguity, residuals, truth, phases)
                      if truth and ambiguity is not None else None)
             rows.append(day_row(date, solution, residuals=residuals, ambiguity=ambiguity,

@@ -6,13 +6,16 @@ file's ``amb_L1C_cyc`` holds both systems); and the phase model (wind-up equal i
 both frequencies, Wu et al. 1993) with the unwrapping rule of
 leopod.gnss.corrections.unwrap_windup that the estimator applies from the first epoch of its
 arc: a wind-up that has wandered by k whole cycles since the simulated day began moves the
-estimated N1 by k and leaves N_WL = N1 - N2 unchanged.
+estimated N1 by k and leaves N_WL = N1 - N2 unchanged. The per-pass median of one sort
+against numpy's ``nanmedian`` of each pass.
 """
+
+import warnings
 
 import numpy as np
 import xarray as xr
 
-from leopod.simulate.ambiguity_truth import true_single_differences, wrong_fixes
+from leopod.simulate.ambiguity_truth import _group_medians, true_single_differences, wrong_fixes
 
 SVS = ["E02", "E03", "G01", "G02"]
 TIMES = np.datetime64("2023-07-08T00:00", "ns") + np.arange(3) * np.timedelta64(30, "s")
@@ -83,3 +86,17 @@ def test_windup_wandered_by_whole_cycles_moves_n1_not_n_wl():
     wl, nl = true_single_differences(*_case(windup), phases=("L1P", "L5P"))
     assert wl[0] == 3.0
     assert nl[0] == (5 + 2) - 2
+
+
+def test_the_pass_medians_are_numpys_nanmedian_of_each_pass():
+    rng = np.random.default_rng(7)
+    for size in (0, 1, 2, 7, 300):
+        passes = rng.integers(0, 12, size)
+        values = rng.integers(-4, 4, size).astype(float)
+        values[rng.random(size) < 0.3] = np.nan          # epochs without the signal
+        keys, medians = _group_medians(passes, values)
+        np.testing.assert_array_equal(keys, np.unique(passes))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)    # all-NaN pass: NaN
+            expected = [np.nanmedian(values[passes == k]) for k in keys]
+        np.testing.assert_array_equal(medians, expected)
