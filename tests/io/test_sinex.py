@@ -14,8 +14,10 @@ from leopod.io._text import FormatError
 from leopod.io.sinex import (
     read_sinex_eccentricities,
     read_sinex_stations,
+    station_eccentricities,
     station_eccentricity,
     station_position,
+    station_positions,
 )
 from leopod.io.sinex_write import write_sinex_stations
 
@@ -102,6 +104,52 @@ def test_station_position_propagates_and_picks_solution(slrf2020):
         station_position(slrf2020, "1868", "2003-08-01")
     with pytest.raises(KeyError, match="9999"):
         station_position(slrf2020, "9999", "2020-01-01")
+
+
+def _one_by_one(lookup, ds, sites, epochs):
+    """``lookup`` of each (site, epoch); None where it raises KeyError."""
+    out = []
+    for site, epoch in zip(sites, epochs, strict=True):
+        try:
+            out.append(lookup(ds, site, epoch))
+        except KeyError:
+            out.append(None)
+    return out
+
+
+#: Sites and epochs of the lookups above, in mixed order, with a gap and an unknown site.
+_MANY = (["1868", "7090", "1868", "9999", "7090", "1868"],
+         ["2000-01-01", "2023-01-01", "2003-08-01", "2020-01-01", "1990-11-12T23:59:59",
+          "2015-01-01"])
+
+
+@pytest.mark.shared
+def test_station_positions_of_many_points_are_the_single_lookups(slrf2020):
+    sites, epochs = _MANY
+    many = station_positions(slrf2020, sites, np.array(epochs, dtype="datetime64[ns]"))
+    for got, one in zip(many, _one_by_one(station_position, slrf2020, sites, epochs),
+                        strict=True):
+        if one is None:
+            assert np.isnan(got).all()
+        else:
+            np.testing.assert_array_equal(got, one)
+    assert np.isnan(many[[2, 3], 0]).all() and np.isfinite(many[[0, 1, 4, 5]]).all()
+
+
+@pytest.mark.shared
+def test_station_eccentricities_of_many_points_are_the_single_lookups(slr):
+    ds = read_sinex_eccentricities(slr / "ecc_xyz.snx")
+    sites, epochs = ["7090", "7090", "7307", "7090"], ["2023-01-01", "1987-04-20",
+                                                      "1988-08-01", "1990-11-12T23:59:59"]
+    ecc, systems = station_eccentricities(ds, sites, np.array(epochs, dtype="datetime64[ns]"))
+    for got, system, one in zip(ecc, systems, _one_by_one(station_eccentricity, ds, sites,
+                                                          epochs), strict=True):
+        if one is None:
+            assert np.isnan(got).all() and system == ""
+        else:
+            np.testing.assert_array_equal(got, one[0])
+            assert system == one[1]
+    assert systems.tolist().count("") == 1
 
 
 @pytest.mark.shared

@@ -83,8 +83,10 @@ __all__ = [
     "ANY_SOLUTION",
     "read_sinex_eccentricities",
     "read_sinex_stations",
+    "station_eccentricities",
     "station_eccentricity",
     "station_position",
+    "station_positions",
 ]
 
 _LOG = logging.getLogger(__name__)
@@ -463,23 +465,92 @@ def read_sinex_eccentricities(path: str | Path) -> xr.Dataset:
 
 
 # ----------------------------------------------------------------------------------- lookups
+def _covering_rows(ds: xr.Dataset, sites, epochs, pt: str | None) -> np.ndarray:
+    """Index of the last row of each site whose validity covers its epoch, −1 if none.
+
+    Parameters
+    ----------
+    sites : array_like of str, shape (n,)
+    epochs : array_like of datetime64, shape (n,)
+
+    Returns
+    -------
+    ndarray of int, shape (n,)
+    """
+    sites = np.asarray(sites, dtype=str)
+    t = np.asarray(epochs, dtype="datetime64[ns]")
+    if np.isnat(t).any():
+        raise ValueError("epoch is NaT")
+    rows = np.full(sites.size, -1)
+    candidates = ds["site"].values.astype(str)
+    if pt is not None:
+        candidates = np.where(ds["pt"].values == pt, candidates, "")
+    start, end = ds["valid_from"].values, ds["valid_to"].values
+    for site in np.unique(sites):
+        mine = np.flatnonzero(candidates == site)                     # (k,) in file order
+        if not mine.size:
+            continue
+        points = np.flatnonzero(sites == site)
+        tp = t[points, None]
+        cover = ((np.isnat(start[mine]) | (start[mine] <= tp))
+                 & (np.isnat(end[mine]) | (tp <= end[mine])))        # (m, k)
+        last = mine[mine.size - 1 - np.argmax(cover[:, ::-1], axis=1)]
+        rows[points] = np.where(cover.any(axis=1), last, -1)
+    return rows
+
+
 def _covering(ds: xr.Dataset, site: str, epoch, pt: str | None) -> int:
     """Index of the last row of ``site`` whose validity covers ``epoch``."""
     t = np.datetime64(epoch, "ns")
-    if np.isnat(t):
-        raise ValueError("epoch is NaT")
-    rows = ds["site"].values == str(site)
-    if pt is not None:
-        rows &= ds["pt"].values == pt
-    start = ds["valid_from"].values
-    end = ds["valid_to"].values
-    rows &= (np.isnat(start) | (start <= t)) & (np.isnat(end) | (t <= end))
-    hit = np.flatnonzero(rows)
-    if hit.size == 0:
+    i = int(_covering_rows(ds, [site], [t], pt)[0])
+    if i < 0:
         where = "" if pt is None else f" point {pt}"
         raise KeyError(f"no entry for site {site}{where} valid at {t.astype('datetime64[s]')}"
                        f" in {ds.attrs.get('source', 'the dataset')}")
-    return int(hit[-1])
+    return i
+
+
+def station_positions(ds: xr.Dataset, sites, epochs, pt: str | None = None) -> np.ndarray:
+    """:func:`station_position` of many (site, epoch) pairs at once; NaN rows for a site
+    without a solution at its epoch.
+
+    Parameters
+    ----------
+    sites : array_like of str, shape (n,)
+    epochs : array_like of datetime64, shape (n,)
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+        Earth-fixed positions [m].
+    """
+    i = _covering_rows(ds, sites, epochs, pt)
+    found = i >= 0
+    out = np.full((i.size, 3), np.nan)
+    j = i[found]
+    t = np.asarray(epochs, dtype="datetime64[ns]")[found]
+    dt_years = (t - ds["ref_epoch"].values[j]).astype(np.int64) / _JULIAN_YEAR_NS
+    vel = np.nan_to_num(ds["vel_m_y"].values[j], nan=0.0)
+    out[found] = ds["pos_m"].values[j] + vel * dt_years[:, None]
+    return out
+
+
+def station_eccentricities(ds: xr.Dataset, sites, epochs,
+                           pt: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`station_eccentricity` of many (site, epoch) pairs at once.
+
+    Returns
+    -------
+    ecc_m : ndarray, shape (n, 3)
+        Eccentricities [m] (NaN rows where no line covers the epoch).
+    ref_system : ndarray of str, shape (n,)
+        "UNE" or "XYZ"; "" where no line covers the epoch.
+    """
+    i = _covering_rows(ds, sites, epochs, pt)
+    found = i >= 0
+    ecc = np.full((i.size, 3), np.nan)
+    ecc[found] = ds["ecc_m"].values[i[found]]
+    return ecc, np.where(found, ds["ref_system"].values[np.maximum(i, 0)].astype(str), "")
 
 
 def station_position(ds: xr.Dataset, site: str, epoch, pt: str | None = None) -> np.ndarray:

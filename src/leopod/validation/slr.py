@@ -59,7 +59,7 @@ from leopod.astro.ephemeris import Ephemeris
 from leopod.constants import C_LIGHT_M_S, OMEGA_EARTH_RAD_S, WGS84_A_M, WGS84_INV_F
 from leopod.frames.leo_attitude import LeoAttitude
 from leopod.frames.rtn import rtn_matrix
-from leopod.io.sinex import station_eccentricity, station_position
+from leopod.io.sinex import station_eccentricities, station_positions
 from leopod.settings import Settings
 from leopod.time.eop import EarthOrientation
 from leopod.time.scales import utc_to_gps
@@ -172,22 +172,16 @@ def _station_points(sites: np.ndarray, epochs_utc: np.ndarray, stations: xr.Data
     _require(stations, _STATION_VARIABLES, "the station Dataset (read_sinex_stations)")
     _require(eccentricities, _ECCENTRICITY_VARIABLES,
              "the eccentricity Dataset (read_sinex_eccentricities)")
-    n = sites.size
-    marker = np.full((n, 3), np.nan)
-    ecc = np.zeros((n, 3))
-    for i in range(n):
-        try:
-            marker[i] = station_position(stations, sites[i], epochs_utc[i])
-        except KeyError:
-            flag[i] = _CODE["no_station"]
-            continue
-        if eccentricities is None:
-            continue
-        try:
-            ecc[i] = _ecc_to_itrf(*station_eccentricity(eccentricities, sites[i],
-                                                         epochs_utc[i]), marker[i])
-        except KeyError:
-            flag[i] = _CODE["no_eccentricity"]
+    marker = station_positions(stations, sites, epochs_utc)
+    ecc = np.zeros_like(marker)
+    no_station = np.isnan(marker[:, 0])
+    flag[no_station] = _CODE["no_station"]
+    if eccentricities is None:
+        return marker, ecc
+    values, systems = station_eccentricities(eccentricities, sites, epochs_utc)
+    flag[~no_station & (systems == "")] = _CODE["no_eccentricity"]
+    for i in np.flatnonzero(~no_station & (systems != "")):
+        ecc[i] = _ecc_to_itrf(values[i], systems[i], marker[i])
     return marker, ecc
 
 
