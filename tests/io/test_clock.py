@@ -10,7 +10,7 @@ from _helpers import assert_format_error, write_lines
 
 from leopod.io import FormatError
 from leopod.io.clock import read_rinex_clock
-from leopod.io.clock_write import write_rinex_clock
+from leopod.io.clock_write import _fortran_e, write_rinex_clock
 
 COD_CLK = "grace-a_2007-080/cod14193.clk.gz"
 WHU_CLK = "products_2008-279_whu/whp15000.clk.Z"
@@ -175,6 +175,18 @@ def test_writer_record_columns(tmp_path):
     assert record[:34] == "AS G01  2023  1  1  0  0  0.000000"
     assert record[34:40] == "  2   " and len(record) == 79
     assert record[40:42] in (" 0", "-0") and record[55] == "E"
+
+
+def test_values_are_fortran_e19_12():
+    """Fortran E19.12 as the COD clock file writes it (lines 226, 535 of the 2007-080 file,
+    quoted above): 0.d..d, 12 digits, exponent raised by one; the digits are Python's
+    correctly rounded ``.11E`` (so 9.9999999999995e-5 rounds up into the next decade)."""
+    got = _fortran_e(np.array([0.115016696417e-03, 0.360574866033e-10, 0.139430050914e-06,
+                               -0.987654321098e-04, 9.9999999999995e-5, 0.0, -0.0, 1.0]))
+    assert got.tolist() == [" 0.115016696417E-03", " 0.360574866033E-10",
+                            " 0.139430050914E-06", "-0.987654321098E-04",
+                            " 0.100000000000E-03", " 0.000000000000E+00",
+                            "-0.000000000000E+00", " 0.100000000000E+01"]
 
 
 @pytest.mark.shared

@@ -21,13 +21,60 @@ __all__ = ["write_rinex_clock"]
 _UNIX0 = datetime(1970, 1, 1)
 
 
-def _fortran_e(value: float) -> str:
-    """``value`` as Fortran E19.12 ("-0.123456789012E-03"), 12 significant digits."""
-    mantissa, exponent = f"{value:.11E}".split("E")
-    sign = "-" if mantissa.startswith("-") else " "
-    digits = mantissa.lstrip("-").replace(".", "")
-    exp = int(exponent) + 1 if value != 0.0 else 0
-    return f"{sign}0.{digits}E{'-' if exp < 0 else '+'}{abs(exp):02d}"
+def _fortran_e(values: np.ndarray) -> np.ndarray:
+    """``values`` as Fortran E19.12 ("-0.123456789012E-03"), 12 significant digits.
+
+    The digits are those of Python's ``f"{v:.11E}"`` (correctly rounded), moved behind a
+    leading "0." with the exponent raised by one (0 stays "0.000000000000E+00").
+
+    Parameters
+    ----------
+    values : ndarray of float, shape (n,)
+        Finite values.
+
+    Returns
+    -------
+    ndarray of str, shape (n,)
+    """
+    values = np.asarray(values, dtype=float)
+    if not values.size:                  # numpy's string functions refuse empty arrays
+        return np.array([], dtype=str)
+    text = np.array([f"{v:.11E}" for v in np.abs(values).tolist()], dtype=str)  # d.d..dE±XX
+    digits = np.strings.add(np.strings.slice(text, 0, 1), np.strings.slice(text, 2, 13))
+    exponent = np.strings.slice(text, 14, None).astype(int) + (values != 0.0)
+    sign = np.where(np.signbit(values), "-", " ")
+    magnitude = np.strings.zfill(np.abs(exponent).astype(str), 2)
+    return sign + np.strings.add(np.strings.add("0.", digits), "E") + np.strings.add(
+        np.where(exponent < 0, "-", "+"), magnitude)
+
+
+def value_records(kind: str, sats: list[str], epochs: list[str], value: np.ndarray,
+                  sigma: np.ndarray) -> list[str]:
+    """Data records ``<kind> <sat> <epoch>  n   <value> [<sigma>]`` of the finite values, in
+    time, then satellite order (RINEX clock AS records, CNES/CLS WL records): E19.12 values,
+    n = 2 with a finite sigma, else 1.
+
+    Parameters
+    ----------
+    kind : str
+        Record type, two characters ("AS", "WL").
+    sats : list of str
+        Satellite ids (at most 4 characters).
+    epochs : list of str
+        Epoch fields of the records, one per time.
+    value, sigma : ndarray, shape (n_time, n_sat)
+        Values and their sigmas (NaN: no record / no sigma).
+    """
+    i, k = np.nonzero(np.isfinite(value))
+    if not i.size:
+        return []
+    with_sigma = np.isfinite(sigma[i, k])
+    heads = np.strings.add(np.array([f"{kind} {sv:<4s} " for sv in sats])[k],
+                           np.array(epochs)[i])
+    values = np.strings.add(np.where(with_sigma, "  2   ", "  1   "), _fortran_e(value[i, k]))
+    sigmas = np.full(i.size, "", dtype=values.dtype)
+    sigmas[with_sigma] = np.strings.add(" ", _fortran_e(sigma[i, k][with_sigma]))
+    return np.strings.add(heads, np.strings.add(values, sigmas)).tolist()
 
 
 def _label(content: str, label: str) -> str:
@@ -110,22 +157,16 @@ def write_rinex_clock(ds: xr.Dataset, path: str | Path, *, version: str = "3.00"
     out.append(_label("", "END OF HEADER"))
 
     times = ds["time"].values.astype("datetime64[ns]").astype(np.int64)
-    for i, t_ns in enumerate(times):
+    epochs = []
+    for t_ns in times:
         us = (int(t_ns) + 500) // 1000
         whole, frac_us = divmod(us, 1_000_000)
         days, sec_of_day = divmod(whole, 86_400)
         day = datetime.fromordinal(_UNIX0.toordinal() + days)
         hour, rest = divmod(sec_of_day, 3600)
         minute, sec = divmod(rest, 60)
-        epoch = (f"{day.year:4d} {day.month:2d} {day.day:2d} {hour:2d} {minute:2d} "
-                 f"{sec:2d}.{frac_us:06d}")
-        for k, sv in enumerate(sats):
-            if not np.isfinite(clk[i, k]):
-                continue
-            if np.isfinite(sigma[i, k]):
-                values = f"  2   {_fortran_e(clk[i, k])} {_fortran_e(sigma[i, k])}"
-            else:
-                values = f"  1   {_fortran_e(clk[i, k])}"
-            out.append(f"AS {sv:<4s} {epoch}{values}")
+        epochs.append(f"{day.year:4d} {day.month:2d} {day.day:2d} {hour:2d} {minute:2d} "
+                      f"{sec:2d}.{frac_us:06d}")
+    out += value_records("AS", sats, epochs, clk, sigma)
     text = "\n".join(out) + "\n"
     write_text(path, text)

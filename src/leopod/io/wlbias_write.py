@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.io._text import write_text
-from leopod.io.clock_write import _fortran_e
+from leopod.io.clock_write import value_records
 from leopod.io.wlbias import _SV
 
 __all__ = ["wl_bias_records", "write_wl_bias"]
@@ -55,19 +55,8 @@ def wl_bias_records(ds: xr.Dataset) -> list[str]:
     bad = [s for s in svs if not _SV.match(s)]
     if bad:
         raise ValueError(f"satellite ids must look like 'G01', got {bad}")
-    lines = []
-    for i, t in enumerate(ds["time"].values.astype("datetime64[ns]")):
-        epoch = _epoch_text(t)
-        for k, sv in enumerate(svs):
-            if not np.isfinite(value[i, k]):
-                continue
-            values = _fortran_e(value[i, k])
-            n = 1
-            if np.isfinite(sigma[i, k]):
-                values += " " + _fortran_e(sigma[i, k])
-                n = 2
-            lines.append(f"WL {sv:<4s} {epoch}{n:3d}   {values}")
-    return lines
+    epochs = [_epoch_text(t) for t in ds["time"].values.astype("datetime64[ns]")]
+    return value_records("WL", svs, epochs, value, sigma)
 
 
 def write_wl_bias(ds: xr.Dataset, path: str | Path) -> None:
