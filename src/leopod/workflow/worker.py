@@ -114,8 +114,10 @@ def hand_off(namespace: dict) -> None:
     ended = _read(reader)
     if ended is None:
         sys.stderr.write(f"leopod worker: the job's process {pid} ended without a status\n")
-        sys.exit(1)
-    sys.exit(ended["exit"])
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # this process only waited: no interpreter teardown (Snakemake's modules are loaded)
+    os._exit(1 if ended is None else ended["exit"])
 
 
 def _frame(message: dict) -> bytes:
