@@ -365,6 +365,33 @@ def _jump(y, f, t_nodes, node, order, dv_rtn, sign, da_dr, da_dv, saved):  # pra
 
 
 @numba.njit(cache=True)
+def _force_jump(y, f, node, order, f_new, saved):  # pragma: no cover - numba
+    """Right-hand side jumping at ``node`` (a breakpoint of piecewise-constant force
+    parameters) from ``f[node]`` (its old side) to ``f_new`` (the new side), without a restart.
+
+    The back values of the q nodes before are those of the new side extended backwards:
+    ``f_k + M_k M_nodeᵀ (f_new − f[node])``, the jump held constant in the orbit's radial,
+    along- and cross-track frame M (the piecewise-constant empirical accelerations and drag
+    scales are so; over q steps the frame turns by a few degrees), so that the difference
+    formulas see a smooth right-hand side; ``saved`` (q, 3, C) receives the original back
+    values.
+    """
+    n_col = f.shape[2]
+    basis = np.empty((3, 3))
+    _rtn_basis(y[node, :3, 0].copy(), y[node, 3:, 0].copy(), basis)
+    jump_rtn = basis.T @ (f_new - f[node])                       # (3, C)
+    for k in range(1, order + 1):
+        row = node - k
+        _rtn_basis(y[row, :3, 0].copy(), y[row, 3:, 0].copy(), basis)
+        jump = basis @ jump_rtn
+        for i in range(3):
+            for c in range(n_col):
+                saved[k - 1, i, c] = f[row, i, c]
+                f[row, i, c] += jump[i, c]
+    f[node] = f_new
+
+
+@numba.njit(cache=True)
 def _sums_from_node(y_node, f_hist, corr_v, corr_r, h, s1, s2, c1, c2):  # pragma: no cover
     """Integration constants S1, S2 from the state and back values at a node (correctors)."""
     zero = np.zeros((3, y_node.shape[1]))
@@ -378,7 +405,7 @@ def _sums_from_node(y_node, f_hist, corr_v, corr_r, h, s1, s2, c1, c2):  # pragm
 
 @numba.njit(cache=True)
 def _gauss_jackson_compiled(t_nodes, h, y, f, order, w1, w2, tol, weights, pece, jump_node,
-                            jump_dv, direction, y_left, params, data,
+                            jump_dv, direction, y_left, break_node, params, data,
                             work):  # pragma: no cover - numba
     """Start-up and Gauss–Jackson steps of one segment with the compiled force model.
 
@@ -386,7 +413,11 @@ def _gauss_jackson_compiled(t_nodes, h, y, f, order, w1, w2, tol, weights, pece,
     along the integration, more than q nodes apart and after the start-up) enter the state
     without a restart (:func:`_jump`; the integration constants are taken anew from the state
     after the pulse); ``y`` keeps the right limit at those nodes and ``y_left[j]`` the left
-    one. Returns the number of force evaluations (negative: the start-up did not converge).
+    one. At the nodes ``break_node`` (breakpoints of the force parameters, under the same
+    conditions and apart from the pulses) the node is corrected with the right-hand side of
+    the side it is reached from, then the right-hand side jumps to the other side
+    (:func:`_force_jump`; one more evaluation instead of a restart's start-up). Returns the
+    number of force evaluations (negative: the start-up did not converge).
     """
     pred_v, pred_r, corr_v, corr_r = weights
     n_steps = t_nodes.size - 1
@@ -400,22 +431,42 @@ def _gauss_jackson_compiled(t_nodes, h, y, f, order, w1, w2, tol, weights, pece,
     saved = np.empty((order, 3))
     restore = -1                           # node whose back values to restore, -1: none
     next_jump = 0
+    saved_f = np.empty((order, 3, n_col))
+    f_new = np.empty((3, n_col))
+    restore_f = -1                         # the same for a force breakpoint (all columns)
+    next_break = 0
     for n in range(order, n_steps):
         if restore >= 0 and n == restore + order:   # out of the window: the true values
             for k in range(1, order + 1):
                 f[restore - k, :, 0] = saved[k - 1]
             restore = -1
+        if restore_f >= 0 and n == restore_f + order:
+            for k in range(1, order + 1):
+                f[restore_f - k] = saved_f[k - 1]
+            restore_f = -1
+        at_break = next_break < break_node.size and break_node[next_break] == n + 1
+        # a breakpoint node is reached on its old side: the forces one ulp before it
+        t_eval = np.nextafter(t_nodes[n + 1], t_nodes[n]) if at_break else t_nodes[n + 1]
         _gj_sum(f[n - order:n + 1], s1, s2, pred_v, pred_r, h, True, y[n + 1])
-        augmented_rhs(t_nodes[n + 1], y[n + 1], f[n + 1], params, data, work)
+        augmented_rhs(t_eval, y[n + 1], f[n + 1], params, data, work)
         n_eval += 1
         _kahan_add(s2, c2, s1)
         _kahan_add(s1, c1, f[n + 1])
         _gj_sum(f[n + 1 - order:n + 2], s1, s2, corr_v, corr_r, h, False, y[n + 1])
         if pece:
             f_predicted = f[n + 1].copy()
-            augmented_rhs(t_nodes[n + 1], y[n + 1], f[n + 1], params, data, work)
+            augmented_rhs(t_eval, y[n + 1], f[n + 1], params, data, work)
             n_eval += 1
             _kahan_add(s1, c1, f[n + 1] - f_predicted)
+        if at_break:
+            t_new = np.nextafter(t_nodes[n + 1], t_nodes[n + 1] + (t_nodes[n + 1] - t_nodes[n]))
+            augmented_rhs(t_new, y[n + 1], f_new, params, data, work)
+            n_eval += 1
+            _force_jump(y, f, n + 1, order, f_new, saved_f)
+            _sums_from_node(y[n + 1], f[n + 1 - order:n + 2], corr_v, corr_r, h, s1, s2, c1,
+                            c2)
+            restore_f = n + 1
+            next_break += 1
         if next_jump < jump_node.size and jump_node[next_jump] == n + 1:
             reached = y[n + 1].copy()
             _jump(y[n + 1], f, t_nodes, n + 1, order, jump_dv[next_jump], float(direction),
@@ -432,6 +483,9 @@ def _gauss_jackson_compiled(t_nodes, h, y, f, order, w1, w2, tol, weights, pece,
     if restore >= 0:
         for k in range(1, order + 1):
             f[restore - k, :, 0] = saved[k - 1]
+    if restore_f >= 0:
+        for k in range(1, order + 1):
+            f[restore_f - k] = saved_f[k - 1]
     return n_eval
 
 
@@ -470,8 +524,10 @@ def _gauss_jackson_segment(rhs: _Rhs, t_start: float, t_end: float, y0: np.ndarr
 def gauss_jackson_compiled(compiled, params: np.ndarray, t_start: float, t_end: float,
                            y0: np.ndarray, step_s: float, order: int, pece: bool,
                            jump_node: np.ndarray, jump_dv: np.ndarray,
-                           direction: int) -> tuple[_NodeSegment, int]:
-    """One segment with the compiled force model, pulses at nodes applied without restart.
+                           direction: int, break_node: np.ndarray | None = None
+                           ) -> tuple[_NodeSegment, int]:
+    """One segment with the compiled force model, pulses and force breakpoints at nodes
+    crossed without restart.
 
     Parameters
     ----------
@@ -489,6 +545,9 @@ def gauss_jackson_compiled(compiled, params: np.ndarray, t_start: float, t_end: 
         The pulses in R, T, N [m/s] (applied with the sign of ``direction``).
     direction : int
         +1 forwards, −1 backwards.
+    break_node : ndarray of int, shape (B,), optional
+        Node indices in (q, N), more than q apart and from the pulses, of breakpoints of the
+        force parameters (the forces jump there).
 
     Returns
     -------
@@ -508,7 +567,8 @@ def gauss_jackson_compiled(compiled, params: np.ndarray, t_start: float, t_end: 
     n_eval = _gauss_jackson_compiled(
         t_nodes, h, y, f, order, w1, w2, _startup_tolerance(n_col), _gauss_jackson_weights(order),
         pece, np.asarray(jump_node, dtype=np.int64),
-        np.ascontiguousarray(jump_dv, dtype=float).reshape(-1, 3), direction, y_left, p,
+        np.ascontiguousarray(jump_dv, dtype=float).reshape(-1, 3), direction, y_left,
+        np.asarray([] if break_node is None else break_node, dtype=np.int64), p,
         compiled.data, work)
     if n_eval < 0:
         raise RuntimeError(f"integrator start at t = {t_start} s did not converge; "

@@ -50,10 +50,13 @@ constant parameters) and, with :func:`apply_pulses`, the velocity jumps at pulse
 arc is therefore integrated in segments between consecutive breakpoints, restarting at each;
 a segment's step is the largest ≤ ``step_s`` that divides it (at least q steps). On the
 compiled path a pulse that falls on a node (past the start-up, more than q nodes from the
-previous one) needs no restart: the state jumps and the back values are those of the orbit
-after the pulse (:func:`leopod.dynamics.gauss_jackson.gauss_jackson_compiled`), which agrees
-with a restart to 1e-7 m over 3 h (tests/dynamics/test_compiled.py) for ~45 fewer evaluations
-per pulse.
+previous one) needs no restart (:func:`leopod.dynamics.gauss_jackson.gauss_jackson_compiled`):
+the state jumps and the back values are those of the orbit after the pulse, which agrees with
+a restart to 1e-7 m over 3 h (tests/dynamics/test_compiled.py) for ~45 fewer evaluations per
+pulse. Without partials (the simulator's truth orbits, with 10-min stochastic accelerations)
+a breakpoint on a node needs none either: the node is corrected with the forces of the side it
+is reached from and the back values take the jump of the forces there (one more evaluation
+instead of a start-up; as accurate as restarts against 1-s steps, same test file).
 
 Arcs run in both directions from t0 (outputs may precede t0). The trajectory is
 right-continuous in time: at a pulse epoch it holds the state after the pulse.
@@ -367,34 +370,44 @@ def _velocity_jump(y: np.ndarray, dv_rtn_m_s: np.ndarray, direction: int) -> np.
     return out
 
 
-_PULSE_ON_NODE = 1e-7          # a pulse this close to a node [steps] is applied there
+_PULSE_ON_NODE = 1e-7          # a pulse or breakpoint this close to a node [steps] is on it
 
 
 def _compiled_pieces(compiled: CompiledForceModel, params, a: float, b: float, y0, jumps,
-                     step_s: float, order: int, pece: bool, direction: int):
-    """Segments from a to b with the compiled force model; pulses strictly inside that fall
-    on nodes past the start-up, more than q nodes apart, are applied without restart
-    (:func:`leopod.dynamics.gauss_jackson.gauss_jackson_compiled`); the others split it."""
+                     breaks, step_s: float, order: int, pece: bool, direction: int):
+    """Segments from a to b with the compiled force model; the pulses and force breakpoints
+    strictly inside that fall on nodes past the start-up, more than q nodes apart, are crossed
+    without restart (:func:`leopod.dynamics.gauss_jackson.gauss_jackson_compiled`); the
+    others split it."""
     compiled.env.check(a)
     compiled.env.check(b)
-    inside = sorted((t for t in jumps if (t - a) * direction > 0 and (b - t) * direction > 0),
-                    key=lambda t: t * direction)
+
+    def inside(times):
+        return {t for t in times if (t - a) * direction > 0 and (b - t) * direction > 0}
+
+    pulses, forces = inside(jumps), inside(breaks)
+    events = sorted(pulses | forces, key=lambda t: t * direction)
     n_steps, h = segment_grid(a, b, step_s, order)
-    node = np.array([(t - a) / h for t in inside])
+    node = np.array([(t - a) / h for t in events])
     index = np.rint(node).astype(int)
     bad = ((np.abs(node - index) > _PULSE_ON_NODE) | (index <= order) | (index >= n_steps)
-           | (np.diff(index, prepend=0) <= order))
+           | (np.diff(index, prepend=0) <= order)
+           | np.array([t in pulses and t in forces for t in events], dtype=bool))
     if not bad.any():
-        dv = np.array([jumps[t] for t in inside]).reshape(-1, 3)
+        is_pulse = np.array([t in pulses for t in events], dtype=bool)
+        dv = np.array([jumps[t] for t in events if t in pulses]).reshape(-1, 3)
         segment, n_eval = gauss_jackson_compiled(compiled, params, a, b, y0, step_s, order,
-                                                 pece, index, dv, direction)
+                                                 pece, index[is_pulse], dv, direction,
+                                                 break_node=index[~is_pulse])
         return [segment], n_eval
-    t_split = inside[int(np.argmax(bad))]
-    left, n_left = _compiled_pieces(compiled, params, a, t_split, y0, jumps, step_s, order,
-                                    pece, direction)
-    y = _velocity_jump(left[-1].y_end, jumps[t_split], direction)
-    right, n_right = _compiled_pieces(compiled, params, t_split, b, y, jumps, step_s, order,
-                                      pece, direction)
+    t_split = events[int(np.argmax(bad))]
+    left, n_left = _compiled_pieces(compiled, params, a, t_split, y0, jumps, breaks, step_s,
+                                    order, pece, direction)
+    y = left[-1].y_end
+    if t_split in pulses:
+        y = _velocity_jump(y, jumps[t_split], direction)
+    right, n_right = _compiled_pieces(compiled, params, t_split, b, y, jumps, breaks, step_s,
+                                      order, pece, direction)
     return left + right, n_left + n_right
 
 
@@ -424,7 +437,13 @@ def _integrate(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
     y0[:, 0] = state0
     if with_partials:
         y0[:, 1:_N_STATE_COLUMNS] = np.eye(6)
-    breaks = np.union1d(force_model.breakpoints_s, [] if compiled else list(jumps))
+    # the compiled path crosses pulses on nodes without splitting the arc, and breakpoints
+    # too when there are no partials (the parameter partials, zero before their interval, are
+    # 3e-6 relative less accurate without the restart: tests/dynamics/test_compiled.py)
+    crossed = compiled is not None and not with_partials
+    breaks = np.union1d([] if crossed else force_model.breakpoints_s,
+                        [] if compiled else list(jumps))
+    force_breaks = [float(t) for t in force_model.breakpoints_s] if crossed else []
     n_compiled = 0
     arcs = []
     for direction, t_end in ((1, t_out.max(initial=t0_s)), (-1, t_out.min(initial=t0_s))):
@@ -439,8 +458,8 @@ def _integrate(force_model: ForceModel, t0_s: float, state0, params, t_out_s,
             if a in jumps:
                 y = _velocity_jump(y, jumps[a], direction)
             if compiled is not None:
-                pieces, n_eval = _compiled_pieces(compiled, params, a, b, y, jumps, step_s,
-                                                  order, pece, direction)
+                pieces, n_eval = _compiled_pieces(compiled, params, a, b, y, jumps,
+                                                  force_breaks, step_s, order, pece, direction)
                 arc.segments.extend(pieces)
                 n_compiled += n_eval
                 y = pieces[-1].y_end
