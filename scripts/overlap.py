@@ -1,5 +1,5 @@
-"""Rule overlap: the arc of a day against the next day's arc over their common span
-(leopod.validation.overlap)."""
+"""Rule overlap: the arc of a day against the next day's arc over their common span, for each
+POD solution (leopod.validation.overlap)."""
 
 from leopod.workflow.worker import hand_off
 
@@ -26,15 +26,17 @@ def main(orbit_a, orbit_b, out_path, *, trim_s: float, title: str) -> None:
 
 
 def run(sm) -> None:
-    """Call :func:`main` with the job's files and settings."""
+    """Call :func:`main` for each POD solution of the job (inputs ``<solution>_a`` and
+    ``<solution>_b``, outputs ``nc`` in the order of ``params.solutions``)."""
     configure_logging(sm)
-    main(sm.input.a, sm.input.b, sm.output.nc, trim_s=sm.params.trim_s, title=sm.params.title)
+    for solution, out in zip(sm.params.solutions, sm.output.nc, strict=True):
+        main(sm.input[f"{solution}_a"], sm.input[f"{solution}_b"], out,
+             trim_s=sm.params.trim_s, title=f"{solution} {sm.params.title}")
 
 
 if __name__ == "__main__":
     if "snakemake" not in globals():  # by hand: a job of the default campaign
         from leopod.workflow.boundary import mock_snakemake
 
-        snakemake = mock_snakemake("overlap", sat="hy2b-sim", solution="fixed_pod",
-                                   date="2019-002")
+        snakemake = mock_snakemake("overlap", sat="hy2b-sim", date="2019-002")
     run(snakemake)  # noqa: F821 (injected by Snakemake)

@@ -55,8 +55,7 @@ def test_the_attitude_files_of_the_arc_are_inputs_and_the_law_is_a_param(
 
 def test_first_campaign_day_reads_the_days_inside_the_campaign(campaign, monkeypatch):
     monkeypatch.chdir(Path.cwd())
-    sm = mock_snakemake("slr", configfiles=[campaign], sat=SAT, solution="float_pod",
-                        date="2019-001")
+    sm = mock_snakemake("slr", configfiles=[campaign], sat=SAT, date="2019-001")
     assert [Path(f).parent.name for f in attitude_files(sm)] == ["2019-001", "2019-002"]
 
 

@@ -222,6 +222,7 @@ def solutions():
     return ["float_pod"] + (["fixed_pod"] if fixed else [])
 
 
+
 # --- upstream outputs ----------------------------------------------------------------------
 
 
@@ -610,19 +611,27 @@ def ambiguity_inputs(wildcards):
     return files
 
 
-def pod_orbit(wildcards):
-    """The orbit of the POD solution (float_pod or fixed_pod) of a satellite-day."""
-    return fill(pod_output(wildcards.solution, "orbit"), sat=wildcards.sat, date=wildcards.date)
+def each_solution(pattern):
+    """The files of an output pattern with {solution} for every validated solution."""
+    return [pattern.replace("{solution}", s) for s in VALIDATED]
+
+
+def pod_orbits(wildcards):
+    """``{solution: orbit}`` of the validated POD solutions of a satellite-day."""
+    return {s: fill(pod_output(s, "orbit"), sat=wildcards.sat, date=wildcards.date)
+            for s in VALIDATED}
 
 
 def overlap_inputs(wildcards):
-    """The arcs of a day and of the next day (NEXT_DAY)."""
+    """The arcs of a day (``<solution>_a``) and of the next day (``<solution>_b``, NEXT_DAY)
+    of every validated solution."""
     later = NEXT_DAY[wildcards.date]
-    orbit = pod_output(wildcards.solution, "orbit")
-    return {
-        "a": fill(orbit, sat=wildcards.sat, date=wildcards.date),
-        "b": fill(orbit, sat=wildcards.sat, date=later),
-    }
+    files = {}
+    for s in VALIDATED:
+        orbit = pod_output(s, "orbit")
+        files[f"{s}_a"] = fill(orbit, sat=wildcards.sat, date=wildcards.date)
+        files[f"{s}_b"] = fill(orbit, sat=wildcards.sat, date=later)
+    return files
 
 
 def reference_files(wildcards):
@@ -632,10 +641,11 @@ def reference_files(wildcards):
 
 
 def slr_inputs(wildcards):
-    """Orbit, normal points, station coordinates and eccentricities of an SLR validation."""
+    """Orbits (one per validated solution), normal points, station coordinates and
+    eccentricities of an SLR validation."""
     sat, date = satellite(wildcards), wildcards.date
     files = {
-        "orbit": pod_orbit(wildcards),
+        **pod_orbits(wildcards),
         "normal_points": expand_template(slr_template(sat), date, sat),
     }
     world = rules.simulate_world.output
@@ -681,17 +691,15 @@ def summary_files(sat):
         if "fixed_pod" in solutions():
             f["ambiguity"] = {d: fill(rules.ambiguity.output.table, sat=sat, date=d) for d in DAYS}
         f["overlap"] = {
-            d: fill(rules.overlap.output.nc, sat=sat, solution=solution, date=d)
-            for d in OVERLAP_DAYS
+            d: fill(OVERLAP_NC, sat=sat, solution=solution, date=d) for d in OVERLAP_DAYS
         }
         if reference_template(base):
             f["reference"] = {
-                d: fill(rules.reference_orbit.output.nc, sat=sat, solution=solution, date=d)
-                for d in DAYS
+                d: fill(REFERENCE_NC, sat=sat, solution=solution, date=d) for d in DAYS
             }
         if slr_template(base):
             f["slr"] = {
-                d: fill(rules.slr.output.nc, sat=sat, solution=solution, date=d) for d in DAYS
+                d: fill(SLR_NC, sat=sat, solution=solution, date=d) for d in DAYS
             }
         if is_simulated(base) and "fixed_pod" in solutions():
             # the simulator's integers of the arc's days: wrong fixes per system
@@ -803,16 +811,6 @@ def sat_title(wildcards):
 def period_title(wildcards):
     """Title of a satellite's code-bias period for figures."""
     return f"{sat_name(wildcards)} {wildcards.period}"
-
-
-def solution_title(wildcards):
-    """Title of a satellite-day of one POD solution for figures."""
-    return f"{sat_name(wildcards)} {wildcards.solution} {wildcards.date}"
-
-
-def solution_name(wildcards):
-    """The POD solution of a validation job (float_pod or fixed_pod)."""
-    return wildcards.solution
 
 
 def sat_lines(wildcards):

@@ -1,6 +1,15 @@
 # Validation (issue 8): overlaps of consecutive arcs, orbits against a reference orbit (the
 # simulated truth or an external orbit), laser ranging residuals, and the campaign summary.
-# {solution} is float_pod or fixed_pod.
+# One job per satellite-day validates all POD solutions of the campaign (float_pod, fixed_pod),
+# one file each in <step>/{sat}/{solution}/: a job of its own per solution cost more in
+# starting it than in the comparison (issue 18).
+
+#: The solutions a validation job compares (the float one alone names the outputs' pattern in
+#: a campaign without POD, whose validation rules no target asks for).
+VALIDATED = solutions() or ["float_pod"]
+OVERLAP_NC = result_path("overlap/{sat}/{solution}/{date}.nc")
+REFERENCE_NC = result_path("reference_orbit/{sat}/{solution}/{date}.nc")
+SLR_NC = result_path("slr/{sat}/{solution}/{date}.nc")
 
 
 # Two consecutive arcs over their common span (30-h arcs: 6 h), RTN and 3D.
@@ -9,11 +18,11 @@ rule overlap:
         unpack(overlap_inputs),
         code=library_code("overlap"),
     output:
-        nc=result_path("overlap/{sat}/{solution}/{date}.nc"),
+        nc=each_solution(OVERLAP_NC),
     log:
-        log_path("overlap/{sat}/{solution}/{date}.log"),
+        log_path("overlap/{sat}/{date}.log"),
     benchmark:
-        benchmark_path("overlap/{sat}/{solution}/{date}.tsv")
+        benchmark_path("overlap/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -22,7 +31,8 @@ rule overlap:
         runtime=5,
     params:
         trim_s=CONFIG["validation"]["overlap_trim_s"],
-        title=solution_title,
+        solutions=VALIDATED,
+        title=sat_title,
     script:
         "../../scripts/overlap.py"
 
@@ -31,7 +41,7 @@ rule overlap:
 # Fig. 13).
 rule overlap_summary:
     input:
-        unpack(per_day_validation(rules.overlap.output.nc, days=OVERLAP_DAYS)),
+        unpack(per_day_validation(OVERLAP_NC, days=OVERLAP_DAYS)),
         code=library_code("overlap_summary"),
     output:
         nc=result_path("overlap/{sat}/summary.nc"),
@@ -65,18 +75,18 @@ rule overlap_summary:
         "../../scripts/overlap_summary.py"
 
 
-# A POD arc minus the reference orbit over its day (simulated campaigns: the truth).
+# The POD arcs minus the reference orbit over their day (simulated campaigns: the truth).
 rule reference_orbit:
     input:
-        orbit=pod_orbit,
+        unpack(pod_orbits),
         reference=reference_files,
         code=library_code("reference_orbit"),
     output:
-        nc=result_path("reference_orbit/{sat}/{solution}/{date}.nc"),
+        nc=each_solution(REFERENCE_NC),
     log:
-        log_path("reference_orbit/{sat}/{solution}/{date}.log"),
+        log_path("reference_orbit/{sat}/{date}.log"),
     benchmark:
-        benchmark_path("reference_orbit/{sat}/{solution}/{date}.tsv")
+        benchmark_path("reference_orbit/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -86,7 +96,7 @@ rule reference_orbit:
     params:
         reference_id=sat_reference_id,
         time_system=sat_reference_time_system,
-        solution=solution_name,
+        solutions=VALIDATED,
         title=sat_title,
     script:
         "../../scripts/reference_orbit.py"
@@ -95,7 +105,7 @@ rule reference_orbit:
 # Daily and campaign statistics of the reference-orbit differences (Wang et al. 2024, Table 4).
 rule reference_summary:
     input:
-        unpack(per_day_validation(rules.reference_orbit.output.nc)),
+        unpack(per_day_validation(REFERENCE_NC)),
         code=library_code("reference_summary"),
     output:
         nc=result_path("reference_orbit/{sat}/summary.nc"),
@@ -135,7 +145,7 @@ rule reference_summary:
         "../../scripts/reference_summary.py"
 
 
-# Laser ranging residuals of one arc's day (station motion, eccentricities, light time,
+# Laser ranging residuals of the arcs' day (station motion, eccentricities, light time,
 # troposphere, relativity; screening).
 rule slr:
     input:
@@ -143,11 +153,11 @@ rule slr:
         unpack(attitude_inputs),
         code=library_code("slr"),
     output:
-        nc=result_path("slr/{sat}/{solution}/{date}.nc"),
+        nc=each_solution(SLR_NC),
     log:
-        log_path("slr/{sat}/{solution}/{date}.log"),
+        log_path("slr/{sat}/{date}.log"),
     benchmark:
-        benchmark_path("slr/{sat}/{solution}/{date}.tsv")
+        benchmark_path("slr/{sat}/{date}.tsv")
     conda:
         "../../envs/leopod.yaml"
     threads: 1
@@ -158,7 +168,7 @@ rule slr:
         settings=CONFIG["validation"]["slr"],
         retro_offset_body_m=retro_offset,
         attitude=sat_attitude,
-        solution=solution_name,
+        solutions=VALIDATED,
         title=sat_title,
     script:
         "../../scripts/slr.py"
@@ -167,7 +177,7 @@ rule slr:
 # SLR statistics per station, per elevation bin and projected on R/T/N, float and fixed.
 rule slr_summary:
     input:
-        unpack(per_day_validation(rules.slr.output.nc)),
+        unpack(per_day_validation(SLR_NC)),
         code=library_code("slr_summary"),
     output:
         nc=result_path("slr/{sat}/summary.nc"),
