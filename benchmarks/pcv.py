@@ -73,8 +73,9 @@ RESULTS = Layout.of(read_campaign(REPO / "config" / "hy2b-sim-pcv.yaml")).result
 TRUTH_ANTENNA = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
 
 
-def campaign_map(folder: Path, configfiles=()) -> None:
-    """Print the RMS of a workflow run's map against the GOCE truth (module docstring)."""
+def campaign_map(folder: Path, configfiles=(), days=DAYS) -> dict[str, float]:
+    """Print the RMS of a workflow run's map against the GOCE truth (module docstring) over
+    the POD ``days`` of its period; return them [m] (keys ``all``, ``above_10deg``)."""
     pair = ("L1C", "L2W")
     truth_if = receiver_pcv_if(TRUTH_ANTENNA, "G", pair)
     est = xr.load_dataset(folder / RESULTS / f"pcv/{SAT}/{PERIOD}.nc")
@@ -87,7 +88,7 @@ def campaign_map(folder: Path, configfiles=()) -> None:
         "estimator": ("bilinear" if est.attrs["estimator"] == "direct"
                       else str(est.attrs["estimator"]))}))
     stacked = []
-    for day in DAYS:
+    for day in days:
         res = xr.load_dataset(folder / RESULTS / f"fixed_pod/{SAT}/{day}_residuals.nc")
         ok = np.isfinite(res.phase_residual_m.values) & (res.phase_rejected.values == 0)
         true = np.full(ok.shape, np.nan)
@@ -106,15 +107,17 @@ def campaign_map(folder: Path, configfiles=()) -> None:
     print(f"{folder}: map (POD's PCV + estimate) RMS vs truth {rms * 1e3:.2f} mm, above 10 deg "
           f"elevation {rms_10 * 1e3:.2f} mm; truth RMS {np.nanstd(truth.pcv_if_m) * 1e3:.2f} mm")
     if est.attrs["estimator"] == "direct" and configfiles:
-        direct_split(folder, configfiles, settings, truth)
+        direct_split(folder, configfiles, settings, truth, days)
+    return {"all": rms, "above_10deg": rms_10}
 
 
-def direct_split(folder: Path, configfiles, settings: PcvSettings, truth: xr.Dataset) -> None:
+def direct_split(folder: Path, configfiles, settings: PcvSettings, truth: xr.Dataset,
+                 days=DAYS) -> None:
     """A direct-method run: its map against the map of the same normal equations with the
     true PCV as the only misclosure (the fixed POD of each day linearised again from the
     run's files, as rule pcv_neq does), and that noise-free map against the node fit."""
-    noise_free, days = [], []
-    for day in DAYS:
+    noise_free, normals = [], []
+    for day in days:
         job = mock_snakemake("pcv_neq", configfiles=configfiles, root=folder,
                              snakefile=REPO / "Snakefile", sat=SAT, date=day)
         p, files = job.params, plain(job.input)
@@ -130,10 +133,10 @@ def direct_split(folder: Path, configfiles, settings: PcvSettings, truth: xr.Dat
                               code_correction=pod["code_correction"], yaw_flips=p.yaw_flips,
                               attitude=load_leo_attitude(p.attitude, attitude_files(job)))
         neq = xr.load_dataset(folder / RESULTS / f"pcv_neq/{SAT}/{day}.nc")
-        days.append(neq)
+        normals.append(neq)
         noise_free.append(noise_free_normals(TRUTH_ANTENNA, fixed, neq, settings))
     direct = PcvSettings.from_config({**p.pcv, "min_count": settings.min_count})
-    est, ideal = solve_normals(days, direct), solve_normals(noise_free, direct)
+    est, ideal = solve_normals(normals, direct), solve_normals(noise_free, direct)
     for name, a, b in (("estimate - noise-free direct map", est, ideal.pcv_if_m.values),
                        ("noise-free direct map - node fit", ideal, truth.pcv_if_m.values)):
         high = a.copy()
