@@ -6,7 +6,7 @@ The campaign of config/hy2b-sim-pcv.yaml (simulated with the real GOCE antenna p
 ionosphere-free phase residuals stacked on the antenna grid, rule pcv) and ``direct`` (eqs.
 10-11: one reduced normal-equation file per day, rule pcv_neq, summed and solved by rule pcv).
 Each runs from scratch in ``<root>/<method>`` with ``snakemake --cores C`` up to the month's
-map (results/hy2b-sim-pcv/pcv/hy2b-sim/2019-01.nc). Printed per method: the workflow's wall
+map (results/hy2b-sim-pcv/pcv/hy2b-sim/2019-01.nc) and the fixed POD of every day. Printed per method: the workflow's wall
 time, and for the PCV rules (pcv_neq, pcv) the number of jobs, their summed and largest run
 time and their peak memory (Snakemake benchmark files; the memory of a job the warm worker
 ran is its fork's, from its log); then the map against the truth (benchmarks/pcv.py
@@ -82,12 +82,16 @@ def run_method(root: Path, days: int, method: str, cores: int, reuse: bool,
     cfg = _config(days, method, applied)
     (work / "campaign.yaml").write_text(yaml.safe_dump(cfg))
     layout = Layout.of(cfg)
-    target = _map_path(Path(), layout, "nc")
+    # the fixed POD's residuals of every day: the directions at which the truth is stacked
+    # (the direct method's map needs only the float POD and the ambiguity tables)
+    targets = [_map_path(Path(), layout, "nc"),
+               *(Path(layout.results) / "fixed_pod" / "hy2b-sim" / f"{day}_residuals.nc"
+                 for day in _days(days))]
     print(f"running the {days}-day {method}-method campaign, iteration {iteration}, in {work} "
           "...", flush=True)
     t0 = time.perf_counter()
     proc = subprocess.run([SNAKEMAKE, "--snakefile", str(REPO / "Snakefile"), "--directory",
-                           str(work), "--cores", str(cores), str(target), "--configfile",
+                           str(work), "--cores", str(cores), *map(str, targets), "--configfile",
                            str(work / "campaign.yaml")], capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
