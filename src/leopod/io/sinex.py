@@ -466,17 +466,8 @@ def read_sinex_eccentricities(path: str | Path) -> xr.Dataset:
 
 # ----------------------------------------------------------------------------------- lookups
 def _covering_rows(ds: xr.Dataset, sites, epochs, pt: str | None) -> np.ndarray:
-    """Index of the last row of each site whose validity covers its epoch, −1 if none.
-
-    Parameters
-    ----------
-    sites : array_like of str, shape (n,)
-    epochs : array_like of datetime64, shape (n,)
-
-    Returns
-    -------
-    ndarray of int, shape (n,)
-    """
+    """Index (n,) of the last row of each of the n ``sites`` whose validity covers its one of
+    the n ``epochs`` (datetime64), −1 if none."""
     sites = np.asarray(sites, dtype=str)
     t = np.asarray(epochs, dtype="datetime64[ns]")
     if np.isnat(t).any():
