@@ -37,8 +37,8 @@ def _polar(fig, pos):
     ax.set_theta_zero_location("N")
     ax.set_theta_direction(-1)
     ax.set_rlim(0, 90)
-    ax.set_yticks([30, 60, 90])
-    ax.set_yticklabels(["30°", "60°", "90°"])
+    # zenith rings; the rim (90°, the horizon) unlabelled, where the azimuth 90° label sits
+    ax.set_yticks([30, 60], ["30°", "60°"])
     ax.set_rlabel_position(112.5)
     ax.grid(alpha=0.3)
     return ax
