@@ -222,6 +222,10 @@ def solutions():
     return ["float_pod"] + (["fixed_pod"] if fixed else [])
 
 
+#: The solutions a validation job compares (the float one alone names the outputs' pattern in
+#: a campaign without POD, whose validation rules no target asks for).
+VALIDATED = solutions() or ["float_pod"]
+
 
 # --- upstream outputs ----------------------------------------------------------------------
 

@@ -4,9 +4,6 @@
 # one file each in <step>/{sat}/{solution}/: a job of its own per solution cost more in
 # starting it than in the comparison (issue 18).
 
-#: The solutions a validation job compares (the float one alone names the outputs' pattern in
-#: a campaign without POD, whose validation rules no target asks for).
-VALIDATED = solutions() or ["float_pod"]
 OVERLAP_NC = result_path("overlap/{sat}/{solution}/{date}.nc")
 REFERENCE_NC = result_path("reference_orbit/{sat}/{solution}/{date}.nc")
 SLR_NC = result_path("slr/{sat}/{solution}/{date}.nc")

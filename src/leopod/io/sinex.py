@@ -518,12 +518,16 @@ def station_positions(ds: xr.Dataset, sites, epochs, pt: str | None = None) -> n
     i = _covering_rows(ds, sites, epochs, pt)
     found = i >= 0
     out = np.full((i.size, 3), np.nan)
-    j = i[found]
-    t = np.asarray(epochs, dtype="datetime64[ns]")[found]
-    dt_years = (t - ds["ref_epoch"].values[j]).astype(np.int64) / _JULIAN_YEAR_NS
-    vel = np.nan_to_num(ds["vel_m_y"].values[j], nan=0.0)
-    out[found] = ds["pos_m"].values[j] + vel * dt_years[:, None]
+    out[found] = _propagated(ds, i[found], np.asarray(epochs, dtype="datetime64[ns]")[found])
     return out
+
+
+def _propagated(ds: xr.Dataset, rows: np.ndarray, epochs: np.ndarray) -> np.ndarray:
+    """Positions (n, 3) [m] of the solutions ``rows`` at ``epochs`` (datetime64[ns], (n,)):
+    ``pos + vel * (epoch − ref_epoch)`` in Julian years, no velocity = constant."""
+    dt_years = (epochs - ds["ref_epoch"].values[rows]).astype(np.int64) / _JULIAN_YEAR_NS
+    vel = np.nan_to_num(ds["vel_m_y"].values[rows], nan=0.0)
+    return ds["pos_m"].values[rows] + vel * dt_years[:, None]
 
 
 def station_eccentricities(ds: xr.Dataset, sites, epochs,
@@ -573,10 +577,7 @@ def station_position(ds: xr.Dataset, site: str, epoch, pt: str | None = None) ->
         If no solution of the site covers the epoch (the message names site and epoch).
     """
     i = _covering(ds, site, epoch, pt)
-    t = np.datetime64(epoch, "ns")
-    dt_years = (t - ds["ref_epoch"].values[i]).astype(np.int64) / _JULIAN_YEAR_NS
-    vel = np.nan_to_num(ds["vel_m_y"].values[i], nan=0.0)
-    return ds["pos_m"].values[i] + vel * dt_years
+    return _propagated(ds, np.array([i]), np.array([epoch], dtype="datetime64[ns]"))[0]
 
 
 def station_eccentricity(ds: xr.Dataset, site: str, epoch,
