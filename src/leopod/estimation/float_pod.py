@@ -66,7 +66,6 @@ from leopod.dynamics.forces import (
     estimated_parameters,
 )
 from leopod.dynamics.integrator import (
-    DEFAULT_STEP_S,
     Trajectory,
     apply_pulses,
     integrate,
@@ -128,6 +127,11 @@ class PodSettings(Settings):
         Spacing of the pseudo-stochastic pulses [s] (None: no pulses).
     pulse_sigma_m_s : tuple of 3 float
         A-priori sigma of the pulses in R, T, N [m/s].
+    integrator_step_s : float
+        Gauss–Jackson step of the orbit and its partials [s]
+        (:data:`leopod.dynamics.integrator.DEFAULT_STEP_S` resolves a degree-120 field from
+        ~400 km up; the field's short periods fade with height, so a higher orbit allows a
+        longer step: schema description).
     estimate_pco_z : bool
         Estimate a correction to the LEO antenna PCO Z-component (all frequencies alike).
     outlier_k : float
@@ -160,6 +164,7 @@ class PodSettings(Settings):
     min_elevation_deg: float
     pulse_interval_s: float | None
     pulse_sigma_m_s: tuple[float, float, float]
+    integrator_step_s: float
     estimate_pco_z: bool
     outlier_k: float
     screen_below_m: float
@@ -535,16 +540,16 @@ class _Problem:
         grid from t0 (so that the last segment keeps whole steps and the pulses in it fall on
         nodes: no restarts); forces tabulated along a reference orbit (drag) follow it from
         then on."""
-        step = DEFAULT_STEP_S
+        step = self.settings.integrator_step_s
         lo = min(t_eval.min(), self.span_s[0]) - _SPAN_MARGIN_S
         hi = max(t_eval.max(), self.span_s[1]) + _SPAN_MARGIN_S
         t_out = np.append(t_eval, [self.t0 - step * np.ceil((self.t0 - lo) / step),
                                    self.t0 + step * np.ceil((hi - self.t0) / step)])
         if self.pulses is None:
-            traj = integrate(self.fm, self.t0, state0, self.params, t_out)
+            traj = integrate(self.fm, self.t0, state0, self.params, t_out, step_s=step)
         else:
             traj = apply_pulses(self.fm, self.t0, state0, self.params, t_out, self.pulses,
-                                self.dv)
+                                self.dv, step_s=step)
         self.integrations += 1
         self.force_evaluations += traj.n_evaluations
         self.fm.follow(traj.positions)

@@ -260,6 +260,7 @@ def simulate_truth(settings: SimulationSettings, sat: str, world_start: str, wor
         t_start, t_end, seed=settings.int_seed(f"truth/{sat}"), step_s=o.step_s,
         altitude_m=o.altitude_km * 1e3, ltan_h=o.ltan_h, inclination_deg=o.inclination_deg,
         u0_deg=o.u0_deg, dynamics=settings.dynamics, eop=eop,
+        integrator_step_s=o.integrator_step_s,
         models={"gravity_field": models["field"], "space_weather": models["space_weather"],
                 "ocean_tides": models["ocean"]}, state0=state0, manoeuvres=burns, **common)
     truth.attrs["satellite"] = sat

@@ -64,6 +64,8 @@ class OrbitSettings(Settings):
         Sampling of the truth orbit [s].
     margin_s : float
         Truth before 00:00 of the first day and after 24:00 of the last [s].
+    integrator_step_s : float
+        Gauss–Jackson step of the truth integration [s] (schema: what it resolves).
     """
 
     altitude_km: float
@@ -72,6 +74,7 @@ class OrbitSettings(Settings):
     u0_deg: float
     step_s: float
     margin_s: float
+    integrator_step_s: float
 
 
 @dataclass(frozen=True)
