@@ -36,6 +36,7 @@ orbits of 2.78 (no PCV), 0.55, 0.44 cm (maps 1, 2) against 0.36 cm with the true
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import resource
 import sys
 import tempfile
@@ -56,6 +57,8 @@ from leopod.antenna.pcv_direct import solve_normals  # noqa: E402
 from leopod.estimation.arc import ArcData  # noqa: E402
 from leopod.estimation.fixed_arc import FloatSolution, run_fixed_arc  # noqa: E402
 from leopod.gnss.leo_antenna import leo_antenna, receiver_pcv_if  # noqa: E402
+from leopod.io.antex import read_antex  # noqa: E402
+from leopod.io.antex_write import write_antex  # noqa: E402
 from leopod.io.attitude import load_leo_attitude  # noqa: E402
 from leopod.workflow.boundary import (  # noqa: E402
     attitude_files,
@@ -71,13 +74,50 @@ SAT, PERIOD, DAYS = "hy2b-sim", "2019-01", ("2019-001", "2019-002", "2019-003")
 #: The products folder of config/hy2b-sim-pcv.yaml in its working directory.
 RESULTS = Layout.of(read_campaign(REPO / "config" / "hy2b-sim-pcv.yaml")).results
 TRUTH_ANTENNA = leo_antenna(None, {"antex": str(GOCE), "type": "GOCE"})
+#: Antenna type of the synthetic pattern file (:func:`write_synthetic_antex`).
+SYNTHETIC_TYPE = "LEOPOD SYNTHETIC"
 
 
-def campaign_map(folder: Path, configfiles=(), days=DAYS) -> dict[str, float]:
-    """Print the RMS of a workflow run's map against the GOCE truth (module docstring) over
-    the POD ``days`` of its period; return them [m] (keys ``all``, ``above_10deg``)."""
+def synthetic_pcv_m(zenith_deg, az_deg):
+    """A smooth ±1 cm receiver PCV (issue 22: "a synthetic ±1 cm pattern") [m].
+
+    ``7 mm sin²z cos 2(α − 20°) + 5 mm sin 2z sin 3α`` (z zenith angle, α azimuth from the
+    ANTEX north = body +X): only azimuthal orders 2 and 3, so that the pattern has no part
+    like a constant, a PCO-Z (cos z) or a horizontal offset (orders 0 and 1), which the
+    clock, the radial orbit and the along-/cross-track orbit would take; zero at the
+    zenith, its bilinear interpolant on a 10° grid within 0.4 mm of it.
+    """
+    z, a = np.radians(zenith_deg), np.radians(az_deg)
+    return 7e-3 * np.sin(z) ** 2 * np.cos(2 * (a - np.radians(20.0))) \
+        + 5e-3 * np.sin(2 * z) * np.sin(3 * a)
+
+
+def write_synthetic_antex(path: Path, pco_z_error_m: float = 0.0) -> Path:
+    """The GOCE antenna of ../shared (its PCO, its 1° grid) with :func:`synthetic_pcv_m` as
+    the PCV of both frequencies and the phase centres moved up (along the boresight, body
+    −Z) by ``pco_z_error_m`` [m]: a truth the POD's GOCE PCO table gets wrong by that much.
+    Written as ANTEX 1.4 (type :data:`SYNTHETIC_TYPE`)."""
+    goce = read_antex(GOCE).antennas[0]
+    zz, aa = np.meshgrid(goce.zenith_deg, np.arange(0.0, 360.0 + goce.dazi_deg / 2,
+                                                    goce.dazi_deg))
+    pattern = dataclasses.replace(
+        goce, antenna_type=SYNTHETIC_TYPE,
+        pco={f: v + np.array([0.0, 0.0, pco_z_error_m]) for f, v in goce.pco.items()},
+        noazi={f: np.zeros_like(goce.zenith_deg) for f in goce.frequencies},
+        grid={f: synthetic_pcv_m(zz, aa) for f in goce.frequencies})
+    return write_antex(path, [pattern], comments=[
+        "synthetic +-1 cm PCV (benchmarks/pcv.py synthetic_pcv_m)",
+        f"GOCE_MAIN_0001 PCO, up by {pco_z_error_m * 1e3:g} mm"], method="SYNTHETIC")
+
+
+def campaign_map(folder: Path, configfiles=(), days=DAYS,
+                 truth_antenna=TRUTH_ANTENNA) -> dict[str, float]:
+    """Print the RMS of a workflow run's map against the truth (module docstring; the GOCE
+    pattern unless ``truth_antenna``) over the POD ``days`` of its period; return them [m]
+    (keys ``all``, ``above_10deg``, and the same with the parts like a constant, a PCO-Z and
+    a horizontal offset removed from the difference, ``datum_all``, ``datum_above_10deg``)."""
     pair = ("L1C", "L2W")
-    truth_if = receiver_pcv_if(TRUTH_ANTENNA, "G", pair)
+    truth_if = receiver_pcv_if(truth_antenna, "G", pair)
     est = xr.load_dataset(folder / RESULTS / f"pcv/{SAT}/{PERIOD}.nc")
     settings = PcvSettings.from_config(with_defaults("pcv", {
         "az_step_deg": float(est.attrs["az_step_deg"]),
@@ -102,17 +142,25 @@ def campaign_map(folder: Path, configfiles=(), days=DAYS) -> dict[str, float]:
                                                "type": "LEOPOD PCV"}), "G", pair)
     est["pcv_if_m"] = (est.pcv_if_m.dims, total(90.0 - zz, aa))
     rms = map_rms_m(est, truth.pcv_if_m.values, min_count=settings.min_count)
+    full = est.copy()
     est["count"] = est["count"].where(est.zenith_deg < 80.0, 0)
     rms_10 = map_rms_m(est, truth.pcv_if_m.values, min_count=settings.min_count)
     print(f"{folder}: map (POD's PCV + estimate) RMS vs truth {rms * 1e3:.2f} mm, above 10 deg "
           f"elevation {rms_10 * 1e3:.2f} mm; truth RMS {np.nanstd(truth.pcv_if_m) * 1e3:.2f} mm")
+    # the parts no map can take from the POD (pcv_direct's datum): constant, cos z, offset
+    datum = {f"datum_{k}": map_rms_m(e, truth.pcv_if_m.values, min_count=settings.min_count,
+                                     pco_z=True, horizontal=True)
+             for k, e in (("all", full), ("above_10deg", est))}
+    print(f"  with the parts like a constant, a PCO-Z and a horizontal offset removed: "
+          f"{datum['datum_all'] * 1e3:.2f} mm, above 10 deg "
+          f"{datum['datum_above_10deg'] * 1e3:.2f} mm")
     if est.attrs["estimator"] == "direct" and configfiles:
-        direct_split(folder, configfiles, settings, truth, days)
-    return {"all": rms, "above_10deg": rms_10}
+        direct_split(folder, configfiles, settings, truth, days, truth_antenna)
+    return {"all": rms, "above_10deg": rms_10, **datum}
 
 
 def direct_split(folder: Path, configfiles, settings: PcvSettings, truth: xr.Dataset,
-                 days=DAYS) -> None:
+                 days=DAYS, truth_antenna=TRUTH_ANTENNA) -> None:
     """A direct-method run: its map against the map of the same normal equations with the
     true PCV as the only misclosure (the fixed POD of each day linearised again from the
     run's files, as rule pcv_neq does), and that noise-free map against the node fit."""
@@ -134,7 +182,7 @@ def direct_split(folder: Path, configfiles, settings: PcvSettings, truth: xr.Dat
                               attitude=load_leo_attitude(p.attitude, attitude_files(job)))
         neq = xr.load_dataset(folder / RESULTS / f"pcv_neq/{SAT}/{day}.nc")
         normals.append(neq)
-        noise_free.append(noise_free_normals(TRUTH_ANTENNA, fixed, neq, settings))
+        noise_free.append(noise_free_normals(truth_antenna, fixed, neq, settings))
     direct = PcvSettings.from_config({**p.pcv, "min_count": settings.min_count})
     est, ideal = solve_normals(normals, direct), solve_normals(noise_free, direct)
     for name, a, b in (("estimate - noise-free direct map", est, ideal.pcv_if_m.values),
