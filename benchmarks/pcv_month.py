@@ -59,10 +59,10 @@ PCV_RULES = ("pcv_neq", "pcv")
 
 
 def _config(days: int, method: str, applied: dict | None, truth: dict | None = None,
-            pco_z: bool = False) -> dict:
+            pco_z: bool = False, step_deg: float = 10.0) -> dict:
     cfg = yaml.safe_load(CONFIG.read_text())
     cfg["end_date"] = (START + dt.timedelta(days=days - 1)).isoformat()
-    cfg["pcv"]["method"] = method
+    cfg["pcv"].update(method=method, az_step_deg=step_deg, zenith_step_deg=step_deg)
     if pco_z:
         cfg["pcv"]["estimate_pco_z"] = True
     sat = cfg["satellites"]["hy2b-sim"]
@@ -112,7 +112,7 @@ def fixed_orbit_rms_m(work: Path, layout: Layout, days: list[str]) -> float:
 
 def run_method(root: Path, days: int, method: str, cores: int, reuse: bool,
                iteration: int = 1, pattern: str = "goce", pco_z_error_mm: float = 0.0,
-               pco_z: bool = False, true_pattern: bool = False) -> dict:
+               pco_z: bool = False, true_pattern: bool = False, step_deg: float = 10.0) -> dict:
     """Run (or reload) the month of one method and iteration (or, ``true_pattern``, with the
     simulator's antenna in the POD); its figures."""
     work = root / ("true" if true_pattern else method if iteration == 1
@@ -129,7 +129,7 @@ def run_method(root: Path, days: int, method: str, cores: int, reuse: bool,
         previous = root / (method if iteration == 2 else f"{method}_{iteration - 1}")
         applied = {"antex": str(_map_path(previous, Layout.of(_config(days, method, None)),
                                           "atx")), "type": "LEOPOD PCV"}
-    cfg = _config(days, method, applied, truth, pco_z)
+    cfg = _config(days, method, applied, truth, pco_z, step_deg)
     (work / "campaign.yaml").write_text(yaml.safe_dump(cfg))
     layout = Layout.of(cfg)
     # the fixed POD's residuals of every day: the directions at which the truth is stacked
@@ -184,6 +184,9 @@ def main() -> None:
                         "than the POD's PCO [mm]")
     parser.add_argument("--estimate-pco-z", action="store_true",
                         help="direct method: a PCO-Z with the map (pcv.estimate_pco_z)")
+    parser.add_argument("--step", type=float, default=10.0,
+                        help="grid step in azimuth and zenith [deg] (pcv.az_step_deg, "
+                        "pcv.zenith_step_deg)")
     parser.add_argument("--true-pattern", action="store_true",
                         help="one run (in <root>/true) with the simulator's antenna in the POD: "
                         "the orbit the maps should reach")
@@ -199,7 +202,7 @@ def main() -> None:
         for iteration in range(1, args.iterations + 1):
             _report(run_method(args.root.resolve(), args.days, method, args.cores, args.reuse,
                                iteration, args.pattern, args.pco_z_error_mm,
-                               args.estimate_pco_z))
+                               args.estimate_pco_z, step_deg=args.step))
 
 
 def _report(f: dict) -> None:
