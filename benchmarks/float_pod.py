@@ -11,6 +11,7 @@ integrations and force evaluations of the initial fit and of the POD. With
 differences over the 4-h overlap (and over its central 2 h, away from the arc ends).
 
     .venv/bin/python benchmarks/float_pod.py [--overlap] [--set key=value ...] [--save F]
+                                             [--antenna ANTEX TYPE]
 
 ``--set`` overrides a key of the ``pod`` section (YAML value), e.g. ``--set
 pulse_interval_s=360``.
@@ -32,6 +33,7 @@ import yaml
 from _counting import IntegrationCounter
 
 from leopod.estimation.arc import ArcData, run_arc
+from leopod.gnss.leo_antenna import leo_antenna
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
 from leopod.io.sp3 import read_sp3
@@ -87,6 +89,9 @@ def main() -> None:
     parser.add_argument("--set", action="append", default=[], help="pod key=value override")
     parser.add_argument("-v", action="store_true", help="log the steps (INFO)")
     parser.add_argument("--save", type=Path, help="write the orbit (netCDF) here, to compare")
+    parser.add_argument("--antenna", nargs=2, metavar=("ANTEX", "TYPE"),
+                        help="the POD's receiver antenna from this ANTEX entry (e.g. an "
+                        "estimated PCV map of rule pcv) instead of the config's PCO table")
     args = parser.parse_args()
     if not DATA.exists():
         sys.exit(f"{DATA} is absent: this benchmark needs the real GRACE-A day")
@@ -101,7 +106,9 @@ def main() -> None:
     settings = pod_settings(cfg["signals"], cfg["pod"], cfg["code_bias"])
     del settings["code_correction"]   # no code-bias map in this benchmark
     sat = cfg["satellites"]["grace-a"]
-    common = (_inputs(), *settings.values(), sat["antenna_pco_body_m"])
+    antenna = (leo_antenna(None, {"antex": args.antenna[0], "type": args.antenna[1]})
+               if args.antenna else sat["antenna_pco_body_m"])
+    common = (_inputs(), *settings.values(), antenna)
     tic = time.perf_counter()
     with IntegrationCounter() as counter:
         arc = run_arc(DATE, *common)
