@@ -170,19 +170,3 @@ def test_sky_map_cells_of_about_equal_area():
     counts = [pod.ring_azimuth_cells(e, e + 5.0) for e in range(0, 90, 5)]
     assert counts == sorted(counts, reverse=True)
 
-
-def test_fixed_layout_places_the_subplots_at_the_margins_in_inches():
-    """Analytic: a 10 x 4 in figure of 1 x 2 subplots with margins 1.0/0.5/0.6/0.8 in and a
-    gap of 0.25 of the subplot width: each subplot (10 - 1.5)/2.25 in wide, 2.6 in high."""
-    import matplotlib.pyplot as plt
-
-    from leopod.plots import fixed_layout
-
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    fixed_layout(fig, left=1.0, right=0.5, bottom=0.6, top=0.8, wspace=0.25)
-    width = 8.5 / 2.25
-    boxes = [ax.get_position() for ax in axes]          # figure fractions
-    np.testing.assert_allclose([b.x0 * 10 for b in boxes], [1.0, 9.5 - width], atol=1e-12)
-    np.testing.assert_allclose([b.x1 * 10 for b in boxes], [1.0 + width, 9.5], atol=1e-12)
-    np.testing.assert_allclose([boxes[0].y0 * 4, boxes[0].y1 * 4], [0.6, 3.2], atol=1e-12)
-    plt.close(fig)

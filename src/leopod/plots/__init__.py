@@ -49,31 +49,6 @@ def save_figure(fig, path: str | Path) -> None:
         plt.close(fig)
 
 
-def fixed_layout(fig, *, left: float = 0.95, right: float = 0.25, bottom: float = 0.6,
-                 top: float = 0.7, wspace: float = 0.2, hspace: float = 0.2) -> None:
-    """Place a figure's subplots with fixed margins instead of ``fig.tight_layout()``.
-
-    ``tight_layout`` measures every tick label and title before the figure is drawn, which
-    draws most of it twice (a quarter of the time of a day's quality, POD and ambiguity
-    figures, issue 18). The daily figures have the same axes and labels every day, so their
-    margins are fixed per figure: those ``tight_layout`` chose for the default campaign's
-    figures plus room for wider tick labels (e.g. ``−0.025``), looked at in the browser.
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-    left, right, bottom, top : float
-        Margins between the figure edge and the subplots [in]: the left one holds the tick
-        labels and y label, the bottom one the x label, the top one the (sup)titles.
-    wspace, hspace : float
-        Space between subplots as a fraction of the mean subplot width and height
-        (matplotlib's ``subplots_adjust`` convention).
-    """
-    width, height = fig.get_size_inches()
-    fig.subplots_adjust(left=left / width, right=1.0 - right / width, bottom=bottom / height,
-                        top=1.0 - top / height, wspace=wspace, hspace=hspace)
-
-
 def dots(ax, x, y, *, size_pt2: float = 1.0, **style) -> None:
     """Point cloud of ``x``, ``y`` drawn as markers of one line (rasterised), not a scatter.
 

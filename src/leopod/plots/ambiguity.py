@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
-from leopod.plots import fixed_layout, save_figure
+from leopod.plots import save_figure
 from leopod.plots.pod import _heading
 
 __all__ = ["plot_fractional_parts"]
@@ -59,5 +59,5 @@ def plot_fractional_parts(table: xr.Dataset, path, *, title: str = "") -> None:
     verdict = table.attrs.get("product_guard", "not tested")
     fig.suptitle(_heading(title, f"fractional parts of the single-difference ambiguities; "
                                  f"AR product {verdict}"))
-    fixed_layout(fig, right=0.15, top=0.9, wspace=0.22)
+    fig.tight_layout()
     save_figure(fig, path)

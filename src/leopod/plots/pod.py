@@ -27,7 +27,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.numerics.statistics import finite_rms
-from leopod.plots import dots, fixed_layout, save_figure
+from leopod.plots import dots, save_figure
 
 __all__ = [
     "ARC_FIGURES",
@@ -178,7 +178,7 @@ def plot_residuals_time(res: xr.Dataset, path, title: str = "", solution: str = 
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel(xlabel)
     fig.suptitle(_heading(title, f"{solution} POD post-fit residuals"))
-    fixed_layout(fig, right=0.15)
+    fig.tight_layout()
     save_figure(fig, path)
 
 
@@ -221,7 +221,7 @@ def plot_residuals_elevation(res: xr.Dataset, path, title: str = "",
     axes[-1].set_xlabel("elevation in the antenna frame [deg]")
     axes[-1].set_xlim(edges[0], 90)
     fig.suptitle(_heading(title, f"{solution} POD residuals vs elevation"))
-    fixed_layout(fig)
+    fig.tight_layout()
     save_figure(fig, path)
 
 
@@ -346,7 +346,7 @@ def plot_apriori_difference(orbit: xr.Dataset, path, title: str = "", solution: 
     ax_sig.grid(alpha=0.3, which="both")
     ax_sig.set_xlabel(xlabel)
     fig.suptitle(_heading(title, f"{reference} minus {solution} POD orbit, R/T/N"))
-    fixed_layout(fig, left=1.05, right=0.15, top=0.75)
+    fig.tight_layout()
     save_figure(fig, path)
 
 

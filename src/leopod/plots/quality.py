@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from leopod.plots import dots, fixed_layout, save_figure
+from leopod.plots import dots, save_figure
 from leopod.plots.tables import Column, Footnotes, html_page, row_table
 
 __all__ = ["plot_mp_elevation", "plot_skyplot", "plot_code_noise", "plot_visibility",
@@ -49,7 +49,7 @@ def plot_mp_elevation(q: xr.Dataset, path, title: str) -> None:
     axes[-1, 0].set_xlabel("elevation in the antenna frame [deg]")
     axes[-1, 0].set_xlim(0, 90)
     fig.suptitle(f"{title}: code multipath vs elevation")
-    fixed_layout(fig, hspace=0.25)
+    fig.tight_layout()
     save_figure(fig, path)
 
 
@@ -103,7 +103,7 @@ def plot_code_noise(q: xr.Dataset, path, title: str) -> None:
     ax.set_ylabel("number of windows")
     ax_cum.set_ylabel("cumulative [%]")
     fig.suptitle(f"{title}: code noise, sliding-window STD")
-    fixed_layout(fig, right=0.15, top=0.55, wspace=0.22)
+    fig.tight_layout()
     save_figure(fig, path)
 
 
@@ -128,7 +128,7 @@ def plot_visibility(q: xr.Dataset, path, title: str) -> None:
     ax_iod.set_ylabel("IOD [m/min]")
     ax_iod.grid(alpha=0.3)
     fig.suptitle(f"{title}: visibility and ionospheric delay rate")
-    fixed_layout(fig, left=0.75, wspace=0.2)
+    fig.tight_layout()
     save_figure(fig, path)
 
 
