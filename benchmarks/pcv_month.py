@@ -193,6 +193,8 @@ def main() -> None:
     args = parser.parse_args()
     if args.days > 31:
         sys.exit("one month: --days up to 31 (the map's period is the month 2019-01)")
+    if args.pco_z_error_mm and args.pattern != "synthetic":
+        sys.exit("--pco-z-error-mm needs --pattern synthetic (the GOCE file is used as it is)")
     if args.true_pattern:
         _report(run_method(args.root.resolve(), args.days, args.method[0], args.cores,
                            args.reuse, pattern=args.pattern,
