@@ -33,6 +33,7 @@ import yaml
 from _counting import IntegrationCounter
 
 from leopod.estimation.arc import ArcData, run_arc
+from leopod.frames.leo_attitude import LeoAttitude
 from leopod.gnss.leo_antenna import leo_antenna
 from leopod.io.antex import read_antex
 from leopod.io.clock import read_rinex_clock
@@ -109,9 +110,11 @@ def main() -> None:
     antenna = (leo_antenna(None, {"antex": args.antenna[0], "type": args.antenna[1]})
                if args.antenna else sat["antenna_pco_body_m"])
     common = (_inputs(), *settings.values(), antenna)
+    # the satellite's modelled attitude law as the campaign's float_pod job has it (no file)
+    law = {"attitude": LeoAttitude.of(sat)}
     tic = time.perf_counter()
     with IntegrationCounter() as counter:
-        arc = run_arc(DATE, *common)
+        arc = run_arc(DATE, *common, **law)
     _summary("GRACE-A 2007-080, 00-24 h, 30 s", arc, time.perf_counter() - tic)
     print(counter)
     if args.save:
@@ -121,8 +124,8 @@ def main() -> None:
     if args.overlap:
         day = np.datetime64("2007-03-21T00:00", "ns")
         hour = np.timedelta64(3600, "s")
-        a = run_arc(DATE, *common, limits=(day, day + 14 * hour))
-        b = run_arc(DATE, *common, limits=(day + 10 * hour, day + 24 * hour))
+        a = run_arc(DATE, *common, limits=(day, day + 14 * hour), **law)
+        b = run_arc(DATE, *common, limits=(day + 10 * hour, day + 24 * hour), **law)
         _summary("sub-arc 00-14 h", a)
         _summary("sub-arc 10-24 h", b)
         for lo, hi in ((10, 14), (11, 13)):
