@@ -5,7 +5,8 @@ maps were estimated from) and writes one PNG:
 
 - polar maps of the code error per signal and attitude mode (Peng et al. 2021, Figs. 7, 8, 11;
   Jiang et al. 2023, Figs. 5, 7): zenith (antenna boresight) at the centre, horizon at the rim,
-  azimuth 0° = +X = flight direction at the top, increasing clockwise towards +Y;
+  azimuth 0° = body +X (the flight direction in the nominal attitude) at the top, increasing
+  clockwise towards +Y;
 - the number of observations touching each node on a logarithmic scale (Peng et al. 2021, Fig. 9);
 - code multipath versus antenna elevation before and after the map correction, with the RMS and
   mean per elevation band (Jiang et al. 2023, Fig. 6);
@@ -67,7 +68,7 @@ _PANEL_IN = (3.2, 3.0)
 """Width and height of one polar panel [inch]."""
 _MIN_WIDTH_IN = 6.0
 """Smallest figure width [inch], wide enough for the three-line figure title."""
-_CONVENTION = "azimuth 0° = +X = flight direction, clockwise to +Y; zenith at the centre"
+_CONVENTION = "azimuth 0° = body +X, clockwise to +Y; zenith at the centre"
 
 
 def _unit_factor(units: str) -> float:
@@ -209,7 +210,7 @@ def plot_code_bias_maps(maps: xr.Dataset, path, *, title: str = "", field: str =
                         units: str = "cm") -> None:
     """Polar maps of a code-bias map field, one panel per signal (row) and attitude mode (column).
 
-    Azimuth is the polar angle with 0° (+X, flight direction) at the top increasing clockwise
+    Azimuth is the polar angle with 0° (body +X) at the top increasing clockwise
     towards +Y; elevation is radial with the zenith (antenna boresight) at the centre, as in
     Peng et al. (2021) Figs. 7–11 and Jiang et al. (2023) Fig. 5. Each node fills the cell centred
     on it; empty nodes are blank. All panels share one colour scale (the codes compare at a

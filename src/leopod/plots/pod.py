@@ -251,7 +251,7 @@ def ring_azimuth_cells(el_low_deg: float, el_high_deg: float) -> int:
 def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
     """Antenna-frame polar map of the mean phase residual [mm] in cells of about equal area.
 
-    Azimuth is the polar angle with 0° at the top (+X, flight direction) increasing clockwise
+    Azimuth is the polar angle with 0° at the top (body +X) increasing clockwise
     toward +Y; elevation is radial with 90° (antenna boresight) at the centre. Rings are 5°
     of elevation; each ring has :func:`ring_azimuth_cells` azimuth cells (5° at the horizon,
     wider towards the zenith). Observations below the antenna plane (negative elevation) are
@@ -295,7 +295,7 @@ def plot_residual_skymap(res: xr.Dataset, path, title: str = "") -> None:
     # one short line each: the polar axes leave no room for a long title line
     ax.set_title((f"{title}\n" if title else "")
                  + f"mean phase residual, {_BIN_DEG:g}° rings of equal-area cells"
-                 + "\n(antenna frame, azimuth 0° = +X = flight direction)", fontsize=10)
+                 + "\n(antenna frame, azimuth 0° = body +X)", fontsize=10)
     save_figure(fig, path)
 
 

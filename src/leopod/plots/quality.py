@@ -76,7 +76,7 @@ def plot_skyplot(q: xr.Dataset, path, title: str) -> None:
     ax.set_yticks([30, 60], ["60°", "30°"])
     ax.set_rlabel_position(112.5)
     ax.grid(alpha=0.3)
-    ax.set_title(f"{title}: antenna-frame sky plot\n(azimuth 0° = +X = flight direction)",
+    ax.set_title(f"{title}: antenna-frame sky plot\n(azimuth 0° = body +X)",
                  fontsize=10)
     save_figure(fig, path)
 
