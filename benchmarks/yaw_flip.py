@@ -1,0 +1,122 @@
+"""The yaw-flip campaign of Jiang et al. (2023) (issue 22): maps per attitude mode and the orbit
+across the flip, for a finished run of config/hy2d-sim.yaml + config/hy2d-sim-flip.yaml.
+
+HY-2D flips by 180° about +Z when β crosses −1.5°; in the simulated campaign that happens at
+2021-07-14 18:02 (``satellites.hy2d-sim.yaw_flips`` of the overlay). Printed:
+
+- per code and attitude mode, the estimated code-bias map (nodes with at least
+  ``code_bias.min_count`` observations) minus the simulated truth map, as RMS about the mean and
+  the mean (the map's datum is a zero mean, the truth's is not), and the map's own RMS;
+- per code, mode 0 minus mode 1 over the nodes both modes fill, beside what the truth minus
+  the truth turned by 180° in azimuth gives there: a map estimated in a frame that missed the
+  flip would differ between the modes by about that much;
+- per solution (float, fixed), orbit minus truth [cm] around the flip: the R/T/N RMS in the
+  2 h before and after, the change of the 10-min mean across the flip, the 10-s step of the
+  difference at the flip against the largest step of the arc; and, for the fixed orbit, the
+  change of the 10-min mean across every 10-min boundary of the arc (RMS and largest), the
+  scale of that statistic without a flip.
+
+    .venv/bin/snakemake --cores 2 --directory ../hy2d-flip \\
+        --configfile config/hy2d-sim.yaml config/hy2d-sim-flip.yaml
+    .venv/bin/python benchmarks/yaw_flip.py ../hy2d-flip
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from leopod.codebias.products import grid_of, node_vector
+from leopod.simulate.code_bias_map import CodeBiasMap
+from leopod.validation.compare import difference_rtn
+from leopod.workflow.config import load_campaign
+
+REPO = Path(__file__).resolve().parents[1]
+CONFIGS = (REPO / "config" / "hy2d-sim.yaml", REPO / "config" / "hy2d-sim-flip.yaml")
+TEN_MIN = np.timedelta64(10, "m")
+
+
+def _maps(results: Path, cfg: dict, sat: str) -> None:
+    period = cfg["start_date"][:7]
+    maps = xr.load_dataset(results / "code_bias" / sat / f"{period}.nc")
+    grid = grid_of(maps)
+    az, el = grid.node_directions()
+    truth = {m["signal"]: CodeBiasMap.from_config(m) for m in cfg["simulate"]["code_bias_maps"]}
+    min_count = cfg["code_bias"]["min_count"]
+    for sig in map(str, maps.signal.values):
+        est = {}
+        for mode in map(int, maps.mode.values):
+            v = node_vector(maps, sig, mode)
+            n = grid.from_grid(maps["count"].sel(signal=sig, mode=mode).values)
+            ok = np.isfinite(v) & (n >= min_count)
+            err = v[ok] - truth[sig](az[ok], el[ok])
+            est[mode] = (v, ok)
+            print(f"{sig} mode {mode}: {ok.sum()} nodes >= {min_count} obs ({int(n.sum())} obs), "
+                  f"map - truth RMS {100 * np.std(err):.2f} cm (mean {100 * err.mean():+.2f} cm), "
+                  f"map RMS {100 * np.std(v[ok]):.2f} cm")
+        if len(est) == 2:
+            (v0, ok0), (v1, ok1) = est[0], est[1]
+            both = ok0 & ok1
+            turned = truth[sig](az[both], el[both]) - truth[sig](az[both] + 180.0, el[both])
+            print(f"{sig}: mode 0 - mode 1 over {both.sum()} nodes: RMS "
+                  f"{100 * np.std(v0[both] - v1[both]):.2f} cm; truth - truth turned by 180 deg "
+                  f"there: {100 * np.std(turned):.2f} cm")
+
+
+def _mean_change(t: np.ndarray, x: np.ndarray, epoch) -> np.ndarray:
+    """Mean of ``x`` in the 10 min after ``epoch`` minus the mean in the 10 min before."""
+    before = (t >= epoch - TEN_MIN) & (t < epoch)
+    after = (t > epoch) & (t <= epoch + TEN_MIN)
+    return x[after].mean(0) - x[before].mean(0)
+
+
+def _orbits(results: Path, resources: Path, sat: str, days: list[str], flip) -> None:
+    truth = xr.concat([xr.load_dataset(resources / f"{d}_truth.nc")[["pos_itrf_m", "vel_itrf_m_s"]]
+                       for d in days], "time").drop_duplicates("time")
+    for solution in ("float_pod", "fixed_pod"):
+        for day in days:
+            d = difference_rtn(xr.load_dataset(results / solution / sat / f"{day}_orbit.nc"),
+                               truth)
+            t, x = d.time.values, 100 * d.diff_rtn_m.values
+            if not t[0] < flip < t[-1]:
+                continue
+            window = np.timedelta64(2, "h")
+
+            def rms(m):
+                return np.round(np.sqrt(np.mean(x[m] ** 2, axis=0)), 2)
+
+            k = np.searchsorted(t, flip)
+            print(f"{solution} {day}: R/T/N RMS 2 h before {rms((t >= flip - window) & (t < flip))}"
+                  f", after {rms((t > flip) & (t <= flip + window))} cm; 10-min mean after - "
+                  f"before {np.round(_mean_change(t, x, flip), 3)} cm; 10-s step at the flip "
+                  f"{np.round(np.abs(x[k] - x[k - 1]), 3)}, largest of the arc "
+                  f"{np.round(np.abs(np.diff(x, axis=0)).max(0), 3)} cm; arc 3D RMS "
+                  f"{np.sqrt(np.mean(np.sum(x ** 2, 1))):.2f} cm")
+            if solution == "fixed_pod":
+                edges = np.arange(t[0] + TEN_MIN, t[-1] - TEN_MIN, TEN_MIN)
+                jumps = np.array([_mean_change(t, x, e) for e in edges])
+                print(f"fixed_pod {day}: 10-min mean after - before at {len(edges)} boundaries of "
+                      f"the arc: RMS {np.round(np.sqrt(np.mean(jumps ** 2, 0)), 3)}, largest "
+                      f"{np.round(np.abs(jumps).max(0), 3)} cm")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path, help="working directory of the finished campaign")
+    args = parser.parse_args()
+    cfg = load_campaign(*CONFIGS)
+    (sat,) = cfg["satellites"]
+    (flip,) = (np.datetime64(e, "ns") for e in cfg["satellites"][sat]["yaw_flips"])
+    start, end = (np.datetime64(cfg[k], "D") for k in ("start_date", "end_date"))
+    days = [f"{str(d)[:4]}-{(d - d.astype('datetime64[Y]')).astype(int) + 1:03d}"
+            for d in np.arange(start, end + 1)]
+    results = args.run / "results" / cfg["campaign"]
+    _maps(results, cfg, sat)
+    _orbits(results, args.run / "resources" / cfg["campaign"] / "simulate" / sat, sat, days, flip)
+
+
+if __name__ == "__main__":
+    main()
