@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 
+import numpy as np
 import pytest
 import yaml
 from snakemake.exceptions import WorkflowError
@@ -97,6 +98,18 @@ def test_with_defaults_rejects_with_a_message(section, named):
 def test_unknown_definition():
     with pytest.raises(KeyError, match="no definition 'simulation'"):
         section_defaults("simulation")
+
+
+def test_yaw_flip_overlay_puts_the_flip_inside_the_campaign():
+    """config/hy2d-sim-flip.yaml over hy2d-sim.yaml: one flip, inside the days, maps per mode.
+    Authority: Jiang et al. (2023) - HY-2D flips once when beta crosses -1.5 deg; the epoch is
+    that of leopod.frames.leo_attitude.yaw_flip_epochs on the simulated orbit (README)."""
+    cfg = load_campaign(REPO / "config" / "hy2d-sim.yaml", REPO / "config" / "hy2d-sim-flip.yaml")
+    (flip,) = cfg["satellites"]["hy2d-sim"]["yaw_flips"]
+    start, end = np.datetime64(cfg["start_date"]), np.datetime64(cfg["end_date"]) + 1
+    assert start + 1 < np.datetime64(flip) < end - 1    # whole days of data on both sides
+    assert cfg["code_bias"]["attitude_modes"] is True
+    assert cfg["satellites"]["hy2d-sim"]["attitude"] == "yaw_steering"
 
 
 def test_satellite_orbit_overlay_is_checked_but_not_defaulted():
