@@ -5,11 +5,14 @@ HY-2D flips by 180° about +Z when β crosses −1.5°; in the simulated campaig
 2021-07-14 18:02 (``satellites.hy2d-sim.yaw_flips`` of the overlay). Printed:
 
 - per code and attitude mode, the estimated code-bias map (nodes with at least
-  ``code_bias.min_count`` observations) minus the simulated truth map, as RMS about the mean and
-  the mean (the map's datum is a zero mean, the truth's is not), and the map's own RMS;
-- per code, mode 0 minus mode 1 over the nodes both modes fill, beside what the truth minus
-  the truth turned by 180° in azimuth gives there: a map estimated in a frame that missed the
-  flip would differ between the modes by about that much;
+  ``code_bias.min_count`` observations) minus the simulated truth of that mode (the maps without
+  a ``yaw_branch`` plus those of the mode's branch of the yaw-steering law; mode 0 is the
+  branch at the first epoch), as RMS about the mean and the mean (the map's datum is a zero
+  mean, the truth's is not), and the map's own RMS;
+- per code, mode 0 minus mode 1 over the nodes both modes fill, beside the same difference of
+  the truths, the RMS of the two differences' difference and their correlation, and beside the truth minus the
+  truth turned by 180° in azimuth: maps estimated in a frame that missed the flip would
+  differ between the modes by about that much;
 - per solution (float, fixed), orbit minus truth [cm] around the flip: the R/T/N RMS in the
   2 h before and after, the change of the 10-min mean across the flip, the 10-s step of the
   difference at the flip against the largest step of the arc; and, for the fixed orbit, the
@@ -30,6 +33,7 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.products import grid_of, node_vector
+from leopod.frames.leo_attitude import beta_angle_ef
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.validation.compare import difference_rtn
 from leopod.workflow.config import load_campaign
@@ -39,12 +43,24 @@ CONFIGS = (REPO / "config" / "hy2d-sim.yaml", REPO / "config" / "hy2d-sim-flip.y
 TEN_MIN = np.timedelta64(10, "m")
 
 
-def _maps(results: Path, cfg: dict, sat: str) -> None:
+def _truths(cfg: dict, first_below_flip: bool) -> dict:
+    """(signal, mode) -> the simulated map of that attitude mode (a function of az, el)."""
+    maps = [CodeBiasMap.from_config(m) for m in cfg["simulate"]["code_bias_maps"]]
+    branch = {0: "below_flip" if first_below_flip else "above_flip"}
+    branch[1] = "above_flip" if first_below_flip else "below_flip"
+
+    def truth(signal, mode):
+        parts = [m for m in maps if m.signal == signal and m.yaw_branch in (None, branch[mode])]
+        return lambda az, el: sum(m(az, el) for m in parts)
+
+    return {(m.signal, mode): truth(m.signal, mode) for m in maps for mode in (0, 1)}
+
+
+def _maps(results: Path, cfg: dict, sat: str, truths: dict) -> None:
     period = cfg["start_date"][:7]
     maps = xr.load_dataset(results / "code_bias" / sat / f"{period}.nc")
     grid = grid_of(maps)
     az, el = grid.node_directions()
-    truth = {m["signal"]: CodeBiasMap.from_config(m) for m in cfg["simulate"]["code_bias_maps"]}
     min_count = cfg["code_bias"]["min_count"]
     for sig in map(str, maps.signal.values):
         est = {}
@@ -52,7 +68,7 @@ def _maps(results: Path, cfg: dict, sat: str) -> None:
             v = node_vector(maps, sig, mode)
             n = grid.from_grid(maps["count"].sel(signal=sig, mode=mode).values)
             ok = np.isfinite(v) & (n >= min_count)
-            err = v[ok] - truth[sig](az[ok], el[ok])
+            err = v[ok] - truths[sig, mode](az[ok], el[ok])
             est[mode] = (v, ok)
             print(f"{sig} mode {mode}: {ok.sum()} nodes >= {min_count} obs ({int(n.sum())} obs), "
                   f"map - truth RMS {100 * np.std(err):.2f} cm (mean {100 * err.mean():+.2f} cm), "
@@ -60,10 +76,16 @@ def _maps(results: Path, cfg: dict, sat: str) -> None:
         if len(est) == 2:
             (v0, ok0), (v1, ok1) = est[0], est[1]
             both = ok0 & ok1
-            turned = truth[sig](az[both], el[both]) - truth[sig](az[both] + 180.0, el[both])
-            print(f"{sig}: mode 0 - mode 1 over {both.sum()} nodes: RMS "
-                  f"{100 * np.std(v0[both] - v1[both]):.2f} cm; truth - truth turned by 180 deg "
-                  f"there: {100 * np.std(turned):.2f} cm")
+            a, e = az[both], el[both]
+            d_est = v0[both] - v1[both]
+            d_true = truths[sig, 0](a, e) - truths[sig, 1](a, e)
+            turned = truths[sig, 0](a, e) - truths[sig, 0](a + 180.0, e)
+            print(f"{sig}: mode 0 - mode 1 over {both.sum()} nodes: RMS {100 * np.std(d_est):.2f} "
+                  f"cm, of the truths {100 * np.std(d_true):.2f} cm, their difference "
+                  f"{100 * np.std(d_est - d_true):.2f} cm, correlation "
+                  f"{np.corrcoef(d_est, d_true)[0, 1] if np.std(d_true) > 0 else np.nan:.2f}; "
+                  f"truth - truth turned by 180 deg: "
+                  f"{100 * np.std(turned):.2f} cm")
 
 
 def _mean_change(t: np.ndarray, x: np.ndarray, epoch) -> np.ndarray:
@@ -73,9 +95,7 @@ def _mean_change(t: np.ndarray, x: np.ndarray, epoch) -> np.ndarray:
     return x[after].mean(0) - x[before].mean(0)
 
 
-def _orbits(results: Path, resources: Path, sat: str, days: list[str], flip) -> None:
-    truth = xr.concat([xr.load_dataset(resources / f"{d}_truth.nc")[["pos_itrf_m", "vel_itrf_m_s"]]
-                       for d in days], "time").drop_duplicates("time")
+def _orbits(results: Path, truth: xr.Dataset, sat: str, days: list[str], flip) -> None:
     for solution in ("float_pod", "fixed_pod"):
         for day in days:
             d = difference_rtn(xr.load_dataset(results / solution / sat / f"{day}_orbit.nc"),
@@ -114,8 +134,14 @@ def main() -> None:
     days = [f"{str(d)[:4]}-{(d - d.astype('datetime64[Y]')).astype(int) + 1:03d}"
             for d in np.arange(start, end + 1)]
     results = args.run / "results" / cfg["campaign"]
-    _maps(results, cfg, sat)
-    _orbits(results, args.run / "resources" / cfg["campaign"] / "simulate" / sat, sat, days, flip)
+    resources = args.run / "resources" / cfg["campaign"] / "simulate" / sat
+    truth = xr.concat([xr.load_dataset(resources / f"{d}_truth.nc")[["pos_itrf_m", "vel_itrf_m_s"]]
+                       for d in days], "time").drop_duplicates("time")
+    first = truth.isel(time=[0])
+    beta = beta_angle_ef(first.time.values, first.pos_itrf_m.values, first.vel_itrf_m_s.values)
+    flip_beta = np.radians(cfg["satellites"][sat]["yaw_steering"]["flip_beta_deg"])
+    _maps(results, cfg, sat, _truths(cfg, bool(beta[0] < flip_beta)))
+    _orbits(results, truth, sat, days, flip)
 
 
 if __name__ == "__main__":

@@ -181,3 +181,23 @@ def test_from_config_and_errors():
     with pytest.raises(ValueError, match="lacks the parameter.*plateau_m"):
         CodeBiasMap("hy2b_p1", "C1W", **{k: v for k, v in with_defaults(
             "simulate_map_hy2b_p1", {}).items() if k != "plateau_m"})
+
+
+def test_yaw_branch_selects_the_epochs_of_its_branch():
+    # Jiang et al. (2023): the B1C (and GPS L1) maps change with the yaw attitude mode, B2a and
+    # L2 do not - a map with a yaw_branch is added only on the epochs of that branch
+    below = np.array([False, False, True, True])
+    every = _map("bds3_patchy", "C1P")
+    above = _map("bds3_patchy", "C1P", yaw_branch="above_flip", seed=2)
+    under = _map("bds3_patchy", "C1P", yaw_branch="below_flip", seed=3)
+    assert every.applies(below) is True and every.applies(None) is True
+    np.testing.assert_array_equal(above.applies(below), ~below)
+    np.testing.assert_array_equal(under.applies(below), below)
+    assert [m.key for m in (every, above, under)] == ["C1P", "C1P_above_flip", "C1P_below_flip"]
+    assert under.grid().attrs["yaw_branch"] == "below_flip"
+    with pytest.raises(ValueError, match="needs a satellite with the yaw_steering law"):
+        under.applies(None)
+    with pytest.raises(ValueError, match="unknown yaw_branch"):
+        CodeBiasMap("none", "C1P", yaw_branch="sideways")
+    with pytest.raises(WorkflowError):
+        _map("none", "C1P", yaw_branch="sideways")

@@ -205,14 +205,15 @@ def _code_bias_maps(settings: SimulationSettings) -> list[CodeBiasMap]:
 
 def code_bias_map_truth(settings: SimulationSettings, step_deg: float = 5.0) -> xr.Dataset:
     """The code-bias maps on a cell-centred grid (:meth:`CodeBiasMap.grid`), one variable
-    ``code_bias_<signal>_m`` (el, az) [m] per map, its model and mean in the attributes."""
+    ``code_bias_<key>_m`` (el, az) [m] per map (:attr:`CodeBiasMap.key`: the signal, and the
+    yaw branch of a map that has one), its model and mean in the attributes."""
     out = xr.Dataset(attrs={"title": "simulated antenna-frame code-bias maps (truth)",
                             "signals": " ".join(m.signal for m in _code_bias_maps(settings))})
     for m in _code_bias_maps(settings):
         grid = m.grid(step_deg)
         var = grid["code_bias_m"]
         var.attrs.update({k: v for k, v in grid.attrs.items() if k != "frame"})
-        out[f"code_bias_{m.signal}_m"] = var
+        out[f"code_bias_{m.key}_m"] = var
         out.attrs["frame"] = grid.attrs["frame"]
     return out
 

@@ -56,10 +56,13 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-__all__ = ["HY2B_P1_AREA_MEAN_M", "MODELS", "Bds3Patchy", "CodeBiasMap", "Hy2bP1"]
+__all__ = ["HY2B_P1_AREA_MEAN_M", "MODELS", "YAW_BRANCHES", "Bds3Patchy", "CodeBiasMap",
+           "Hy2bP1"]
 
 #: Models known to :class:`CodeBiasMap`.
 MODELS = ("none", "hy2b_p1", "bds3_patchy")
+#: ``yaw_branch`` values of a map: every epoch, or one branch of the yaw-steering law.
+YAW_BRANCHES = (None, "above_flip", "below_flip")
 
 #: Area-weighted hemisphere mean of the default ``"hy2b_p1"`` map [m] (computed by
 #: :meth:`CodeBiasMap.mean_m`; checked in tests/simulate/test_code_bias_map.py).
@@ -219,6 +222,10 @@ class CodeBiasMap:
         The model (module docstring).
     signal : str
         RINEX 3 code the map is added to (HY-2B P1: ``"C1W"``; BDS-3: ``"C1P"``/``"C5P"``).
+    yaw_branch : {None, "above_flip", "below_flip"}
+        None: added at every epoch; otherwise only while β is above / below the flip threshold
+        of a yaw-steering satellite (:func:`applies`), a code error that changes with the
+        attitude mode (Jiang et al. 2023: B1C and GPS L1).
     **params
         Every parameter of the model (fields of :class:`Hy2bP1` or :class:`Bds3Patchy`; tuples
         may be given as lists). The campaign schema holds their defaults: build a map from a
@@ -230,7 +237,9 @@ class CodeBiasMap:
         If the model is unknown, or a parameter does not belong to it or is missing.
     """
 
-    def __init__(self, name: str, signal: str, **params):
+    def __init__(self, name: str, signal: str, yaw_branch: str | None = None, **params):
+        if yaw_branch not in YAW_BRANCHES:
+            raise ValueError(f"unknown yaw_branch {yaw_branch!r} (known: {YAW_BRANCHES})")
         if name not in _MODEL_CLASSES:
             raise ValueError(f"unknown code-bias map model '{name}' (known: {', '.join(MODELS)})")
         cls = _MODEL_CLASSES[name]
@@ -247,6 +256,7 @@ class CodeBiasMap:
         params = {k: tuple(v) if isinstance(v, list) else v for k, v in params.items()}
         self.name = name
         self.signal = signal
+        self.yaw_branch = yaw_branch
         self.model = cls(**params)
 
     @classmethod
@@ -263,7 +273,35 @@ class CodeBiasMap:
         return cls(cfg.pop("model"), cfg.pop("signal"), **cfg)
 
     def __repr__(self) -> str:
-        return f"CodeBiasMap(name={self.name!r}, signal={self.signal!r}, model={self.model!r})"
+        return (f"CodeBiasMap(name={self.name!r}, signal={self.signal!r}, "
+                f"yaw_branch={self.yaw_branch!r}, model={self.model!r})")
+
+    @property
+    def key(self) -> str:
+        """``<signal>`` or ``<signal>_<yaw_branch>``: the map's name in the truth files."""
+        return self.signal if self.yaw_branch is None else f"{self.signal}_{self.yaw_branch}"
+
+    def applies(self, below_flip: np.ndarray | None) -> np.ndarray | bool:
+        """Where the map is added: True for a map without ``yaw_branch``, else the epochs of
+        its branch.
+
+        Parameters
+        ----------
+        below_flip : ndarray of bool, shape (n,), or None
+            β below the flip threshold at each epoch; None for a satellite without the
+            yaw-steering law.
+
+        Raises
+        ------
+        ValueError
+            If the map has a ``yaw_branch`` and ``below_flip`` is None.
+        """
+        if self.yaw_branch is None:
+            return True
+        if below_flip is None:
+            raise ValueError(f"code-bias map of {self.signal} with yaw_branch "
+                             f"{self.yaw_branch!r} needs a satellite with the yaw_steering law")
+        return below_flip if self.yaw_branch == "below_flip" else ~below_flip
 
     def __call__(self, az_deg, el_deg) -> np.ndarray:
         """Map value [m] for antenna-frame azimuth and elevation [deg] (broadcast arrays).
@@ -313,7 +351,8 @@ class CodeBiasMap:
                                       "antenna X-Y plane (cell centre)"}),
                     "az": ("az", az, {"units": "degree", "long_name": "azimuth from +X "
                                       "(flight direction) towards +Y (cell centre)"})},
-            attrs={"model": self.name, "signal": self.signal, "step_deg": float(step_deg),
+            attrs={"model": self.name, "signal": self.signal,
+                   "yaw_branch": self.yaw_branch or "all epochs", "step_deg": float(step_deg),
                    "parameters": repr(self.model), "area_mean_m": self.mean_m(),
                    "frame": "antenna frame of leopod.frames.attitude.antenna_angles"},
         )

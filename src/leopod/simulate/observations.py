@@ -83,6 +83,7 @@ from leopod.constants import C_LIGHT_M_S
 from leopod.frames.attitude import antenna_el_az
 from leopod.frames.earth_rotation import itrf_to_gcrf
 from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
+from leopod.frames.yaw import orbit_angles
 from leopod.gnss.attitude import gnss_attitude_axes, satellite_families
 from leopod.gnss.corrections import (
     relativistic_clock_s,
@@ -290,6 +291,8 @@ class _Geometry:
     nadir_deg: np.ndarray       # (n, s) nadir angle at the transmitter (from its geocentre line)
     r_sv_m: np.ndarray          # (n, s) geocentric radius of the transmitter at transmission
     sun_cos: np.ndarray         # (n,) cosine of the Sun's zenith angle at the sub-LEO point
+    below_flip: np.ndarray | None  # (n,) beta below the yaw-steering flip threshold; None for
+                                   # a satellite without that law
 
 
 def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_body_m,
@@ -346,11 +349,15 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
                          np.repeat(-axes[:, 1], s, axis=0), sv_axes[..., 0, :].reshape(-1, 3),
                          sv_axes[..., 1, :].reshape(-1, 3)).reshape(n, s)
     sun_dir = sun_gcrf / np.linalg.norm(sun_gcrf, axis=-1, keepdims=True)
+    below_flip = None
+    if leo_attitude is not None and leo_attitude.attitude == "yaw_steering":
+        beta = orbit_angles(leo_pos, leo_vel, sun_gcrf)[0]
+        below_flip = beta < np.radians(leo_attitude.yaw_steering.flip_beta_deg)
     return _Geometry(range_m=ranges, el_deg=el, az_deg=az, local_el_deg=local_el,
                      sv_clock_s=clock, shapiro_m=shapiro, windup_cyc=wind,
                      nadir_deg=nadir_angle_deg(sv_pos, leo_pos[:, None, :]),
                      r_sv_m=np.linalg.norm(sv_pos, axis=-1),
-                     sun_cos=np.sum(up * sun_dir, axis=-1))
+                     sun_cos=np.sum(up * sun_dir, axis=-1), below_flip=below_flip)
 
 
 def _band_names(bands_by_sv) -> dict[tuple[str, str], str]:
@@ -416,7 +423,8 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
         band (codes and phases) at the antenna-frame angles, which are then those of its
         frame (``el_deg``, ``az_deg``).
     code_bias_maps : sequence of CodeBiasMap
-        Antenna-frame code-bias maps, each added to its ``signal``.
+        Antenna-frame code-bias maps, each added to its ``signal`` (a map with a
+        ``yaw_branch`` only on the epochs of that branch of the yaw-steering law).
     settings : ObservationSettings
     rng : numpy.random.Generator
         Source of the gaps, slips, ambiguities and noise.
@@ -467,7 +475,9 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
     common = C_LIGHT_M_S * (clk_rx[:, None] - geo.sv_clock_s) + geo.shapiro_m
     data = {}
     all_codes = sorted({c for sv in svs for c in codes[sv] + phases[sv]})
-    maps = {m.signal: m for m in code_bias_maps}
+    maps: dict[str, list[CodeBiasMap]] = {}
+    for m in code_bias_maps:
+        maps.setdefault(m.signal, []).append(m)
     unknown = sorted(set(maps) - {c for c in all_codes if c[0] == "C"})
     if unknown:
         raise ValueError(f"code-bias maps for signals that are not simulated: {unknown} "
@@ -496,7 +506,9 @@ def simulate_observations(times: np.ndarray, truth: xr.Dataset, world: GnssWorld
                         _masked(_scatter(scb, cols, n, s), tracked), "m",
                         f"BDS-2 satellite-induced code bias added to {code} (truth)")
             if code in maps:
-                m = maps[code](geo.az_deg[:, cols], geo.el_deg[:, cols])
+                m = sum(np.where(np.reshape(cbm.applies(geo.below_flip), (-1, 1)),
+                                 cbm(geo.az_deg[:, cols], geo.el_deg[:, cols]), 0.0)
+                        for cbm in maps[code])
                 val = val + m
                 data[f"code_bias_map_{code}_m"] = _var(
                     _masked(_scatter(m, cols, n, s), tracked), "m",
