@@ -2,7 +2,7 @@
 across the flip, for a finished run of config/hy2d-sim.yaml + config/hy2d-sim-flip.yaml.
 
 HY-2D flips by 180° about +Z when β crosses −1.5°; in the simulated campaign that happens at
-2021-07-14 18:02 (``satellites.hy2d-sim.yaw_flips`` of the overlay). Printed:
+2021-07-14 18:01:43 (``satellites.hy2d-sim.yaw_flips`` of the overlay). Printed:
 
 - per code and attitude mode, the estimated code-bias map (nodes with at least
   ``code_bias.min_count`` observations) minus the simulated truth of that mode (the maps without
@@ -10,9 +10,9 @@ HY-2D flips by 180° about +Z when β crosses −1.5°; in the simulated campaig
   branch at the first epoch), as RMS about the mean and the mean (the map's datum is a zero
   mean, the truth's is not), and the map's own RMS;
 - per code, mode 0 minus mode 1 over the nodes both modes fill, beside the same difference of
-  the truths, the RMS of the two differences' difference and their correlation, and beside the truth minus the
-  truth turned by 180° in azimuth: maps estimated in a frame that missed the flip would
-  differ between the modes by about that much;
+  the truths, the RMS of the two differences' difference and their correlation, and beside
+  the truth minus the truth turned by 180° in azimuth: maps estimated in a frame that missed
+  the flip would differ between the modes by about that much;
 - per solution (float, fixed), orbit minus truth [cm] around the flip: the R/T/N RMS in the
   2 h before and after, the change of the 10-min mean across the flip, the 10-s step of the
   difference at the flip against the largest step of the arc; and, for the fixed orbit, the
@@ -33,9 +33,10 @@ import numpy as np
 import xarray as xr
 
 from leopod.codebias.products import grid_of, node_vector
-from leopod.frames.leo_attitude import beta_angle_ef
+from leopod.frames.leo_attitude import YawSteering, below_flip, beta_angle_ef
 from leopod.simulate.code_bias_map import CodeBiasMap
 from leopod.validation.compare import difference_rtn
+from leopod.workflow.campaign import campaign_days, code_bias_periods
 from leopod.workflow.config import load_campaign
 
 REPO = Path(__file__).resolve().parents[1]
@@ -57,7 +58,7 @@ def _truths(cfg: dict, first_below_flip: bool) -> dict:
 
 
 def _maps(results: Path, cfg: dict, sat: str, truths: dict) -> None:
-    period = cfg["start_date"][:7]
+    (period,) = code_bias_periods(cfg)
     maps = xr.load_dataset(results / "code_bias" / sat / f"{period}.nc")
     grid = grid_of(maps)
     az, el = grid.node_directions()
@@ -130,17 +131,15 @@ def main() -> None:
     cfg = load_campaign(*CONFIGS)
     (sat,) = cfg["satellites"]
     (flip,) = (np.datetime64(e, "ns") for e in cfg["satellites"][sat]["yaw_flips"])
-    start, end = (np.datetime64(cfg[k], "D") for k in ("start_date", "end_date"))
-    days = [f"{str(d)[:4]}-{(d - d.astype('datetime64[Y]')).astype(int) + 1:03d}"
-            for d in np.arange(start, end + 1)]
+    days = campaign_days(cfg)
     results = args.run / "results" / cfg["campaign"]
     resources = args.run / "resources" / cfg["campaign"] / "simulate" / sat
     truth = xr.concat([xr.load_dataset(resources / f"{d}_truth.nc")[["pos_itrf_m", "vel_itrf_m_s"]]
                        for d in days], "time").drop_duplicates("time")
     first = truth.isel(time=[0])
     beta = beta_angle_ef(first.time.values, first.pos_itrf_m.values, first.vel_itrf_m_s.values)
-    flip_beta = np.radians(cfg["satellites"][sat]["yaw_steering"]["flip_beta_deg"])
-    _maps(results, cfg, sat, _truths(cfg, bool(beta[0] < flip_beta)))
+    law = YawSteering.from_config(cfg["satellites"][sat]["yaw_steering"])
+    _maps(results, cfg, sat, _truths(cfg, bool(below_flip(beta[0], law))))
     _orbits(results, truth, sat, days, flip)
 
 

@@ -13,6 +13,7 @@ import pytest
 from leopod.frames.attitude import nominal_axes_inertial, nominal_body_axes
 from leopod.frames.leo_attitude import (
     LeoAttitude,
+    below_flip,
     leo_body_axes,
     leo_body_axes_ef,
     yaw_flip_epochs,
@@ -76,6 +77,13 @@ def test_flip_by_180_deg_about_z_at_the_threshold():
     mu = np.array([30.0, 90.0, 150.0, -30.0, -90.0, -150.0])
     np.testing.assert_allclose(leo_body_axes(LAW, *_state(1e-7, mu)),
                                leo_body_axes(LAW, *_state(-1e-7, mu)), atol=1e-6)
+
+
+def test_below_flip_is_the_branch_the_law_flips_into():
+    # Jiang et al. (2023): HY-2D flips when beta crosses -1.5 deg; the branch test the simulated
+    # yaw_branch maps use changes exactly where the body axes turn by 180 deg about +Z
+    beta = np.radians([-1.5 + 1e-7, -1.5 - 1e-7, 10.0, -10.0])
+    np.testing.assert_array_equal(below_flip(beta, LAW.yaw_steering), [False, True, False, True])
 
 
 def test_swapped_branches_are_the_law_rotated_by_180_deg():

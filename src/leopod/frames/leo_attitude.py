@@ -68,7 +68,7 @@ from leopod.frames.yaw import nominal_yaw_rad, orbit_angles, yaw_body_axes
 from leopod.settings import Settings
 
 __all__ = ["LAWS", "AttitudeFile", "AttitudeOffset", "LeoAttitude", "YawSteering",
-           "beta_angle_ef", "leo_body_axes", "leo_body_axes_ef", "leo_yaw_rad",
+           "below_flip", "beta_angle_ef", "leo_body_axes", "leo_body_axes_ef", "leo_yaw_rad",
            "offset_rotation", "yaw_flip_epochs"]
 
 #: Attitude laws of ``satellites.<sat>.attitude``.
@@ -237,6 +237,19 @@ class LeoAttitude(Settings):
         return cls.from_config(dict(satellite or {}))
 
 
+def below_flip(beta_rad, settings: YawSteering) -> np.ndarray:
+    """True where β is below the flip threshold: the branch of the law after a downward
+    crossing (module docstring), the attitude mode a simulated ``yaw_branch`` map follows.
+
+    Parameters
+    ----------
+    beta_rad : array_like, shape (...)
+        Sun elevation above the orbit plane (:func:`leopod.frames.yaw.orbit_angles`) [rad].
+    settings : YawSteering
+    """
+    return np.asarray(beta_rad, dtype=float) < np.radians(settings.flip_beta_deg)
+
+
 def leo_yaw_rad(beta_rad, mu_rad, settings: YawSteering) -> np.ndarray:
     """Yaw ψ [rad] of the yaw-steering law (module docstring), in (−π, π].
 
@@ -250,7 +263,7 @@ def leo_yaw_rad(beta_rad, mu_rad, settings: YawSteering) -> np.ndarray:
     beta = np.asarray(beta_rad, dtype=float)
     psi = np.where(np.abs(beta) > np.radians(settings.beta_max_deg),
                    -np.sign(beta) * np.pi / 2, nominal_yaw_rad(beta, mu_rad))
-    below = beta < np.radians(settings.flip_beta_deg)
+    below = below_flip(beta, settings)
     away = below if settings.x_sunward_above_flip else ~below
     return np.where(away, np.where(psi > 0, psi - np.pi, psi + np.pi), psi)
 

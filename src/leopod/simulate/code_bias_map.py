@@ -1,10 +1,11 @@
 """Simulated antenna-frame code-bias maps: a smooth function ``b(az, el)`` [m] added to one code.
 
 A code-bias map is a static error of one code signal of the LEO receiver that depends only on
-the line-of-sight direction in the antenna frame (Peng et al. 2021, eq. (2): the term ``b(e, z)``).
-Directions follow :func:`leopod.frames.attitude.antenna_angles`: elevation above the body
-X-Y plane (towards the antenna boresight), azimuth from +X (flight direction) towards +Y, in
-degrees. Models:
+the line-of-sight direction in the antenna frame (Peng et al. 2021, eq. (2): the term ``b(e, z)``)
+and, for a map with a ``yaw_branch``, on the branch of the yaw-steering law (Jiang et al. 2023).
+Directions follow :func:`leopod.frames.attitude.antenna_angles`: elevation above the body X-Y
+plane (towards the antenna boresight), azimuth from body +X (the flight direction in the nominal
+attitude) towards +Y, in degrees. Models:
 
 ``"none"``
     Zero everywhere.
@@ -309,7 +310,7 @@ class CodeBiasMap:
         Parameters
         ----------
         az_deg : array_like
-            Azimuth from +X (flight direction) towards +Y [deg], any range.
+            Azimuth from body +X towards +Y [deg], any range.
         el_deg : array_like
             Elevation above the antenna horizon [deg]; values below 0 are evaluated at 0.
 
@@ -349,8 +350,8 @@ class CodeBiasMap:
                                                          "(value at the cell centre)"})},
             coords={"el": ("el", el, {"units": "degree", "long_name": "elevation above the "
                                       "antenna X-Y plane (cell centre)"}),
-                    "az": ("az", az, {"units": "degree", "long_name": "azimuth from +X "
-                                      "(flight direction) towards +Y (cell centre)"})},
+                    "az": ("az", az, {"units": "degree", "long_name": "azimuth from body +X "
+                                      "towards +Y (cell centre)"})},
             attrs={"model": self.name, "signal": self.signal,
                    "yaw_branch": self.yaw_branch or "all epochs", "step_deg": float(step_deg),
                    "parameters": repr(self.model), "area_mean_m": self.mean_m(),

@@ -82,7 +82,7 @@ from leopod.astro.sun import sun_position_ef
 from leopod.constants import C_LIGHT_M_S
 from leopod.frames.attitude import antenna_el_az
 from leopod.frames.earth_rotation import itrf_to_gcrf
-from leopod.frames.leo_attitude import LeoAttitude, leo_body_axes
+from leopod.frames.leo_attitude import LeoAttitude, below_flip, leo_body_axes
 from leopod.frames.yaw import orbit_angles
 from leopod.gnss.attitude import gnss_attitude_axes, satellite_families
 from leopod.gnss.corrections import (
@@ -349,15 +349,14 @@ def _geometry(world: GnssWorld, svs, t_rx_s, times_rx, leo_pos, leo_vel, pco_bod
                          np.repeat(-axes[:, 1], s, axis=0), sv_axes[..., 0, :].reshape(-1, 3),
                          sv_axes[..., 1, :].reshape(-1, 3)).reshape(n, s)
     sun_dir = sun_gcrf / np.linalg.norm(sun_gcrf, axis=-1, keepdims=True)
-    below_flip = None
+    below = None
     if leo_attitude is not None and leo_attitude.attitude == "yaw_steering":
-        beta = orbit_angles(leo_pos, leo_vel, sun_gcrf)[0]
-        below_flip = beta < np.radians(leo_attitude.yaw_steering.flip_beta_deg)
+        below = below_flip(orbit_angles(leo_pos, leo_vel, sun_gcrf)[0], leo_attitude.yaw_steering)
     return _Geometry(range_m=ranges, el_deg=el, az_deg=az, local_el_deg=local_el,
                      sv_clock_s=clock, shapiro_m=shapiro, windup_cyc=wind,
                      nadir_deg=nadir_angle_deg(sv_pos, leo_pos[:, None, :]),
                      r_sv_m=np.linalg.norm(sv_pos, axis=-1),
-                     sun_cos=np.sum(up * sun_dir, axis=-1), below_flip=below_flip)
+                     sun_cos=np.sum(up * sun_dir, axis=-1), below_flip=below)
 
 
 def _band_names(bands_by_sv) -> dict[tuple[str, str], str]:
